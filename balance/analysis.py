@@ -1,0 +1,222 @@
+"""The analysis: from a layout to its free forces, moments and roll, order by order.
+
+:func:`compute` does the arithmetic and returns plain complex arrays
+(:class:`Phasors`); :func:`analyse` wraps it into the result Dataset
+(:mod:`balance.result`).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import kinematics, phasors
+from .errors import InputError
+from .layout import Layout
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+
+__all__ = ["DEFAULT_ORDERS", "Phasors", "analyse", "compute", "parse_orders"]
+
+DEFAULT_ORDERS = 8
+MAX_ORDER = 1000
+
+ComplexArray = NDArray[np.complex128]
+
+
+@dataclass(frozen=True)
+class Phasors:
+    """Complex phasors of one analysis (SI: N, N m).
+
+    ``*_forward`` and ``*_backward`` have one entry per order; the rotating phasors are
+    scalars (order 1, forward only); ``roll`` has one entry per order.
+    """
+
+    orders: NDArray[np.intp]
+    force_forward: ComplexArray
+    force_backward: ComplexArray
+    moment_forward: ComplexArray
+    moment_backward: ComplexArray
+    rotating_force: complex
+    rotating_moment: complex
+    roll: ComplexArray
+    acceleration_coefficients: ComplexArray
+    model: str
+    terms: int
+    reference_force: float
+    reference_z: float
+
+
+def parse_orders(spec: int | str | Iterable[int] | None) -> NDArray[np.intp]:
+    """Orders from an int (1..N), a spec string (``"1-8"``, ``"2"``, ``"1,2,4-6"``) or a list.
+
+    Raises
+    ------
+    InputError
+        For an empty, malformed or out-of-range spec.
+    """
+    if spec is None:
+        return np.arange(1, DEFAULT_ORDERS + 1)
+    if isinstance(spec, bool):
+        raise InputError("orders: expected a number, a range such as 1-8, or a list")
+    if isinstance(spec, int | np.integer):
+        values = list(range(1, int(spec) + 1))
+    elif isinstance(spec, str):
+        values = []
+        for part in spec.replace(" ", "").split(","):
+            match = re.fullmatch(r"(\d+)(?:-(\d+))?", part)
+            if not match:
+                raise InputError(
+                    f"orders: cannot read {spec!r}; write a range or list such as 1-8, 2 or 1,2,4-6"
+                )
+            lo = int(match.group(1))
+            hi = int(match.group(2)) if match.group(2) else lo
+            if hi < lo or hi - lo > MAX_ORDER:
+                raise InputError(f"orders: {part!r} is not an increasing range")
+            values.extend(range(lo, hi + 1))
+    else:
+        values = [int(v) for v in spec]
+    if not values:
+        raise InputError("orders: no orders given; for example 1-8")
+    if min(values) < 1 or max(values) > MAX_ORDER:
+        raise InputError(f"orders: every order must be between 1 and {MAX_ORDER}")
+    return np.asarray(sorted(set(values)), dtype=np.intp)
+
+
+def compute(
+    layout: Layout,
+    orders: int | str | Iterable[int] | None = None,
+    *,
+    model: str = "exact",
+    terms: int = 3,
+    moments: bool = True,
+    roll: bool = True,
+) -> Phasors:
+    """Phasors of the free forces, moments and roll of a layout.
+
+    Parameters
+    ----------
+    layout : Layout
+        The engine.
+    orders : int, str or sequence of int, optional
+        Orders to compute (default 1 to 8); see :func:`parse_orders`.
+    model : {'exact', 'series', 'textbook'}
+        How the piston acceleration is expanded
+        (:func:`balance.kinematics.acceleration_coefficients`).
+    terms : int
+        Binomial terms of the ``series`` model.
+    moments, roll : bool
+        Compute the moments and the roll (otherwise they are left as NaN).
+
+    Returns
+    -------
+    Phasors
+    """
+    ks = parse_orders(orders)
+    omega2 = layout.speed**2
+    r = layout.crank_radius
+    ratio = r / layout.conrod_length
+    offset_ratio = layout.offset / r
+    coeffs = kinematics.acceleration_coefficients(ratio, offset_ratio, ks, model=model, terms=terms)
+    amp = layout.reciprocating_mass * r * omega2
+    lever = layout.z - layout.reference_z
+    f_fwd, f_bwd = phasors.reciprocating_phasors(amp, coeffs, layout.throw, layout.bank, ks)
+    nan = np.full(ks.size, np.nan + 0j)
+    if moments:
+        m_fwd, m_bwd = phasors.reciprocating_phasors(
+            amp, coeffs, layout.throw, layout.bank, ks, lever=lever
+        )
+    else:
+        m_fwd, m_bwd = nan, nan
+    rot_amp = layout.rotating_mass * r * omega2
+    rot_force = complex(phasors.rotating_phasor(rot_amp, layout.throw))
+    rot_moment = (
+        complex(phasors.rotating_phasor(rot_amp, layout.throw, lever))
+        if moments
+        else (complex(np.nan, np.nan))
+    )
+    if roll:
+        g_rec, g_rod = kinematics.roll_coefficients(ratio, offset_ratio, ks)
+        roll_ph = phasors.roll_phasors(
+            layout.reciprocating_mass * r**2 * omega2,
+            layout.conrod_inertia_correction * omega2,
+            g_rec,
+            g_rod,
+            layout.throw,
+            layout.bank,
+            ks,
+        )
+    else:
+        roll_ph = nan
+    reference_force = float(np.mean(layout.reciprocating_mass) * np.mean(r) * omega2)
+    return Phasors(
+        orders=ks,
+        force_forward=f_fwd,
+        force_backward=f_bwd,
+        moment_forward=m_fwd,
+        moment_backward=m_bwd,
+        rotating_force=rot_force,
+        rotating_moment=rot_moment,
+        roll=roll_ph,
+        acceleration_coefficients=coeffs,
+        model=model,
+        terms=terms,
+        reference_force=reference_force,
+        reference_z=layout.reference_z,
+    )
+
+
+def analyse(
+    layout: Layout,
+    orders: int | str | Iterable[int] | None = None,
+    *,
+    speed: float | None = None,
+    model: str = "exact",
+    terms: int = 3,
+    moments: bool = True,
+    roll: bool = True,
+) -> xr.Dataset:
+    """Analyse a layout: free forces, moments, rotating forces and roll per order.
+
+    Parameters
+    ----------
+    layout : Layout
+        The engine (:func:`balance.load_layout`).
+    orders : int, str or sequence of int, optional
+        Orders to report; default 1 to 8.
+    speed : float, optional
+        Crank speed [rad/s] instead of the layout's.
+    model : {'exact', 'series', 'textbook'}
+        Piston acceleration model; ``exact`` is accurate to machine precision.
+    terms : int
+        Binomial terms for the ``series`` model.
+    moments, roll : bool
+        Whether to compute the moments and the roll torque.
+
+    Returns
+    -------
+    xarray.Dataset
+        Every variable carries ``units`` and ``long_name``; see :mod:`balance.result`.
+
+    Examples
+    --------
+    >>> import balance
+    >>> ds = balance.analyse(balance.load_layout("inline-4"), orders=2)
+    >>> float(ds.reciprocating_force_peak_normalised.sel(order=2)) > 1.0
+    True
+    """
+    from .result import build_dataset
+
+    if speed is not None:
+        if not (math.isfinite(speed) and speed > 0):
+            raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
+        layout = layout.with_speed(speed)
+    result = compute(layout, orders, model=model, terms=terms, moments=moments, roll=roll)
+    return build_dataset(layout, result)

@@ -1,0 +1,475 @@
+r"""Kinematics of the crank slider, with offset (desaxé).
+
+All functions are pure, take numpy arrays (broadcast against each other) and return SI
+floats.  ``beta`` is the crank angle from the cylinder's own top dead centre [rad] (the
+crank pin on the bore axis direction); derivatives are with respect to ``beta``.  At
+constant crank speed :math:`\omega` the time derivatives are :math:`\omega s'` and
+:math:`\omega^2 s''`.
+
+The Fourier coefficients of the normalised piston acceleration are the heart of the
+analysis; three models give them:
+
+``exact``
+    FFT of the exact acceleration, with the number of samples doubled until the aliased
+    spectrum is below machine precision (default).
+``series``
+    The binomial series of the conrod term in :math:`\lambda`, truncated after a chosen
+    number of terms (the classical :math:`A_2, A_4, A_6` expansion).
+``textbook``
+    :math:`\cos\beta + \lambda\cos 2\beta`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from math import comb
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .errors import AnalysisError
+
+__all__ = [
+    "MODELS",
+    "acceleration_coefficients",
+    "conrod_angle",
+    "conrod_angle_derivatives",
+    "fourier_coefficients",
+    "normalised_acceleration",
+    "normalised_slider",
+    "piston_acceleration",
+    "piston_position",
+    "piston_velocity",
+    "roll_coefficients",
+    "series_coefficients_centred",
+    "textbook_slider",
+]
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+MODELS = ("exact", "series", "textbook")
+
+#: Largest number of samples the exact FFT model may use.
+MAX_SAMPLES = 2**21
+_EPS = float(np.finfo(np.float64).eps)
+
+
+def _conrod_terms(
+    beta: ArrayLike, ratio: ArrayLike, offset_ratio: ArrayLike
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    b = np.asarray(beta, dtype=np.float64)
+    lam = np.asarray(ratio, dtype=np.float64)
+    eps = np.asarray(offset_ratio, dtype=np.float64)
+    sin_b, cos_b = np.sin(b), np.cos(b)
+    u = sin_b - eps
+    D = np.sqrt(1.0 - (lam * u) ** 2)
+    return sin_b, cos_b, u, D, lam
+
+
+def normalised_slider(
+    beta: ArrayLike, ratio: ArrayLike, offset_ratio: ArrayLike = 0.0
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    r"""Piston position and its first two derivatives, divided by the crank radius.
+
+    Parameters
+    ----------
+    beta : array_like
+        Crank angle from the cylinder's TDC direction [rad].
+    ratio : array_like
+        :math:`\lambda = r/l`, crank radius over conrod length [1].
+    offset_ratio : array_like
+        :math:`\varepsilon = e/r`, offset over crank radius [1].
+
+    Returns
+    -------
+    s, ds, d2s : ndarray
+        :math:`s/r`, :math:`s'/r` [1/rad] and :math:`s''/r` [1/rad^2].
+
+    Notes
+    -----
+    With :math:`u = \sin\beta - \varepsilon` and :math:`D = \sqrt{1-\lambda^2u^2}`:
+
+    .. math::
+
+        s/r &= \cos\beta + D/\lambda \\
+        s'/r &= -\sin\beta - \lambda u\cos\beta / D \\
+        s''/r &= -\cos\beta - \lambda\left[\frac{\cos^2\beta - u\sin\beta}{D}
+                 + \frac{\lambda^2u^2\cos^2\beta}{D^3}\right]
+
+    written without differences of large terms, so that they stay accurate as
+    :math:`\lambda \to 0`.
+
+    References
+    ----------
+    Seed 000 (piston motion equations, e = 0); Heywood, *Internal Combustion Engine
+    Fundamentals*, McGraw-Hill 1988, sec. 2.2.
+    """
+    sin_b, cos_b, u, D, lam = _conrod_terms(beta, ratio, offset_ratio)
+    s = cos_b + D / lam
+    ds = -sin_b - lam * u * cos_b / D
+    d2s = -cos_b - lam * ((cos_b**2 - u * sin_b) / D + (lam * u * cos_b) ** 2 / D**3)
+    return s, ds, d2s
+
+
+def textbook_slider(beta: ArrayLike, ratio: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+    r"""The two-term approximation of the crank slider (no offset), divided by the crank radius.
+
+    Returns
+    -------
+    s, ds, d2s : ndarray
+        :math:`s/r = \cos\beta + 1/\lambda - \tfrac{\lambda}{4}(1 - \cos 2\beta)`,
+        :math:`s'/r = -(\sin\beta + \tfrac{\lambda}{2}\sin 2\beta)` and
+        :math:`s''/r = -(\cos\beta + \lambda\cos 2\beta)`.
+
+    Notes
+    -----
+    The first binomial term of the conrod's projection,
+    :math:`\sqrt{1-\lambda^2\sin^2\beta} \approx 1 - \tfrac{\lambda^2}{2}\sin^2\beta`.
+    These are the formulas of most textbook kinematic tables (seed 003, table 3, is computed
+    with them); the error in acceleration is of order :math:`\lambda^3`.
+    """
+    b = np.asarray(beta, dtype=np.float64)
+    lam = np.asarray(ratio, dtype=np.float64)
+    s = np.cos(b) + 1.0 / lam - 0.25 * lam * (1.0 - np.cos(2 * b))
+    ds = -(np.sin(b) + 0.5 * lam * np.sin(2 * b))
+    d2s = -(np.cos(b) + lam * np.cos(2 * b))
+    return s, ds, d2s
+
+
+def normalised_acceleration(
+    beta: ArrayLike, ratio: ArrayLike, offset_ratio: ArrayLike = 0.0
+) -> FloatArray:
+    r"""Normalised reciprocating inertia :math:`-s''(\beta)/r` [1].
+
+    See :func:`normalised_slider` for the notation.
+    """
+    sin_b, cos_b, u, D, lam = _conrod_terms(beta, ratio, offset_ratio)
+    return cos_b + lam * ((cos_b**2 - u * sin_b) / D + (lam * u * cos_b) ** 2 / D**3)
+
+
+def piston_position(
+    beta: ArrayLike, crank_radius: ArrayLike, conrod_length: ArrayLike, offset: ArrayLike = 0.0
+) -> FloatArray:
+    r"""Distance of the piston pin from the crank centre along the bore [m].
+
+    :math:`s(\beta) = r\cos\beta + \sqrt{l^2 - (r\sin\beta - e)^2}`.
+    """
+    r = np.asarray(crank_radius, dtype=np.float64)
+    s, _, _ = normalised_slider(beta, r / np.asarray(conrod_length), np.asarray(offset) / r)
+    return r * s
+
+
+def piston_velocity(
+    beta: ArrayLike,
+    crank_radius: ArrayLike,
+    conrod_length: ArrayLike,
+    offset: ArrayLike = 0.0,
+    speed: ArrayLike = 1.0,
+) -> FloatArray:
+    r"""Piston velocity along the bore, away from the crank positive [m/s].
+
+    :math:`v = \omega\, s'(\beta)`; with ``speed=1`` this is :math:`s'` [m/rad].
+    """
+    r = np.asarray(crank_radius, dtype=np.float64)
+    _, ds, _ = normalised_slider(beta, r / np.asarray(conrod_length), np.asarray(offset) / r)
+    return np.asarray(speed) * r * ds
+
+
+def piston_acceleration(
+    beta: ArrayLike,
+    crank_radius: ArrayLike,
+    conrod_length: ArrayLike,
+    offset: ArrayLike = 0.0,
+    speed: ArrayLike = 1.0,
+) -> FloatArray:
+    r"""Piston acceleration along the bore at constant crank speed [m/s^2].
+
+    :math:`a = \omega^2 s''(\beta)`; with ``speed=1`` this is :math:`s''` [m/rad^2].
+    """
+    r = np.asarray(crank_radius, dtype=np.float64)
+    _, _, d2s = normalised_slider(beta, r / np.asarray(conrod_length), np.asarray(offset) / r)
+    return np.asarray(speed) ** 2 * r * d2s
+
+
+def conrod_angle(
+    beta: ArrayLike, crank_radius: ArrayLike, conrod_length: ArrayLike, offset: ArrayLike = 0.0
+) -> FloatArray:
+    r"""Angle of the conrod from the bore axis [rad].
+
+    :math:`\sin\gamma = (r\sin\beta - e)/l`, positive when the big end is on the side the
+    pin moves to after TDC.
+    """
+    r = np.asarray(crank_radius, dtype=np.float64)
+    return np.arcsin(
+        (r * np.sin(np.asarray(beta)) - np.asarray(offset)) / np.asarray(conrod_length)
+    )
+
+
+def conrod_angle_derivatives(
+    beta: ArrayLike, ratio: ArrayLike, offset_ratio: ArrayLike = 0.0
+) -> tuple[FloatArray, FloatArray]:
+    r"""First and second derivative of the conrod angle with respect to crank angle.
+
+    Returns
+    -------
+    dgamma, d2gamma : ndarray
+        :math:`\gamma' = \lambda\cos\beta/D` [1] and
+        :math:`\gamma'' = -\lambda\sin\beta/D + \lambda^3 u\cos^2\beta/D^3` [1/rad].
+    """
+    sin_b, cos_b, u, D, lam = _conrod_terms(beta, ratio, offset_ratio)
+    dgamma = lam * cos_b / D
+    d2gamma = -lam * sin_b / D + lam**3 * u * cos_b**2 / D**3
+    return dgamma, d2gamma
+
+
+# ---------------------------------------------------------------------------------------
+# Fourier coefficients
+
+
+def fourier_coefficients(
+    sample: Callable[[FloatArray], FloatArray],
+    orders: Sequence[int] | NDArray[np.integer],
+    batch_shape: tuple[int, ...] = (),
+    min_samples: int = 64,
+    max_samples: int = MAX_SAMPLES,
+) -> tuple[ComplexArray, int]:
+    r"""Complex Fourier coefficients of a smooth periodic function, to machine precision.
+
+    Parameters
+    ----------
+    sample : callable
+        ``sample(beta)`` with ``beta`` of shape ``(N,)`` returns values of shape
+        ``batch_shape + (N,)``.
+    orders : sequence of int
+        Orders :math:`k \ge 1` wanted.
+    batch_shape : tuple of int
+        Leading shape of what ``sample`` returns.
+    min_samples, max_samples : int
+        Range of the number of samples per revolution (powers of two).
+
+    Returns
+    -------
+    coefficients : ndarray of complex
+        :math:`G_k = a_k - i b_k` for :math:`f(\beta) = a_0 + \sum_k (a_k\cos k\beta +
+        b_k\sin k\beta)`, shape ``batch_shape + (len(orders),)``.
+    samples : int
+        Number of samples used.
+
+    Notes
+    -----
+    The trapezoidal rule is spectrally accurate for analytic periodic functions: the error
+    in order k is the aliased content of orders :math:`N \pm k`, which falls geometrically.
+    The number of samples is doubled until the top quarter of the resolved spectrum is
+    below :math:`8\epsilon` of the larger of its largest coefficient and the rms of the
+    samples (the rounding floor of the samples themselves).  Real and imaginary parts
+    below :math:`16\epsilon` of that scale are returned as exactly 0: they cannot be told
+    from rounding (an unoffset slider has no odd orders above 1 and no sine terms).
+    """
+    orders_arr = np.asarray(orders, dtype=np.intp)
+    k_max = int(orders_arr.max()) if orders_arr.size else 1
+    n = max(int(min_samples), 8)
+    while n < 4 * (k_max + 1):
+        n *= 2
+    while True:
+        beta = 2.0 * np.pi * np.arange(n) / n
+        values = np.asarray(sample(beta), dtype=np.float64).reshape(*batch_shape, n)
+        spectrum = np.fft.rfft(values, axis=-1) / n
+        # the floor is set by rounding in the samples themselves: a sharp peak (lambda
+        # near 1) makes its rms much larger than the coefficients
+        scale = np.maximum(
+            np.max(np.abs(spectrum), axis=-1, initial=0.0),
+            np.sqrt(np.mean(values**2, axis=-1)),
+        )
+        tail = np.max(np.abs(spectrum[..., n // 4 :]), axis=-1, initial=0.0)
+        converged = bool(np.all(tail <= 8.0 * _EPS * np.maximum(scale, np.finfo(float).tiny)))
+        if converged or n >= max_samples:
+            break
+        n *= 2
+    if not converged:
+        raise AnalysisError(
+            f"the Fourier series did not converge with {n} samples per revolution; the "
+            "geometry is too close to its limit (conrod_length = crank_radius + |offset|)"
+        )
+    coefficients = 2.0 * spectrum[..., orders_arr]
+    # components below the rounding floor of the samples cannot be told from zero (an
+    # unoffset slider's odd orders and sine terms, for example): report them as 0
+    floor = (16.0 * _EPS * scale)[..., None]
+    real = np.where(np.abs(coefficients.real) <= floor, 0.0, coefficients.real)
+    imag = np.where(np.abs(coefficients.imag) <= floor, 0.0, coefficients.imag)
+    return real + 1j * imag, n
+
+
+def _exact(ratio: FloatArray, offset_ratio: FloatArray, orders: NDArray[np.intp]) -> ComplexArray:
+    pairs = np.stack([ratio.ravel(), offset_ratio.ravel()], axis=-1)
+    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    lam_u = unique[:, :1]
+    eps_u = unique[:, 1:]
+    coeffs, _ = fourier_coefficients(
+        lambda b: normalised_acceleration(b, lam_u, eps_u), orders, (unique.shape[0],)
+    )
+    return coeffs[inverse.ravel()].reshape(*ratio.shape, orders.size)
+
+
+def series_coefficients_centred(ratio: ArrayLike, terms: int, order: int) -> FloatArray:
+    r"""Closed-form series coefficient :math:`A_k` of :math:`\cos k\beta` for zero offset.
+
+    :math:`A_1 = 1`, odd orders above 1 vanish, and for :math:`k = 2j`
+
+    .. math::
+
+        A_{2j} = \sum_{n=j}^{N} \frac{8 j^2 (-1)^{j+n}}{4^n}\binom{2n}{n-j}
+                 \binom{1/2}{n}\lambda^{2n-1}
+
+    from the binomial expansion of :math:`\sqrt{1-\lambda^2\sin^2\beta}`, giving
+    :math:`A_2 = \lambda + \lambda^3/4 + 15\lambda^5/128 + \dots`,
+    :math:`A_4 = -\lambda^3/4 - 3\lambda^5/16 - \dots`, :math:`A_6 = 9\lambda^5/128 + \dots`.
+
+    References
+    ----------
+    Seed 003 (series form of the piston acceleration); Taylor, *The Internal Combustion
+    Engine in Theory and Practice*, vol. 2, MIT Press 1985, ch. 8.
+    """
+    lam = np.asarray(ratio, dtype=np.float64)
+    if order == 1:
+        return np.ones_like(lam)
+    if order % 2:
+        return np.zeros_like(lam)
+    j = order // 2
+    total = np.zeros_like(lam)
+    for n in range(j, terms + 1):
+        binom_half = _binom_half(n)
+        total = total + (
+            8
+            * j
+            * j
+            * (-1) ** (j + n)
+            * comb(2 * n, n - j)
+            / 4**n
+            * binom_half
+            * lam ** (2 * n - 1)
+        )
+    return total
+
+
+def _binom_half(n: int) -> float:
+    value = 1.0
+    for i in range(n):
+        value *= (0.5 - i) / (i + 1)
+    return value
+
+
+def _series(
+    ratio: FloatArray, offset_ratio: FloatArray, orders: NDArray[np.intp], terms: int
+) -> ComplexArray:
+    """Coefficients of the truncated binomial series (with offset), sampled exactly."""
+    if terms < 1:
+        raise AnalysisError("the series model needs at least one term")
+    lam = ratio[..., None]
+    eps = offset_ratio[..., None]
+    k_max = int(orders.max())
+    n = 8
+    while n <= 2 * max(2 * terms, k_max) + 2:
+        n *= 2
+    beta = 2.0 * np.pi * np.arange(n) / n
+    sin_b, cos_b = np.sin(beta), np.cos(beta)
+    u = sin_b - eps
+    total = np.broadcast_to(cos_b, np.broadcast_shapes(u.shape, lam.shape)).copy()
+    for m in range(1, terms + 1):
+        c_m = _binom_half(m) * (-1) ** m
+        d2 = 2 * m * (2 * m - 1) * u ** (2 * m - 2) * cos_b**2 - 2 * m * u ** (2 * m - 1) * sin_b
+        total = total - c_m * lam ** (2 * m - 1) * d2
+    spectrum = np.fft.rfft(total, axis=-1) / n
+    return 2.0 * spectrum[..., orders]
+
+
+def acceleration_coefficients(
+    ratio: ArrayLike,
+    offset_ratio: ArrayLike,
+    orders: Sequence[int] | NDArray[np.integer],
+    model: str = "exact",
+    terms: int = 3,
+) -> ComplexArray:
+    r"""Fourier coefficients of the normalised reciprocating inertia :math:`-s''/r`.
+
+    Parameters
+    ----------
+    ratio : array_like
+        :math:`\lambda = r/l` per cylinder [1].
+    offset_ratio : array_like
+        :math:`\varepsilon = e/r` per cylinder [1].
+    orders : sequence of int
+        Orders :math:`k \ge 1`.
+    model : {'exact', 'series', 'textbook'}
+        How the coefficients are obtained (see the module notes).
+    terms : int
+        Number of binomial terms of the ``series`` model (highest power
+        :math:`\lambda^{2\,\mathrm{terms}-1}`).
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`G_k = a_k - i b_k` where :math:`-s''/r = \sum_k a_k\cos k\beta +
+        b_k\sin k\beta`; shape ``broadcast(ratio, offset_ratio).shape + (len(orders),)``.
+        The force phasors use :math:`c_k = G_k/2` (forward) and its conjugate (backward).
+
+    Notes
+    -----
+    For zero offset :math:`a_1 = 1`, :math:`a_2 = A_2 = \lambda + \lambda^3/4 + \dots` and
+    all :math:`b_k = 0`; an offset adds odd orders above 1 and sine terms.
+    """
+    lam, eps = np.broadcast_arrays(
+        np.asarray(ratio, dtype=np.float64), np.asarray(offset_ratio, dtype=np.float64)
+    )
+    orders_arr = np.asarray(orders, dtype=np.intp).ravel()
+    if orders_arr.size and orders_arr.min() < 1:
+        raise AnalysisError("orders start at 1")
+    if model == "exact":
+        return _exact(lam, eps, orders_arr)
+    if model == "series":
+        return _series(lam, eps, orders_arr, terms)
+    if model == "textbook":
+        out = np.zeros((*lam.shape, orders_arr.size), dtype=np.complex128)
+        out[..., orders_arr == 1] = 1.0
+        out[..., orders_arr == 2] = lam[..., None]
+        return out
+    raise AnalysisError(f"unknown model {model!r}; valid models: {', '.join(MODELS)}")
+
+
+def roll_coefficients(
+    ratio: ArrayLike, offset_ratio: ArrayLike, orders: Sequence[int] | NDArray[np.integer]
+) -> tuple[ComplexArray, ComplexArray]:
+    r"""Fourier coefficients of the two normalised roll-torque functions of one cylinder.
+
+    Returns
+    -------
+    reciprocating, conrod : ndarray of complex
+        :math:`G_k = a_k - i b_k` of :math:`g_{rec}(\beta) = (s''/r)(s'/r + \varepsilon)` and
+        :math:`g_{rod}(\beta) = \gamma''(1+\gamma')`; the roll torque the block receives is
+        :math:`\omega^2[m_{rec} r^2 g_{rec} + \Delta I\, g_{rod}]`.
+
+    Notes
+    -----
+    From the balance of angular momentum of the moving parts about the crank axis (see the
+    theory page): the block receives minus the inertia torque on the crank, plus the moment
+    of the shaking force whose line is displaced by the offset, plus the spin of the conrod
+    beyond its two-mass model.
+    """
+    lam, eps = np.broadcast_arrays(
+        np.asarray(ratio, dtype=np.float64), np.asarray(offset_ratio, dtype=np.float64)
+    )
+    orders_arr = np.asarray(orders, dtype=np.intp).ravel()
+    pairs = np.stack([lam.ravel(), eps.ravel()], axis=-1)
+    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    lam_u = unique[:, :1]
+    eps_u = unique[:, 1:]
+
+    def sample(beta: FloatArray) -> FloatArray:
+        _, ds, d2s = normalised_slider(beta, lam_u, eps_u)
+        dg, d2g = conrod_angle_derivatives(beta, lam_u, eps_u)
+        return np.stack([d2s * (ds + eps_u), d2g * (1.0 + dg)])
+
+    coeffs, _ = fourier_coefficients(sample, orders_arr, (2, unique.shape[0]))
+    rec = coeffs[0][inverse.ravel()].reshape(*lam.shape, orders_arr.size)
+    rod = coeffs[1][inverse.ravel()].reshape(*lam.shape, orders_arr.size)
+    return rec, rod

@@ -1,0 +1,701 @@
+"""Layouts: reading a layout file into a table of cylinders.
+
+A :class:`Layout` is plain data: one entry per cylinder in numpy arrays, SI units
+(radians for angles).  Loading validates the file (:mod:`balance.schema`), expands the
+compact ``crank:`` form, applies per-cylinder overrides, derives the lumped masses from
+parts where parts are given, and checks that the geometry can exist, so that the physics
+never sees a unit string or an impossible value.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass, field, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import BaseModel, ValidationError
+
+from .errors import InputError, LayoutError, Location
+from .schema import (
+    GEOMETRY_KEYS,
+    LUMPED_KEYS,
+    PART_KEYS,
+    BalanceSettings,
+    CrankSpec,
+    CylinderSpec,
+    FieldProblem,
+    LayoutSpec,
+)
+from .units import UnitProblem
+from .yamlsource import SourceDocument, decode_text, dotted_path, parse_yaml
+
+__all__ = [
+    "Layout",
+    "builtin_layout_names",
+    "builtin_layout_path",
+    "expand_layout",
+    "layout_from_dict",
+    "layout_from_text",
+    "load_layout",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class Layout:
+    """An engine as a table of cylinders (SI units, angles in radians).
+
+    Attributes
+    ----------
+    name : str
+        Name of the layout.
+    speed : float
+        Crank speed [rad/s].
+    throw, bank : ndarray
+        Throw angle and bank angle of each cylinder [rad], measured from +y in the direction
+        of rotation.
+    z : ndarray
+        Axial position of each cylinder's throw plane [m].
+    crank_radius, conrod_length, offset : ndarray
+        Crank radius, conrod length and desaxé offset of each cylinder [m].
+    reciprocating_mass, rotating_mass : ndarray
+        Lumped masses per cylinder [kg], reciprocating at the piston pin and rotating at the
+        crank pin radius.
+    conrod_inertia_correction : ndarray
+        The real conrod's moment of inertia about its centre of gravity less that of its
+        two-mass model [kg m^2]; zero when no ``conrod_inertia`` is given.
+    reference_z : float
+        Axial position about which moments are taken [m].
+    pitch : float
+        Cylinder pitch used to normalise moments [m]; NaN where it is undefined (all
+        cylinders in one plane).
+    cycle : str
+        ``"four-stroke"`` or ``"two-stroke"``.
+    firing_order : tuple of int or None
+        Cylinder numbers (1-based) in firing order, if given.
+    balance : BalanceSettings or None
+        The ``balance:`` section, if given.
+    """
+
+    name: str
+    speed: float
+    throw: FloatArray
+    bank: FloatArray
+    z: FloatArray
+    crank_radius: FloatArray
+    conrod_length: FloatArray
+    offset: FloatArray
+    reciprocating_mass: FloatArray
+    rotating_mass: FloatArray
+    conrod_inertia_correction: FloatArray
+    reference_z: float
+    pitch: float
+    cycle: str = "four-stroke"
+    firing_order: tuple[int, ...] | None = None
+    description: str | None = None
+    source: str | None = None
+    path: str | None = None
+    balance: BalanceSettings | None = None
+    spec: LayoutSpec | None = field(default=None, repr=False)
+
+    @property
+    def n_cylinders(self) -> int:
+        """Number of cylinders."""
+        return int(self.throw.size)
+
+    def with_speed(self, speed: float) -> Layout:
+        """The same layout at another crank speed [rad/s]."""
+        if not (math.isfinite(speed) and speed > 0):
+            raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
+        return replace(self, speed=float(speed))
+
+    def reordered(self, order: NDArray[np.intp] | list[int]) -> Layout:
+        """The same engine with its cylinders renumbered (``order`` is a permutation).
+
+        Throw angles are re-referenced so that the new first cylinder's throw is unchanged
+        relative to the others; the crank angle origin therefore moves with it.
+        """
+        idx = np.asarray(order, dtype=np.intp)
+        if sorted(idx.tolist()) != list(range(self.n_cylinders)):
+            raise InputError("order must be a permutation of the cylinder indices")
+        arrays = {
+            name: getattr(self, name)[idx]
+            for name in (
+                "throw",
+                "bank",
+                "z",
+                "crank_radius",
+                "conrod_length",
+                "offset",
+                "reciprocating_mass",
+                "rotating_mass",
+                "conrod_inertia_correction",
+            )
+        }
+        return replace(self, firing_order=None, spec=None, **arrays)
+
+
+# ---------------------------------------------------------------------------------------
+# built-in layouts
+
+
+def _layout_dirs() -> list[Path]:
+    dirs = []
+    packaged = resources.files("balance") / "layouts"
+    if packaged.is_dir():
+        dirs.append(Path(str(packaged)))
+    source_tree = Path(__file__).resolve().parent.parent / "layouts"
+    if source_tree.is_dir():
+        dirs.append(source_tree)
+    return dirs
+
+
+def builtin_layout_names() -> list[str]:
+    """Names of the built-in layouts (``inline-4``, ``v8-crossplane``...)."""
+    names: set[str] = set()
+    for d in _layout_dirs():
+        names.update(p.stem for p in d.glob("*.yaml"))
+    return sorted(names)
+
+
+def builtin_layout_path(name: str) -> Path:
+    """Path of a built-in layout file.
+
+    Raises
+    ------
+    InputError
+        If there is no built-in layout of that name.
+    """
+    for d in _layout_dirs():
+        candidate = d / f"{name}.yaml"
+        if candidate.is_file():
+            return candidate
+    names = builtin_layout_names()
+    hint = difflib.get_close_matches(name, names, n=3)
+    valid = f"did you mean {' or '.join(hint)}?" if hint else "run 'balance layouts' for the list"
+    raise InputError(f"{name}: no such file or built-in layout; {valid}")
+
+
+# ---------------------------------------------------------------------------------------
+# loading
+
+
+def load_layout(source: str | Path) -> Layout:
+    """Load a layout from a file path or a built-in layout name.
+
+    Parameters
+    ----------
+    source : str or path-like
+        A YAML file, or the name of a built-in layout such as ``"inline-4"``
+        (see :func:`builtin_layout_names`).
+
+    Returns
+    -------
+    Layout
+
+    Raises
+    ------
+    LayoutError
+        If the file is not a valid layout; the message names file, line, column and field.
+    InputError
+        If the file cannot be found or read.
+    """
+    path = Path(source)
+    if (
+        not path.exists()
+        and isinstance(source, str)
+        and "/" not in source
+        and not source.endswith((".yaml", ".yml"))
+    ):
+        path = builtin_layout_path(source)
+    if not path.exists():
+        raise InputError(f"{source}: no such file")
+    if path.is_dir():
+        raise InputError(f"{source}: is a directory, not a layout file")
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{source}: cannot read ({exc.strerror})") from None
+    text = decode_text(raw, str(source))
+    return layout_from_text(text, file=str(source))
+
+
+def layout_from_text(text: str, file: str = "<input>") -> Layout:
+    """Build a layout from YAML text (see :func:`load_layout`)."""
+    doc = parse_yaml(text, file)
+    return _build(doc)
+
+
+def layout_from_dict(data: dict[str, Any], file: str = "<dict>") -> Layout:
+    """Build a layout from plain data shaped like a layout file."""
+    return _build(SourceDocument(data=data, file=file))
+
+
+def _spec(doc: SourceDocument) -> LayoutSpec:
+    if not isinstance(doc.data, dict):
+        kind = type(doc.data).__name__
+        raise LayoutError(
+            f"the document is a {'list' if kind == 'list' else 'single value'}, not a mapping",
+            doc.location(()),
+            valid="a layout is a mapping with name, speed, geometry, masses and cylinders",
+        )
+    try:
+        return LayoutSpec.model_validate(doc.data)
+    except ValidationError as exc:
+        raise _layout_error(exc, doc) from None
+
+
+def _model_at(path: tuple[str | int, ...]) -> type[BaseModel] | None:
+    model: type[BaseModel] | None = LayoutSpec
+    for part in path:
+        if model is None:
+            return None
+        if isinstance(part, int):
+            continue
+        info = model.model_fields.get(part)
+        if info is None:
+            return None
+        model = _model_of(info.annotation)
+    return model
+
+
+def _model_of(annotation: Any) -> type[BaseModel] | None:
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in getattr(annotation, "__args__", ()) or ():
+        found = _model_of(arg)
+        if found is not None:
+            return found
+    return None
+
+
+_TYPE_NAMES = {
+    "dict": "a mapping",
+    "list": "a list",
+    "str": "text",
+    "int": "a whole number",
+    "float": "a number",
+    "bool": "true or false",
+    "NoneType": "nothing",
+}
+
+
+def _layout_error(exc: ValidationError, doc: SourceDocument) -> LayoutError:
+    errors = exc.errors(include_url=False)
+    # prefer errors that carry our own messages, then the first in file order
+    err = errors[0]
+    loc = tuple(p for p in err["loc"] if isinstance(p, str | int))
+    loc = tuple(p for p in loc if not (isinstance(p, str) and p.startswith("function-")))
+    kind = err["type"]
+    ctx = err.get("ctx") or {}
+    problem = ctx.get("error")
+    more = (
+        f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})"
+        if len(errors) > 1
+        else ""
+    )
+    if kind == "extra_forbidden":
+        key = str(loc[-1])
+        model = _model_at(loc[:-1])
+        names = list(model.model_fields) if model else []
+        hint = difflib.get_close_matches(key, names, n=1)
+        valid = f"did you mean '{hint[0]}'?" if hint else ""
+        valid = (valid + " " if valid else "") + (
+            f"valid keys: {', '.join(names)}" if names else ""
+        )
+        return LayoutError(
+            f"unknown key '{key}'{more}",
+            doc.location(loc, key=True),
+            field=dotted_path(loc),
+            valid=valid.strip(),
+        )
+    if kind == "missing":
+        key = str(loc[-1])
+        return LayoutError(
+            f"missing '{key}'{more}",
+            doc.location(loc[:-1]),
+            field=dotted_path(loc),
+            valid=_MISSING_HINTS.get(key, f"add '{key}'"),
+        )
+    if isinstance(problem, FieldProblem):
+        full = loc + problem.at
+        return LayoutError(
+            f"{problem}{more}",
+            doc.location(full),
+            field=dotted_path(full) or None,
+            valid=problem.valid or None,
+        )
+    if isinstance(problem, UnitProblem):
+        return LayoutError(
+            f"{problem}{more}", doc.location(loc), field=dotted_path(loc), valid=problem.valid
+        )
+    if kind == "literal_error":
+        return LayoutError(
+            f"{err['input']!r} is not allowed{more}",
+            doc.location(loc),
+            field=dotted_path(loc),
+            valid=f"expected {ctx.get('expected', 'one of the documented values')}",
+        )
+    if kind.endswith("_type") or kind in {"model_attributes_type"}:
+        got = _TYPE_NAMES.get(type(err["input"]).__name__, type(err["input"]).__name__)
+        want = {
+            "dict_type": "a mapping",
+            "model_type": "a mapping",
+            "list_type": "a list",
+            "string_type": "text",
+            "int_type": "a whole number",
+            "int_from_float": "a whole number",
+        }.get(kind, err["msg"].lower())
+        return LayoutError(
+            f"expected {want}, got {got}{more}",
+            doc.location(loc),
+            field=dotted_path(loc),
+            valid=_TYPE_HINTS.get(loc[-1] if loc else "", f"write {want} here"),
+        )
+    if kind in {"too_short", "too_long", "string_too_short", "string_too_long"}:
+        return LayoutError(
+            f"{err['msg']}{more}",
+            doc.location(loc),
+            field=dotted_path(loc) or None,
+            valid="see the layout format in the docs",
+        )
+    return LayoutError(f"{err['msg']}{more}", doc.location(loc), field=dotted_path(loc) or None)
+
+
+_MISSING_HINTS = {
+    "name": "add a name, e.g. 'name: Inline-4, flat crank'",
+    "speed": "add the crank speed, e.g. 'speed: 6000 rpm'",
+    "geometry": "add geometry with stroke (or crank_radius) and conrod_length",
+    "masses": "add masses: reciprocating and rotating (or the parts)",
+    "conrod_length": "add conrod_length, e.g. '143 mm'",
+    "z": "add the axial position of the throw plane, e.g. 'z: 91 mm'",
+    "throws": "add the throw angles, e.g. 'throws: [0, 180, 180, 0]'",
+}
+_TYPE_HINTS: dict[str | int, str] = {
+    "cylinders": "a list of cylinders, each {throw: ..., bank: ..., z: ...}",
+    "geometry": "a mapping with stroke (or crank_radius), conrod_length and offset",
+    "masses": "a mapping with reciprocating and rotating (or the parts)",
+    "throws": "a list of angles, e.g. [0, 180, 180, 0]",
+    "banks": "a list of angles, e.g. [-45 deg, 45 deg]",
+    "firing_order": "a list of cylinder numbers, e.g. [1, 3, 4, 2]",
+}
+
+
+def _cylinders(spec: LayoutSpec) -> tuple[list[CylinderSpec], tuple[str | int, ...] | None]:
+    """Explicit cylinders (expanding the compact form); with the path prefix of entries."""
+    if spec.cylinders is not None:
+        return list(spec.cylinders), ("cylinders",)
+    crank = spec.crank
+    assert crank is not None
+    return _expand_crank(crank), None
+
+
+def _expand_crank(crank: CrankSpec) -> list[CylinderSpec]:
+    split = crank.split if crank.split is not None else [0.0] * len(crank.banks)
+    spacing = crank.spacing or 0.0
+    cylinders = []
+    for t, throw in enumerate(crank.throws):
+        for j, bank in enumerate(crank.banks):
+            cylinders.append(
+                CylinderSpec(
+                    throw=throw + split[j], bank=bank, z=t * spacing + j * crank.bank_stagger
+                )
+            )
+    return cylinders
+
+
+def _build(doc: SourceDocument) -> Layout:
+    spec = _spec(doc)
+    cylinders, prefix = _cylinders(spec)
+    n = len(cylinders)
+    sharing = _rods_per_throw(spec, cylinders)
+    if n > 256:
+        raise LayoutError(
+            f"{n} cylinders",
+            doc.location(("crank",)),
+            field="crank",
+            valid="at most 256 cylinders",
+        )
+
+    def where(i: int, key: str) -> tuple[Location, str]:
+        if prefix is not None and getattr(cylinders[i], key, None) is not None:
+            path = (*prefix, i, key)
+            return doc.location(path), dotted_path(path)
+        section = "geometry" if key in GEOMETRY_KEYS else "masses"
+        return doc.location((section, key)), f"{section}.{key}"
+
+    geometry = spec.geometry
+    values: dict[str, list[float]] = {
+        k: []
+        for k in (
+            "throw",
+            "bank",
+            "z",
+            "crank_radius",
+            "conrod_length",
+            "offset",
+            "reciprocating_mass",
+            "rotating_mass",
+            "conrod_inertia_correction",
+        )
+    }
+    for i, cyl in enumerate(cylinders):
+        g = cyl.overrides(GEOMETRY_KEYS)
+        if "stroke" in g:
+            radius = g["stroke"] / 2
+        elif "crank_radius" in g:
+            radius = g["crank_radius"]
+        else:
+            radius = geometry.radius
+        length = g.get("conrod_length", geometry.conrod_length)
+        offset = g.get("offset", geometry.offset)
+        if not length > radius + abs(offset):
+            key = "conrod_length" if "conrod_length" in g or "offset" not in g else "offset"
+            loc, name = where(i, key)
+            raise LayoutError(
+                f"conrod_length {length * 1e3:.6g} mm is not more than crank radius "
+                f"{radius * 1e3:.6g} mm + |offset| {abs(offset) * 1e3:.6g} mm "
+                f"(cylinder {i + 1})",
+                loc,
+                field=name,
+                valid="the crank slider exists only while conrod_length > crank_radius + |offset|",
+            )
+        rec, rot, dinertia = _cylinder_masses(spec, cyl, length, i, where, sharing[i])
+        values["throw"].append(math.radians(cyl.throw_angle))
+        values["bank"].append(math.radians(cyl.bank))
+        values["z"].append(cyl.z)
+        values["crank_radius"].append(radius)
+        values["conrod_length"].append(length)
+        values["offset"].append(offset)
+        values["reciprocating_mass"].append(rec)
+        values["rotating_mass"].append(rot)
+        values["conrod_inertia_correction"].append(dinertia)
+
+    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
+    z = arrays["z"]
+    reference_z = spec.reference_z if spec.reference_z is not None else 0.5 * (z.min() + z.max())
+    pitch = _pitch(spec, z)
+    firing = _firing_order(spec, n, doc)
+    return Layout(
+        name=spec.name,
+        speed=spec.speed,
+        cycle=spec.cycle,
+        reference_z=float(reference_z),
+        pitch=pitch,
+        firing_order=firing,
+        description=spec.description,
+        source=spec.source,
+        path=None if doc.file.startswith("<") else doc.file,
+        balance=spec.balance,
+        spec=spec,
+        **arrays,
+    )
+
+
+def _rods_per_throw(spec: LayoutSpec, cylinders: list[CylinderSpec]) -> list[int]:
+    """How many rods share each cylinder's crank throw.
+
+    In the compact form the rods of one entry of ``throws`` share it (split pins included);
+    in the explicit form cylinders with the same throw angle and the same ``z`` do.
+    """
+    if spec.crank is not None:
+        per_throw = len(spec.crank.banks)
+        return [per_throw] * len(cylinders)
+    keys = [(round(cyl.throw_angle % 360.0, 9) % 360.0, round(cyl.z, 12)) for cyl in cylinders]
+    return [keys.count(key) for key in keys]
+
+
+def _cylinder_masses(
+    spec: LayoutSpec, cyl: CylinderSpec, length: float, i: int, where: Any, sharing: int
+) -> tuple[float, float, float]:
+    """Reciprocating mass, rotating mass and conrod inertia correction of one cylinder.
+
+    ``crank_unbalance`` is per throw: each of the ``sharing`` rods on a throw carries its
+    share.
+    """
+    masses = spec.masses
+    part_over = cyl.overrides(PART_KEYS)
+    lumped_over = cyl.overrides(LUMPED_KEYS)
+    if not masses.by_part:
+        if part_over:
+            key = next(iter(part_over))
+            loc, name = where(i, key)
+            raise LayoutError(
+                f"'{key}' overrides a part, but the engine's masses are lumped",
+                loc,
+                field=name,
+                valid="override reciprocating or rotating, or give the engine's masses by part",
+            )
+        rec = lumped_over.get("reciprocating", masses.reciprocating)
+        rot = lumped_over.get("rotating", masses.rotating)
+        return float(rec), float(rot), 0.0  # type: ignore[arg-type]
+    parts = {k: getattr(masses, k) for k in PART_KEYS}
+    parts.update(part_over)
+    cg = parts["conrod_cg_to_big_end"]
+    if cg > length:
+        loc, name = where(i, "conrod_cg_to_big_end")
+        raise LayoutError(
+            f"conrod_cg_to_big_end {cg * 1e3:.6g} mm is longer than the conrod "
+            f"({length * 1e3:.6g} mm, cylinder {i + 1})",
+            loc,
+            field=name,
+            valid="the centre of gravity lies between big end and small end",
+        )
+    conrod = parts["conrod"]
+    small_end = conrod * cg / length
+    big_end = conrod - small_end
+    rec = parts["piston_group"] + small_end
+    rot = big_end + (parts["crank_unbalance"] or 0.0) / sharing
+    dinertia = 0.0
+    if parts["conrod_inertia"] is not None:
+        dinertia = parts["conrod_inertia"] - conrod * cg * (length - cg)
+    rec = lumped_over.get("reciprocating", rec)
+    rot = lumped_over.get("rotating", rot)
+    return float(rec), float(rot), float(dinertia)
+
+
+def _pitch(spec: LayoutSpec, z: FloatArray) -> float:
+    if spec.pitch is not None:
+        return float(spec.pitch)
+    if spec.crank is not None and len(spec.crank.throws) > 1 and spec.crank.spacing:
+        return float(spec.crank.spacing)
+    distinct = np.unique(np.round(z, 12))
+    if distinct.size < 2:
+        return math.nan
+    return float((distinct[-1] - distinct[0]) / (distinct.size - 1))
+
+
+def _firing_order(spec: LayoutSpec, n: int, doc: SourceDocument) -> tuple[int, ...] | None:
+    if spec.firing_order is None:
+        return None
+    order = tuple(spec.firing_order)
+    if sorted(order) != list(range(1, n + 1)):
+        raise LayoutError(
+            f"firing_order {list(order)} is not an ordering of cylinders 1 to {n}",
+            doc.location(("firing_order",)),
+            field="firing_order",
+            valid=f"list each cylinder number 1..{n} once",
+        )
+    return order
+
+
+# ---------------------------------------------------------------------------------------
+# expansion to the explicit form
+
+
+def _fmt(value: float, unit: str, scale: float = 1.0) -> str:
+    number = value * scale
+    text = f"{number:.10g}"
+    if text in {"-0", "-0.0"}:
+        text = "0"
+    return f"{text} {unit}"
+
+
+def expand_layout(source: str | Path) -> str:
+    """The layout written in the explicit form (one entry per cylinder), as YAML text.
+
+    Compact forms are expanded; throws are given (``tdc`` is converted); every other
+    section is kept as validated, in SI values with units.
+    """
+    import yaml
+
+    layout = load_layout(source)
+    spec = layout.spec
+    assert spec is not None
+    cylinders, _ = _cylinders(spec)
+    out: dict[str, Any] = {"name": spec.name}
+    if spec.description:
+        out["description"] = spec.description
+    if spec.source:
+        out["source"] = spec.source
+    out["speed"] = _fmt(spec.speed * 60 / (2 * math.pi), "rpm")
+    out["cycle"] = spec.cycle
+    geometry: dict[str, str] = {}
+    g = spec.geometry
+    if g.stroke is not None:
+        geometry["stroke"] = _fmt(g.stroke, "mm", 1e3)
+    else:
+        geometry["crank_radius"] = _fmt(g.radius, "mm", 1e3)
+    geometry["conrod_length"] = _fmt(g.conrod_length, "mm", 1e3)
+    geometry["offset"] = _fmt(g.offset, "mm", 1e3)
+    out["geometry"] = geometry
+    out["masses"] = _masses_dict(spec.masses.model_dump(exclude_none=True))
+    entries = []
+    for cyl in cylinders:
+        entry: dict[str, str] = {
+            "throw": _fmt(_wrap_deg(cyl.throw_angle), "deg"),
+            "bank": _fmt(cyl.bank, "deg"),
+            "z": _fmt(cyl.z, "mm", 1e3),
+        }
+        over = cyl.model_dump(exclude_none=True, exclude={"throw", "tdc", "bank", "z"})
+        entry.update(_masses_dict(over))
+        entries.append(entry)
+    out["cylinders"] = entries
+    out["reference_z"] = _fmt(layout.reference_z, "mm", 1e3)
+    if math.isfinite(layout.pitch):
+        out["pitch"] = _fmt(layout.pitch, "mm", 1e3)
+    if layout.firing_order:
+        out["firing_order"] = list(layout.firing_order)
+    if spec.balance is not None:
+        out["balance"] = _balance_dict(spec.balance)
+
+    class _Dumper(yaml.SafeDumper):
+        pass
+
+    def _flow_dict(dumper: yaml.SafeDumper, data: dict[str, Any]) -> Any:
+        flow = all(not isinstance(v, dict | list) for v in data.values()) and "throw" in data
+        return dumper.represent_mapping("tag:yaml.org,2002:map", data, flow_style=flow)
+
+    _Dumper.add_representer(dict, _flow_dict)
+    header = f"# {spec.name}: explicit form"
+    if layout.path:
+        header += f" of {layout.path}"
+    return (
+        header
+        + "\n"
+        + yaml.dump(out, Dumper=_Dumper, sort_keys=False, width=100, allow_unicode=True)
+    )
+
+
+def _wrap_deg(angle: float) -> float:
+    wrapped = math.fmod(angle, 360.0)
+    if wrapped < 0:
+        wrapped += 360.0
+    return 0.0 if wrapped == 360.0 else wrapped
+
+
+_MASS_UNITS = {
+    "reciprocating": ("kg", 1.0),
+    "rotating": ("kg", 1.0),
+    "piston_group": ("kg", 1.0),
+    "conrod": ("kg", 1.0),
+    "crank_unbalance": ("kg", 1.0),
+    "conrod_cg_to_big_end": ("mm", 1e3),
+    "conrod_inertia": ("kg m^2", 1.0),
+    "stroke": ("mm", 1e3),
+    "crank_radius": ("mm", 1e3),
+    "conrod_length": ("mm", 1e3),
+    "offset": ("mm", 1e3),
+}
+
+
+def _masses_dict(values: dict[str, float]) -> dict[str, str]:
+    return {k: _fmt(v, *_MASS_UNITS[k]) for k, v in values.items() if k in _MASS_UNITS}
+
+
+def _balance_dict(settings: BalanceSettings) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    if settings.counterweight_radius is not None:
+        out["counterweight_radius"] = _fmt(settings.counterweight_radius, "mm", 1e3)
+    if settings.balance_factor is not None:
+        out["balance_factor"] = _fmt(settings.balance_factor, "%", 100)
+    if settings.orders is not None:
+        out["orders"] = list(settings.orders)
+    out["strategy"] = settings.strategy
+    return out

@@ -1,0 +1,206 @@
+r"""Phasor sums over cylinders: free forces, free moments and roll, order by order.
+
+A quantity of order k that depends on the crank angle :math:`\theta` is written as
+
+.. math::
+
+    Q_k(\theta) = P_k^{+} e^{+ik\theta} + P_k^{-} e^{-ik\theta}
+
+in the complex transverse plane (a vector :math:`(x, y)` is :math:`y + ix`).  Cylinder
+:math:`i` with throw :math:`\varphi_i`, bank :math:`\psi_i` and axial position :math:`z_i`
+is at :math:`\beta_i = \theta + \varphi_i - \psi_i` from its own TDC, and its
+reciprocating inertia acts along its bore, :math:`e^{i\psi_i}`.
+
+All functions take per-cylinder arrays on the last axis (leading axes broadcast, so a
+sweep is one call) and return complex arrays with the orders on the last axis.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "CANCELLATION_FACTOR",
+    "cancel_to_zero",
+    "peak",
+    "reciprocating_phasors",
+    "roll_phasors",
+    "rotating_phasor",
+]
+
+ComplexArray = NDArray[np.complex128]
+FloatArray = NDArray[np.float64]
+
+#: A sum is exactly zero when its magnitude is below
+#: ``CANCELLATION_FACTOR * n_terms * eps * sum(|terms|)``.
+CANCELLATION_FACTOR = 64.0
+_EPS = float(np.finfo(np.float64).eps)
+
+
+def cancel_to_zero(total: ComplexArray, term_scale: ArrayLike, n_terms: int) -> ComplexArray:
+    r"""Set sums that cancel by symmetry to exactly zero.
+
+    Parameters
+    ----------
+    total : ndarray of complex
+        The phasor sums.
+    term_scale : array_like
+        :math:`\sum_i |t_i|`, the sum of the magnitudes of the terms of each sum.
+    n_terms : int
+        Number of terms in each sum.
+
+    Returns
+    -------
+    ndarray of complex
+        ``total`` with every entry whose magnitude is at most
+        :math:`64\, n\, \epsilon \sum_i |t_i|` replaced by 0.
+
+    Notes
+    -----
+    Rounding in a sum of n terms of size up to :math:`S = \sum|t_i|` is bounded by about
+    :math:`n\epsilon S`; the factor 64 covers the rounding of the terms themselves (sines,
+    cosines of multiples of the throw angles).  Anything below this cannot be told from
+    zero in double precision, so reporting it as, say, 3e-13 N would be noise.
+    """
+    threshold = CANCELLATION_FACTOR * max(n_terms, 1) * _EPS * np.asarray(term_scale)
+    out = np.array(total, dtype=np.complex128, copy=True)
+    out[np.abs(out) <= threshold] = 0.0
+    return out
+
+
+def _weighted_sum(terms: ComplexArray, lever: FloatArray | None) -> ComplexArray:
+    """Sum over the cylinder axis (-2) with zero-cleaning."""
+    if lever is not None:
+        terms = terms * lever[..., :, None]
+    n = terms.shape[-2]
+    total = terms.sum(axis=-2)
+    return cancel_to_zero(total, np.abs(terms).sum(axis=-2), n)
+
+
+def reciprocating_phasors(
+    amplitude: ArrayLike,
+    coefficients: ArrayLike,
+    throw: ArrayLike,
+    bank: ArrayLike,
+    orders: ArrayLike,
+    lever: ArrayLike | None = None,
+) -> tuple[ComplexArray, ComplexArray]:
+    r"""Forward and backward phasors of the reciprocating inertia force (or moment).
+
+    Parameters
+    ----------
+    amplitude : array_like
+        :math:`m_{rec}\, r\, \omega^2` per cylinder [N], shape ``(..., n)``.
+    coefficients : array_like of complex
+        :math:`G_k` of :math:`-s''/r` per cylinder and order, shape ``(..., n, K)``
+        (:func:`balance.kinematics.acceleration_coefficients`).
+    throw, bank : array_like
+        Throw and bank angle per cylinder [rad], shape ``(..., n)``.
+    orders : array_like of int
+        The K orders.
+    lever : array_like, optional
+        :math:`z_i - z_{ref}` per cylinder [m]; given, the result is the moment [N m].
+
+    Returns
+    -------
+    forward, backward : ndarray of complex
+        :math:`P_k^{+}` and :math:`P_k^{-}`, shape ``(..., K)`` [N or N m].
+
+    Notes
+    -----
+    With :math:`c_k = G_k/2`,
+
+    .. math::
+
+        P_k^{+} = \sum_i m_i r_i \omega^2 c_{k,i}\, e^{+ik(\varphi_i-\psi_i)} e^{i\psi_i},
+        \qquad
+        P_k^{-} = \sum_i m_i r_i \omega^2 \bar c_{k,i}\, e^{-ik(\varphi_i-\psi_i)}
+        e^{i\psi_i}
+
+    (times :math:`z_i - z_{ref}` for moments).  A force :math:`F\cos k\beta` along a fixed
+    axis is two phasors of half its amplitude turning in opposite senses.
+
+    References
+    ----------
+    Seed 001 (balance of the crank mechanism: "fictitious" rotating forces); Taylor, *The
+    Internal Combustion Engine in Theory and Practice*, vol. 2, ch. 8.
+    """
+    amp = np.asarray(amplitude, dtype=np.float64)[..., None]
+    c = 0.5 * np.asarray(coefficients, dtype=np.complex128)
+    phi = np.asarray(throw, dtype=np.float64)[..., None]
+    psi = np.asarray(bank, dtype=np.float64)[..., None]
+    k = np.asarray(orders, dtype=np.float64)
+    along_bore = np.exp(1j * psi)
+    turn = np.exp(1j * k * (phi - psi))
+    forward_terms = amp * c * turn * along_bore
+    backward_terms = amp * np.conj(c) * np.conj(turn) * along_bore
+    lev = None if lever is None else np.asarray(lever, dtype=np.float64)
+    return _weighted_sum(forward_terms, lev), _weighted_sum(backward_terms, lev)
+
+
+def rotating_phasor(
+    amplitude: ArrayLike, throw: ArrayLike, lever: ArrayLike | None = None
+) -> ComplexArray:
+    r"""Forward first-order phasor of the rotating (centrifugal) force or moment.
+
+    :math:`P^{+} = \sum_i m_{rot,i} r_i \omega^2 e^{i\varphi_i}` (times
+    :math:`z_i - z_{ref}` for the moment), with ``amplitude`` :math:`m_{rot} r\omega^2` [N]
+    per cylinder on the last axis.  There is no backward part.
+    """
+    amp = np.asarray(amplitude, dtype=np.float64)
+    phi = np.asarray(throw, dtype=np.float64)
+    terms = (amp * np.exp(1j * phi))[..., None]
+    lev = None if lever is None else np.asarray(lever, dtype=np.float64)
+    return _weighted_sum(terms, lev)[..., 0]
+
+
+def roll_phasors(
+    reciprocating_amplitude: ArrayLike,
+    conrod_amplitude: ArrayLike,
+    reciprocating_coefficients: ArrayLike,
+    conrod_coefficients: ArrayLike,
+    throw: ArrayLike,
+    bank: ArrayLike,
+    orders: ArrayLike,
+) -> ComplexArray:
+    r"""Roll torque phasors of the engine, one per order.
+
+    Parameters
+    ----------
+    reciprocating_amplitude : array_like
+        :math:`m_{rec} r^2 \omega^2` per cylinder [N m].
+    conrod_amplitude : array_like
+        :math:`\Delta I\, \omega^2` per cylinder [N m].
+    reciprocating_coefficients, conrod_coefficients : array_like of complex
+        :math:`G_k` of :math:`g_{rec}` and :math:`g_{rod}`
+        (:func:`balance.kinematics.roll_coefficients`), shape ``(..., n, K)``.
+    throw, bank : array_like
+        [rad] per cylinder.
+    orders : array_like of int
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`R_k` such that the roll torque the block receives is
+        :math:`\sum_k \mathrm{Re}(R_k e^{ik\theta}) = \sum_k |R_k|\cos(k\theta + \arg R_k)`
+        [N m], positive in the direction of rotation.
+    """
+    a_rec = np.asarray(reciprocating_amplitude, dtype=np.float64)[..., None]
+    a_rod = np.asarray(conrod_amplitude, dtype=np.float64)[..., None]
+    phi = np.asarray(throw, dtype=np.float64)[..., None]
+    psi = np.asarray(bank, dtype=np.float64)[..., None]
+    k = np.asarray(orders, dtype=np.float64)
+    turn = np.exp(1j * k * (phi - psi))
+    terms = (
+        a_rec * np.asarray(reciprocating_coefficients) + a_rod * np.asarray(conrod_coefficients)
+    ) * turn
+    return _weighted_sum(terms, None)
+
+
+def peak(forward: ArrayLike, backward: ArrayLike | None = None) -> FloatArray:
+    """Largest magnitude over a revolution, :math:`|P^{+}| + |P^{-}|`."""
+    total = np.abs(np.asarray(forward))
+    if backward is not None:
+        total = total + np.abs(np.asarray(backward))
+    return np.asarray(total, dtype=np.float64)

@@ -1,0 +1,293 @@
+"""The result Dataset: built once, every view (table, JSON, CSV, netCDF) reads it.
+
+Variables (every one has ``units`` and ``long_name``):
+
+================================================  ====================  ===========
+variable                                          dims                  units
+================================================  ====================  ===========
+``reciprocating_force_magnitude`` / ``_phase``    order, rotation       N / deg
+``reciprocating_force_peak``                      order                 N
+``reciprocating_force_normalised``                order, rotation       1
+``reciprocating_force_peak_normalised``           order                 1
+``reciprocating_moment_*`` (same set)             ...                   N m
+``rotating_force_magnitude`` / ``_phase``         ()                    N / deg
+``rotating_moment_magnitude`` / ``_phase``        ()                    N m / deg
+``rotating_*_normalised``                         ()                    1
+``roll_amplitude`` / ``roll_phase``               roll_order            N m / deg
+``roll_amplitude_normalised``                     roll_order            1
+``piston_acceleration_cos`` / ``_sin``            cylinder, order       1
+per-cylinder layout (``throw_angle``...)          cylinder              deg, m, kg
+``speed``, ``reference_z``, ``pitch``,            ()                    rad/s, m,
+``reference_force``, ``reference_moment``                               N, N m
+================================================  ====================  ===========
+
+Phases are in degrees in [0, 360), measured from +y in the direction of rotation at
+crank angle 0; a phasor of zero magnitude has phase 0.  Normalised values are per
+``reference_force`` :math:`F_1 = m_{rec} r \\omega^2` (engine means) and, for moments, per
+``reference_moment`` :math:`F_1 a` with ``a`` the cylinder pitch.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import xarray as xr
+from numpy.typing import ArrayLike, NDArray
+
+from .analysis import Phasors
+from .layout import Layout
+
+__all__ = ["SCHEMA", "build_dataset", "phase_deg"]
+
+SCHEMA = "balance.analysis/1"
+
+
+def phase_deg(phasor: ArrayLike) -> NDArray[np.float64]:
+    """Phase of complex phasors in degrees, in [0, 360), to 1e-9 deg; 0 where the magnitude is 0."""
+    z = np.asarray(phasor, dtype=np.complex128)
+    # rounded to 1e-9 deg so that rounding noise (1e-14 deg) does not show as a phase
+    deg = np.round(np.mod(np.degrees(np.angle(z)), 360.0), 9)
+    deg = np.where(deg >= 360.0, 0.0, deg)
+    deg = np.where(np.abs(z) == 0.0, 0.0, deg)
+    deg = np.where(np.isnan(z), np.nan, deg)
+    return np.asarray(deg + 0.0, dtype=np.float64)  # + 0.0 turns -0.0 into 0.0
+
+
+def _var(dims: tuple[str, ...], data: Any, units: str, long_name: str, **attrs: Any) -> xr.Variable:
+    return xr.Variable(
+        dims, np.asarray(data), attrs={"units": units, "long_name": long_name, **attrs}
+    )
+
+
+def _safe_ratio(values: Any, scale: float) -> Any:
+    if not math.isfinite(scale) or scale == 0.0:
+        return np.full(np.shape(values), np.nan)
+    return np.asarray(values) / scale
+
+
+def build_dataset(layout: Layout, result: Phasors) -> xr.Dataset:
+    """Assemble the result Dataset of an analysis.
+
+    Parameters
+    ----------
+    layout : Layout
+        The engine analysed.
+    result : Phasors
+        The phasors from :func:`balance.analysis.compute`.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    from . import __version__
+
+    ks = result.orders
+    f1 = result.reference_force
+    pitch = layout.pitch
+    m1 = f1 * pitch if math.isfinite(pitch) else math.nan
+    rec_r2w2 = float(np.mean(layout.reciprocating_mass) * np.mean(layout.crank_radius) ** 2) * (
+        layout.speed**2
+    )
+
+    def pair(fwd: NDArray[np.complex128], bwd: NDArray[np.complex128]) -> NDArray[np.complex128]:
+        return np.stack([fwd, bwd], axis=-1)
+
+    force = pair(result.force_forward, result.force_backward)
+    moment = pair(result.moment_forward, result.moment_backward)
+    force_mag = np.abs(force)
+    moment_mag = np.abs(moment)
+    force_peak = force_mag.sum(axis=-1)
+    moment_peak = moment_mag.sum(axis=-1)
+
+    data: dict[str, xr.Variable] = {
+        "reciprocating_force_magnitude": _var(
+            ("order", "rotation"),
+            force_mag,
+            "N",
+            "magnitude of the reciprocating inertia force phasor",
+        ),
+        "reciprocating_force_phase": _var(
+            ("order", "rotation"),
+            phase_deg(force),
+            "deg",
+            "phase of the reciprocating inertia force phasor at crank angle 0",
+        ),
+        "reciprocating_force_peak": _var(
+            ("order",),
+            force_peak,
+            "N",
+            "peak reciprocating inertia force over a revolution",
+        ),
+        "reciprocating_force_normalised": _var(
+            ("order", "rotation"),
+            _safe_ratio(force_mag, f1),
+            "1",
+            "reciprocating force phasor magnitude per m_rec r omega^2",
+        ),
+        "reciprocating_force_peak_normalised": _var(
+            ("order",),
+            _safe_ratio(force_peak, f1),
+            "1",
+            "peak reciprocating force per m_rec r omega^2",
+        ),
+        "reciprocating_moment_magnitude": _var(
+            ("order", "rotation"),
+            moment_mag,
+            "N m",
+            "magnitude of the reciprocating inertia moment phasor about reference_z",
+        ),
+        "reciprocating_moment_phase": _var(
+            ("order", "rotation"),
+            phase_deg(moment),
+            "deg",
+            "phase of the reciprocating inertia moment phasor at crank angle 0",
+        ),
+        "reciprocating_moment_peak": _var(
+            ("order",),
+            moment_peak,
+            "N m",
+            "peak reciprocating inertia moment over a revolution",
+        ),
+        "reciprocating_moment_normalised": _var(
+            ("order", "rotation"),
+            _safe_ratio(moment_mag, m1),
+            "1",
+            "reciprocating moment phasor magnitude per m_rec r omega^2 times cylinder pitch",
+        ),
+        "reciprocating_moment_peak_normalised": _var(
+            ("order",),
+            _safe_ratio(moment_peak, m1),
+            "1",
+            "peak reciprocating moment per m_rec r omega^2 times cylinder pitch",
+        ),
+        "rotating_force_magnitude": _var(
+            (),
+            abs(result.rotating_force),
+            "N",
+            "magnitude of the rotating (centrifugal) force, order 1 forward",
+        ),
+        "rotating_force_phase": _var(
+            (),
+            phase_deg(result.rotating_force),
+            "deg",
+            "phase of the rotating force at crank angle 0",
+        ),
+        "rotating_force_normalised": _var(
+            (),
+            _safe_ratio(abs(result.rotating_force), f1),
+            "1",
+            "rotating force per m_rec r omega^2",
+        ),
+        "rotating_moment_magnitude": _var(
+            (),
+            abs(result.rotating_moment),
+            "N m",
+            "magnitude of the rotating (centrifugal) moment about reference_z, order 1 forward",
+        ),
+        "rotating_moment_phase": _var(
+            (),
+            phase_deg(result.rotating_moment),
+            "deg",
+            "phase of the rotating moment at crank angle 0",
+        ),
+        "rotating_moment_normalised": _var(
+            (),
+            _safe_ratio(abs(result.rotating_moment), m1),
+            "1",
+            "rotating moment per m_rec r omega^2 times cylinder pitch",
+        ),
+        "roll_amplitude": _var(
+            ("roll_order",),
+            np.abs(result.roll),
+            "N m",
+            "amplitude of the roll torque on the block (sum of a_k cos(k theta + phase_k))",
+        ),
+        "roll_phase": _var(
+            ("roll_order",),
+            phase_deg(result.roll),
+            "deg",
+            "phase of the roll torque, positive in the direction of rotation",
+        ),
+        "roll_amplitude_normalised": _var(
+            ("roll_order",),
+            _safe_ratio(np.abs(result.roll), rec_r2w2),
+            "1",
+            "roll torque amplitude per m_rec r^2 omega^2",
+        ),
+        "piston_acceleration_cos": _var(
+            ("cylinder", "order"),
+            result.acceleration_coefficients.real,
+            "1",
+            "a_k: cosine coefficient of -s''/r (normalised reciprocating inertia)",
+        ),
+        "piston_acceleration_sin": _var(
+            ("cylinder", "order"),
+            -result.acceleration_coefficients.imag,
+            "1",
+            "b_k: sine coefficient of -s''/r (normalised reciprocating inertia)",
+        ),
+        "throw_angle": _var(
+            ("cylinder",),
+            np.degrees(layout.throw),
+            "deg",
+            "crank throw angle from +y in the direction of rotation",
+        ),
+        "bank_angle": _var(
+            ("cylinder",),
+            np.degrees(layout.bank),
+            "deg",
+            "bore axis direction from +y in the direction of rotation",
+        ),
+        "axial_position": _var(("cylinder",), layout.z, "m", "axial position of the throw plane"),
+        "crank_radius": _var(("cylinder",), layout.crank_radius, "m", "crank radius"),
+        "conrod_length": _var(("cylinder",), layout.conrod_length, "m", "conrod length"),
+        "offset": _var(("cylinder",), layout.offset, "m", "bore axis offset (desaxe)"),
+        "reciprocating_mass": _var(
+            ("cylinder",), layout.reciprocating_mass, "kg", "reciprocating mass at the piston pin"
+        ),
+        "rotating_mass": _var(
+            ("cylinder",), layout.rotating_mass, "kg", "rotating mass at the crank pin radius"
+        ),
+        "conrod_inertia_correction": _var(
+            ("cylinder",),
+            layout.conrod_inertia_correction,
+            "kg m2",
+            "conrod moment of inertia about its centre of gravity less its two-mass model's",
+        ),
+        "speed": _var((), layout.speed, "rad/s", "crank speed"),
+        "reference_z": _var((), layout.reference_z, "m", "axial position moments are taken about"),
+        "pitch": _var((), pitch, "m", "cylinder pitch used to normalise moments"),
+        "reference_force": _var((), f1, "N", "m_rec r omega^2 (engine means)"),
+        "reference_moment": _var((), m1, "N m", "m_rec r omega^2 times cylinder pitch"),
+    }
+    coords = {
+        "order": _var(("order",), ks, "1", "harmonic order (multiple of crank speed)"),
+        "rotation": _var(
+            ("rotation",),
+            np.array(["forward", "backward"]),
+            "1",
+            "sense of rotation of the phasor relative to the crank",
+        ),
+        "roll_order": _var(
+            ("roll_order",), ks.astype(np.float64), "1", "harmonic order of the roll torque"
+        ),
+        "cylinder": _var(
+            ("cylinder",), np.arange(1, layout.n_cylinders + 1), "1", "cylinder number"
+        ),
+    }
+    attrs = {
+        "schema": SCHEMA,
+        "layout": layout.name,
+        "source_file": layout.path or "",
+        "cycle": layout.cycle,
+        "model": result.model,
+        "series_terms": result.terms if result.model == "series" else 0,
+        "speed_rpm": layout.speed * 60.0 / (2.0 * math.pi),
+        "firing_order": ",".join(map(str, layout.firing_order or ())),
+        "balance_version": __version__,
+        "conventions": "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
+        "direction of rotation; (x, y) as y + i x",
+    }
+    return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)

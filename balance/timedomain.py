@@ -1,0 +1,176 @@
+r"""Brute-force computation in the crank-angle domain.
+
+Independent of the phasor algebra: the forces, moments and roll torque are sampled over a
+revolution from the geometry of every cylinder, summed as vectors in the engine frame, and
+their harmonics taken by FFT.  The tests check every analytic shortcut of the package
+against these functions.
+
+The roll torque is found here by the Newton–Euler equations of piston and rigid conrod
+(mass, centre of gravity, moment of inertia) at each crank angle, solved for the force of
+the cylinder wall; its moment about the crank axis is what the block receives.  This does
+not use the energy argument by which :func:`balance.kinematics.roll_coefficients` is
+derived.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .kinematics import conrod_angle_derivatives, normalised_slider
+from .layout import Layout
+
+__all__ = [
+    "crank_angles",
+    "phasors_from_samples",
+    "reciprocating_force_samples",
+    "roll_newton_euler",
+    "roll_phasors_from_samples",
+    "rotating_force_samples",
+]
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+
+def crank_angles(samples: int) -> FloatArray:
+    """``samples`` equally spaced crank angles over one revolution [rad]."""
+    return 2.0 * np.pi * np.arange(samples) / samples
+
+
+def reciprocating_force_samples(
+    layout: Layout, theta: ArrayLike, lever: bool = False
+) -> ComplexArray:
+    r"""Reciprocating inertia force (or moment) on the block at each crank angle.
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`\sum_i -m_{rec,i}\, \omega^2 s_i''(\beta_i)\, e^{i\psi_i}` [N] (times
+        :math:`z_i - z_{ref}` [N m] with ``lever=True``), one value per crank angle.
+    """
+    th = np.asarray(theta, dtype=np.float64)[:, None]
+    beta = th + layout.throw - layout.bank
+    r = layout.crank_radius
+    _, _, d2s = normalised_slider(beta, r / layout.conrod_length, layout.offset / r)
+    force = -layout.reciprocating_mass * layout.speed**2 * r * d2s * np.exp(1j * layout.bank)
+    if lever:
+        force = force * (layout.z - layout.reference_z)
+    return np.asarray(force.sum(axis=1), dtype=np.complex128)
+
+
+def rotating_force_samples(layout: Layout, theta: ArrayLike, lever: bool = False) -> ComplexArray:
+    """Centrifugal force (or moment) of the rotating masses at each crank angle [N, N m]."""
+    th = np.asarray(theta, dtype=np.float64)[:, None]
+    force = (
+        layout.rotating_mass
+        * layout.crank_radius
+        * layout.speed**2
+        * np.exp(1j * (th + layout.throw))
+    )
+    if lever:
+        force = force * (layout.z - layout.reference_z)
+    return np.asarray(force.sum(axis=1), dtype=np.complex128)
+
+
+def phasors_from_samples(
+    samples: ArrayLike, orders: ArrayLike
+) -> tuple[ComplexArray, ComplexArray]:
+    r"""Forward and backward phasors of a complex signal sampled over one revolution.
+
+    For :math:`Q(\theta) = \sum_k P_k^{+}e^{ik\theta} + P_k^{-}e^{-ik\theta}` sampled at
+    :func:`crank_angles`, :math:`P_k^{+}` is FFT bin :math:`k` and :math:`P_k^{-}` bin
+    :math:`-k`, divided by the number of samples.
+    """
+    q = np.asarray(samples, dtype=np.complex128)
+    n = q.shape[-1]
+    spectrum = np.fft.fft(q, axis=-1) / n
+    ks = np.asarray(orders, dtype=np.intp)
+    return spectrum[..., ks % n], spectrum[..., (-ks) % n]
+
+
+def roll_phasors_from_samples(samples: ArrayLike, orders: ArrayLike) -> ComplexArray:
+    r"""Phasors :math:`R_k` of a real torque :math:`\sum_k \mathrm{Re}(R_k e^{ik\theta})`."""
+    t = np.asarray(samples, dtype=np.float64)
+    n = t.shape[-1]
+    spectrum = np.fft.fft(t, axis=-1) / n
+    return 2.0 * spectrum[..., np.asarray(orders, dtype=np.intp) % n]
+
+
+def _cross(a: ComplexArray, b: ComplexArray) -> FloatArray:
+    """z-component of the cross product of 2-D vectors stored as X + iY (math orientation)."""
+    return np.asarray(a.real * b.imag - a.imag * b.real)
+
+
+def roll_newton_euler(
+    layout: Layout,
+    theta: ArrayLike,
+    small_end_share: float = 1.0 / 3.0,
+    cg_fraction: float = 0.3,
+) -> FloatArray:
+    r"""Roll torque on the block from the Newton–Euler equations of piston and rigid rod.
+
+    Parameters
+    ----------
+    layout : Layout
+        The engine (inertia only, constant crank speed).
+    theta : array_like
+        Crank angles [rad].
+    small_end_share : float
+        Share of each cylinder's reciprocating mass that is the conrod's small-end share;
+        the rest is the piston.  The rod is then a rigid body with its centre of gravity
+        ``cg_fraction`` of its length from the big end and the moment of inertia that gives
+        the layout's ``conrod_inertia_correction``.  The result must not depend on this
+        choice (static equivalence).
+    cg_fraction : float
+        Centre of gravity of the rod from the big end, as a fraction of its length.
+
+    Returns
+    -------
+    ndarray
+        Torque about the crank axis received by the block [N m], positive in the direction
+        of rotation, one value per crank angle.
+
+    Notes
+    -----
+    In each cylinder's frame (X across the bore towards where the pin goes after TDC,
+    Y along the bore; vectors as X + iY) with crank pin C, piston pin P, rod centre of
+    gravity G, the rod turning at :math:`\ddot\vartheta = \omega^2\gamma''`:
+
+    .. math::
+
+        m_p a_P &= F_{RP} + (N, 0) \\
+        m_c a_G &= F_{CR} - F_{RP} \\
+        I_G \ddot\vartheta &= (P-G)\times(-F_{RP}) + (C-G)\times F_{CR}
+
+    which give :math:`N = [I_G\ddot\vartheta - d\times m_p a_P - (C-G)\times m_c a_G]/d_Y`
+    with :math:`d = C - P`.  The wall pushes the block with :math:`(-N, 0)` at P, whose
+    moment about the crank axis in the direction of rotation is :math:`-s N`.
+    """
+    th = np.asarray(theta, dtype=np.float64)[:, None]
+    beta = th + layout.throw - layout.bank
+    r = layout.crank_radius
+    length = layout.conrod_length
+    e = layout.offset
+    w2 = layout.speed**2
+    lam = r / length
+    s_n, _, d2s_n = normalised_slider(beta, lam, e / r)
+    _, d2g = conrod_angle_derivatives(beta, lam, e / r)
+    s = r * s_n
+    small = small_end_share * layout.reciprocating_mass
+    m_p = layout.reciprocating_mass - small
+    cg = cg_fraction * length
+    m_c = small * length / cg
+    i_g = layout.conrod_inertia_correction + m_c * cg * (length - cg)
+
+    C = r * (np.sin(beta) + 1j * np.cos(beta))
+    P = e + 1j * s
+    G = C + (cg / length) * (P - C)
+    a_C = -w2 * C
+    a_P = 1j * w2 * r * d2s_n
+    a_G = a_C + (cg / length) * (a_P - a_C)
+    alpha = w2 * d2g
+    d = C - P
+    N = (i_g * alpha - _cross(d, m_p * a_P) - _cross(C - G, m_c * a_G)) / d.imag
+    torque = -s * N
+    return np.asarray(torque.sum(axis=1), dtype=np.float64)

@@ -1,0 +1,285 @@
+"""Safe YAML reading that remembers where every value came from.
+
+The layout file is parsed into plain Python values (``dict``, ``list``, ``str``, ``int``,
+``float``, ``bool``, ``None``) together with a map from each value's path to its line and
+column, so that validation errors can point back into the file.  Only the YAML core schema
+is accepted: no object construction tags.  Alias expansion is counted, so a
+"billion laughs" document is refused after a bounded amount of work, and so are documents
+nested deeper than any layout needs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import yaml
+
+from .errors import LayoutError, Location
+
+__all__ = [
+    "MAX_BYTES",
+    "MAX_DEPTH",
+    "MAX_NODES",
+    "SourceDocument",
+    "decode_text",
+    "dotted_path",
+    "parse_yaml",
+]
+
+#: Largest layout file read [bytes].  Real layouts are a few kilobytes.
+MAX_BYTES = 1_000_000
+#: Largest number of values after alias expansion.
+MAX_NODES = 200_000
+#: Deepest nesting of mappings and lists.
+MAX_DEPTH = 32
+
+Path = tuple[str | int, ...]
+
+_Loader: type[yaml.SafeLoader] = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+@dataclass
+class SourceDocument:
+    """Plain data of a YAML document and the location of each value and key."""
+
+    data: Any
+    file: str
+    value_marks: dict[Path, tuple[int, int]] = field(default_factory=dict)
+    key_marks: dict[Path, tuple[int, int]] = field(default_factory=dict)
+
+    def location(self, path: Path, key: bool = False) -> Location:
+        """Location of the value (or, with ``key=True``, of the key) at ``path``.
+
+        Falls back to the nearest enclosing value when the path itself is absent
+        (for example a missing field is reported at its parent mapping).
+        """
+        marks = self.key_marks if key else self.value_marks
+        probe = tuple(path)
+        while True:
+            if probe in marks:
+                line, col = marks[probe]
+                return Location(self.file, line, col)
+            if probe in self.value_marks:
+                line, col = self.value_marks[probe]
+                return Location(self.file, line, col)
+            if not probe:
+                return Location(self.file, 1, 1)
+            probe = probe[:-1]
+
+
+def _scalar(node: yaml.ScalarNode, constructor: yaml.SafeLoader, doc: SourceDocument) -> Any:
+    try:
+        return constructor.construct_object(node)
+    except yaml.YAMLError as exc:
+        line, col = node.start_mark.line + 1, node.start_mark.column + 1
+        raise LayoutError(
+            f"cannot read the value {node.value!r} ({_first_line(exc)})",
+            Location(doc.file, line, col),
+            valid="write a plain number or a quoted string such as '86 mm'",
+        ) from None
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return text[0] if text else type(exc).__name__
+
+
+def _convert(
+    node: yaml.Node,
+    path: Path,
+    depth: int,
+    doc: SourceDocument,
+    constructor: yaml.SafeLoader,
+    budget: list[int],
+) -> Any:
+    budget[0] -= 1
+    line, col = node.start_mark.line + 1, node.start_mark.column + 1
+    if budget[0] < 0:
+        raise LayoutError(
+            f"the document expands to more than {MAX_NODES} values (alias expansion bomb?)",
+            Location(doc.file, line, col),
+            valid="a layout needs a few hundred values; write it without nested aliases",
+        )
+    if depth > MAX_DEPTH:
+        raise LayoutError(
+            f"nested deeper than {MAX_DEPTH} levels",
+            Location(doc.file, line, col),
+            valid="a layout is at most a few levels deep",
+        )
+    doc.value_marks.setdefault(path, (line, col))
+    if isinstance(node, yaml.ScalarNode):
+        if node.tag not in _CORE_TAGS:
+            raise LayoutError(
+                f"tag {node.tag!r} is not allowed",
+                Location(doc.file, line, col),
+                valid="plain YAML values only (no tags)",
+            )
+        return _scalar(node, constructor, doc)
+    if isinstance(node, yaml.SequenceNode):
+        if node.tag != "tag:yaml.org,2002:seq":
+            raise LayoutError(
+                f"tag {node.tag!r} is not allowed",
+                Location(doc.file, line, col),
+                valid="plain YAML lists only (no tags)",
+            )
+        return [
+            _convert(item, (*path, i), depth + 1, doc, constructor, budget)
+            for i, item in enumerate(node.value)
+        ]
+    if isinstance(node, yaml.MappingNode):
+        if node.tag != "tag:yaml.org,2002:map":
+            raise LayoutError(
+                f"tag {node.tag!r} is not allowed",
+                Location(doc.file, line, col),
+                valid="plain YAML mappings only (no tags)",
+            )
+        out: dict[str, Any] = {}
+        for key_node, value_node in node.value:
+            kline, kcol = key_node.start_mark.line + 1, key_node.start_mark.column + 1
+            if key_node.tag == "tag:yaml.org,2002:merge":
+                raise LayoutError(
+                    "merge keys ('<<') are not supported",
+                    Location(doc.file, kline, kcol),
+                    valid="write the keys out",
+                )
+            if not isinstance(key_node, yaml.ScalarNode) or key_node.tag != "tag:yaml.org,2002:str":
+                shown = (
+                    key_node.value if isinstance(key_node, yaml.ScalarNode) else "(a collection)"
+                )
+                raise LayoutError(
+                    f"key {shown!r} is not a name",
+                    Location(doc.file, kline, kcol),
+                    valid="keys are lower-case names such as 'stroke'",
+                )
+            key = str(key_node.value)
+            if key in out:
+                first = doc.key_marks.get((*path, key), (kline, kcol))
+                raise LayoutError(
+                    f"duplicate key {key!r} (first given on line {first[0]})",
+                    Location(doc.file, kline, kcol),
+                    field=dotted_path((*path, key)),
+                    valid="give each key once",
+                )
+            doc.key_marks[(*path, key)] = (kline, kcol)
+            out[key] = _convert(value_node, (*path, key), depth + 1, doc, constructor, budget)
+        return out
+    raise LayoutError(  # pragma: no cover - PyYAML has only these three node kinds
+        "unsupported YAML node", Location(doc.file, line, col)
+    )
+
+
+_CORE_TAGS = {
+    "tag:yaml.org,2002:str",
+    "tag:yaml.org,2002:int",
+    "tag:yaml.org,2002:float",
+    "tag:yaml.org,2002:bool",
+    "tag:yaml.org,2002:null",
+}
+
+
+def dotted_path(path: Path) -> str:
+    text = ""
+    for part in path:
+        if isinstance(part, int):
+            text += f"[{part + 1}]"
+        else:
+            text += ("." if text else "") + part
+    return text
+
+
+def decode_text(raw: bytes, file: str) -> str:
+    """Decode a layout file's bytes as UTF-8, refusing binary and oversized input."""
+    if len(raw) > MAX_BYTES:
+        raise LayoutError(
+            f"file is {len(raw)} bytes, more than the {MAX_BYTES} bytes a layout may have",
+            Location(file),
+            valid="a layout file is a few kilobytes of YAML",
+        )
+    if b"\x00" in raw:
+        raise LayoutError(
+            "file is binary (it contains NUL bytes)", Location(file), valid="a YAML text file"
+        )
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        before = raw[: exc.start]
+        line = before.count(b"\n") + 1
+        col = exc.start - (before.rfind(b"\n") + 1) + 1
+        raise LayoutError(
+            f"byte 0x{raw[exc.start]:02x} is not UTF-8",
+            Location(file, line, col),
+            valid="save the file as UTF-8 text",
+        ) from None
+    return text
+
+
+def parse_yaml(text: str, file: str = "<input>") -> SourceDocument:
+    """Parse YAML text into plain data with locations.
+
+    Parameters
+    ----------
+    text : str
+        The YAML document.
+    file : str
+        Name used in error messages.
+
+    Returns
+    -------
+    SourceDocument
+        Plain data and the locations of its values and keys.
+
+    Raises
+    ------
+    LayoutError
+        For syntax errors, multiple documents, tags, duplicate keys, alias bombs and
+        documents nested deeper than :data:`MAX_DEPTH`.
+    """
+    doc = SourceDocument(data=None, file=file)
+    if len(text.encode("utf-8", "surrogatepass")) > MAX_BYTES:
+        raise LayoutError(
+            f"text is more than the {MAX_BYTES} bytes a layout may have",
+            Location(file),
+            valid="a layout file is a few kilobytes of YAML",
+        )
+    loader = _Loader(text)
+    try:
+        try:
+            node = loader.get_single_node()
+        except yaml.MarkedYAMLError as exc:
+            mark = exc.problem_mark or exc.context_mark
+            problem = exc.problem or exc.context or "syntax error"
+            location = Location(file, mark.line + 1, mark.column + 1) if mark else Location(file)
+            if "expected a single document" in (exc.context or ""):
+                raise LayoutError(
+                    "more than one YAML document", location, valid="one layout per file"
+                ) from None
+            raise LayoutError(
+                f"YAML syntax error: {problem}", location, valid="check indentation and quoting"
+            ) from None
+        except yaml.YAMLError as exc:
+            raise LayoutError(f"YAML error: {_first_line(exc)}", Location(file)) from None
+        except RecursionError:
+            raise LayoutError(
+                "nested too deeply to read",
+                Location(file),
+                valid=f"a layout is at most {MAX_DEPTH} levels deep",
+            ) from None
+        if node is None:
+            raise LayoutError(
+                "the file is empty",
+                Location(file, 1, 1),
+                valid="a layout is a mapping with name, speed, geometry, masses and cylinders",
+            )
+        budget = [MAX_NODES]
+        try:
+            doc.data = _convert(node, (), 0, doc, loader, budget)
+        except RecursionError:
+            raise LayoutError(
+                "nested too deeply to read",
+                Location(file),
+                valid=f"a layout is at most {MAX_DEPTH} levels deep",
+            ) from None
+    finally:
+        loader.dispose()
+    return doc

@@ -1,0 +1,209 @@
+"""The command line: contract JSON, formats, exit codes and one-line errors."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+from balance.cli import app
+from balance.layout import builtin_layout_names
+
+runner = CliRunner()
+
+BAD = """\
+name: bad
+speed: 6000 rpm
+geometry:
+  stroke: 86 kg
+  conrod_length: 143 mm
+masses: {reciprocating: 0.6 kg, rotating: 0.4 kg}
+crank: {throws: [0, 180], spacing: 90 mm}
+"""
+
+
+def run(*args: str):
+    return runner.invoke(app, list(args))
+
+
+def test_analyse_json_is_the_contract():
+    result = run("analyse", "inline-4", "--format", "json")
+    assert result.exit_code == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert data["schema"] == "balance.analysis/1"
+    assert data["layout"]
+    assert isinstance(data["speed_rpm"], float) and isinstance(data["reference_z_m"], float)
+    forces = data["reciprocating"]["force"]
+    assert [f["order"] for f in forces] == list(range(1, 9))  # every listed order, even zeros
+    for entry in forces + data["reciprocating"]["moment"]:
+        assert set(entry) >= {"order", "forward", "backward", "peak"}
+        for rotation in ("forward", "backward"):
+            assert set(entry[rotation]) == {"magnitude", "phase_deg"}
+            assert 0.0 <= entry[rotation]["phase_deg"] < 360.0
+        assert entry["peak"] == pytest.approx(
+            entry["forward"]["magnitude"] + entry["backward"]["magnitude"]
+        )
+    for what in ("force", "moment"):
+        assert set(data["rotating"][what]) >= {"forward", "peak"}
+    assert [r["order"] for r in data["roll"]] == list(range(1, 9))
+    assert set(data["roll"][0]) == {"order", "amplitude", "phase_deg"}
+    # the inline-4: only even orders of free force
+    assert forces[0]["peak"] == 0.0 and forces[1]["peak"] > 0.0
+
+
+def test_json_orders_and_speed_options():
+    result = run("analyse", "inline-3", "-f", "json", "--orders", "1,2,4-5", "--speed", "3000rpm")
+    assert result.exit_code == 0, result.stderr
+    data = json.loads(result.stdout)
+    assert [f["order"] for f in data["reciprocating"]["force"]] == [1, 2, 4, 5]
+    assert data["speed_rpm"] == pytest.approx(3000.0)
+
+
+def test_table_is_default_and_readable():
+    result = run("analyse", "inline-4")
+    assert result.exit_code == 0
+    assert "Reciprocating" in result.stdout and "Roll" in result.stdout
+    assert result.stderr == ""
+
+
+def test_csv_output():
+    result = run("analyse", "v8-crossplane", "-f", "csv", "--orders", "1-2")
+    assert result.exit_code == 0
+    lines = result.stdout.strip().splitlines()
+    assert lines[0].startswith("order,force_forward_magnitude [N]")
+    assert len(lines) == 3
+
+
+def test_netcdf_output_has_units_and_matches_json(tmp_path):
+    target = tmp_path / "out.nc"
+    result = run("analyse", "inline-3", "-f", "netcdf", "-o", str(target))
+    assert result.exit_code == 0, result.stderr
+    assert f"wrote {target}" in result.stderr
+    with xr.open_dataset(target, engine="netcdf4") as ds:
+        for name, var in ds.variables.items():
+            assert "units" in var.attrs and "long_name" in var.attrs, name
+        peak = float(ds.reciprocating_moment_peak.sel(order=1))
+    data = json.loads(run("analyse", "inline-3", "-f", "json").stdout)
+    assert data["reciprocating"]["moment"][0]["peak"] == pytest.approx(peak, rel=1e-15)
+
+
+def test_existing_output_is_kept_without_force(tmp_path):
+    target = tmp_path / "out.json"
+    target.write_text("previous")
+    result = run("analyse", "inline-4", "-f", "json", "-o", str(target))
+    assert result.exit_code == 2
+    assert "file exists; use --force" in result.stderr
+    assert target.read_text() == "previous"
+    result = run("analyse", "inline-4", "-f", "json", "-o", str(target), "--force")
+    assert result.exit_code == 0
+    assert json.loads(target.read_text())["schema"] == "balance.analysis/1"
+
+
+def test_output_into_missing_directory(tmp_path):
+    result = run("analyse", "inline-4", "-f", "json", "-o", str(tmp_path / "nope" / "x.json"))
+    assert result.exit_code == 2
+    assert "does not exist" in result.stderr
+
+
+def test_netcdf_needs_a_file():
+    result = run("analyse", "inline-4", "-f", "netcdf")
+    assert result.exit_code == 2 and "give -o PATH" in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["analyse", "no-such-engine"], "no such file or built-in layout"),
+        (["analyse", "inline-4", "--orders", "0-3"], "every order must be between 1"),
+        (["analyse", "inline-4", "--orders", "two"], "cannot read 'two'"),
+        (["analyse", "inline-4", "--speed", "5 kg"], "--speed: '5 kg' is a mass, not a speed"),
+        (
+            ["analyse", "inline-4", "--speed", "-100 rpm"],
+            "speed must be a finite number above zero",
+        ),
+    ],
+)
+def test_bad_options_exit_2_with_one_line(args, message):
+    result = run(*args)
+    assert result.exit_code == 2
+    assert message in result.stderr
+    assert result.stderr.count("\n") == 1
+    assert "Traceback" not in result.stderr
+    assert result.stdout == ""
+
+
+def test_bad_layout_file_exit_2_with_location(tmp_path):
+    path = tmp_path / "bad.yaml"
+    path.write_text(BAD)
+    result = run("analyse", str(path), "-f", "json")
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"balance: {path}:4:11: geometry.stroke: '86 kg' is a mass, not a length; give length "
+        "with a unit, e.g. '86 mm', or a plain number in metres\n"
+    )
+    assert result.stdout == ""
+
+
+def test_debug_shows_the_exception(tmp_path):
+    path = tmp_path / "bad.yaml"
+    path.write_text(BAD)
+    result = run("--debug", "analyse", str(path))
+    assert result.exit_code != 0
+    assert result.exception is not None
+
+
+@pytest.mark.parametrize("name", builtin_layout_names())
+def test_every_builtin_layout_analyses(name):
+    result = run("analyse", name, "-f", "json")
+    assert result.exit_code == 0, result.stderr
+    data = json.loads(result.stdout)
+    values = [f["peak"] for f in data["reciprocating"]["force"]]
+    assert all(v is not None and math.isfinite(v) and v >= 0 for v in values)
+
+
+def test_layouts_lists_builtins():
+    result = run("layouts")
+    assert result.exit_code == 0
+    for name in ("inline-4", "v8-crossplane", "radial-9"):
+        assert name in result.stdout
+
+
+def test_layout_expand_prints_explicit_form():
+    result = run("layout", "expand", "v8-crossplane")
+    assert result.exit_code == 0
+    assert "cylinders:" in result.stdout and "crank:" not in result.stdout
+    assert result.stdout.count("throw:") == 8
+
+
+def test_installed_entry_point_runs_in_a_fresh_process(tmp_path):
+    """The real process: `balance analyse inline-4 --format json`, clean stdout, exit 0."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
+    proc = subprocess.run(
+        [sys.executable, "-m", "balance", "analyse", "inline-4", "--format", "json"],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["schema"] == "balance.analysis/1"
+    bad = Path(tmp_path / "bad.yaml")
+    bad.write_text(BAD)
+    proc = subprocess.run(
+        [sys.executable, "-m", "balance", "analyse", str(bad)],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
