@@ -284,7 +284,8 @@ def build_dataset(layout: Layout, result: Phasors) -> xr.Dataset:
         "cycle": layout.cycle,
         "model": result.model,
         "series_terms": result.terms if result.model == "series" else 0,
-        "speed_rpm": layout.speed * 60.0 / (2.0 * math.pi),
+        # 12 significant digits: 8000 rpm read from a file stays 8000, not 7999.999999999999
+        "speed_rpm": float(f"{layout.speed * 60.0 / (2.0 * math.pi):.12g}"),
         "firing_order": ",".join(map(str, layout.firing_order or ())),
         "balance_version": __version__,
         "conventions": "balance CONTRACT: frame z crank axis, y up, angles from +y in the "

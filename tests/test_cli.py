@@ -207,3 +207,28 @@ def test_installed_entry_point_runs_in_a_fresh_process(tmp_path):
     )
     assert proc.returncode == 2
     assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+
+
+GOOD = BAD.replace("86 kg", "86 mm")
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "where", "message"),
+    [
+        ("  stroke: 86 mm", "  strok: 86 mm", ":4:3: geometry.strok:", "did you mean 'stroke'?"),
+        ("  conrod_length: 143 mm\n", "", ":4:3: geometry.conrod_length:", "missing"),
+        ("86 mm", "86 kg", ":4:11: geometry.stroke:", "is a mass, not a length"),
+        ("143 mm", "40 mm", ":5:18: geometry.conrod_length:", "is not more than crank radius"),
+        ("reciprocating: 0.6 kg", "reciprocating: -0.6 kg", ":6:", "must be more than zero"),
+        ("speed: 6000 rpm", "speed: 6000 rpm\nspeed: 5000 rpm", ":3:1: speed:", "duplicate key"),
+    ],
+)
+def test_each_bad_input_class_exits_2_with_location(tmp_path, old, new, where, message):
+    path = tmp_path / "engine.yaml"
+    path.write_text(GOOD.replace(old, new))
+    result = run("analyse", str(path), "-f", "json")
+    assert result.exit_code == 2
+    line = result.stderr
+    assert line.startswith(f"balance: {path}{where}"), line
+    assert message in line and line.count("\n") == 1
+    assert result.stdout == ""

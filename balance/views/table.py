@@ -37,33 +37,37 @@ def render(ds: xr.Dataset) -> RenderableType:
         f"pitch a = {format_number(float(ds['pitch']) * 1e3)} mm;  "
         f"moments about z = {format_number(float(ds['reference_z']) * 1e3)} mm"
     )
-    table = Table(title="Reciprocating inertia (free forces and moments)", title_justify="left")
-    table.add_column("order", justify="right")
-    for label in (
-        "force fwd [N]",
-        "force bwd [N]",
-        "force peak [N]",
-        "peak/F1",
-        "moment fwd [N m]",
-        "moment bwd [N m]",
-        "moment peak [N m]",
-        "peak/(F1 a)",
-    ):
-        table.add_column(label, justify="right")
-    for k in ds["order"].values:
-        f = ds["reciprocating_force_magnitude"].sel(order=k)
-        m = ds["reciprocating_moment_magnitude"].sel(order=k)
-        table.add_row(
-            str(int(k)),
-            format_number(float(f.sel(rotation="forward"))),
-            format_number(float(f.sel(rotation="backward"))),
-            format_number(float(ds["reciprocating_force_peak"].sel(order=k))),
-            format_number(float(ds["reciprocating_force_peak_normalised"].sel(order=k))),
-            format_number(float(m.sel(rotation="forward"))),
-            format_number(float(m.sel(rotation="backward"))),
-            format_number(float(ds["reciprocating_moment_peak"].sel(order=k))),
-            format_number(float(ds["reciprocating_moment_peak_normalised"].sel(order=k))),
+    tables = []
+    for what, unit, per in (("force", "N", "F1"), ("moment", "N m", "F1 a")):
+        table = Table(
+            title=f"Reciprocating inertia: free {what}s"
+            + (" about reference_z" if what == "moment" else ""),
+            title_justify="left",
         )
+        table.add_column("order", justify="right")
+        for label in (
+            f"forward [{unit}]",
+            "phase [deg]",
+            f"backward [{unit}]",
+            "phase [deg]",
+            f"peak [{unit}]",
+            f"peak / {per}",
+        ):
+            table.add_column(label, justify="right")
+        prefix = f"reciprocating_{what}"
+        for k in ds["order"].values:
+            mag = ds[f"{prefix}_magnitude"].sel(order=k)
+            phase = ds[f"{prefix}_phase"].sel(order=k)
+            table.add_row(
+                str(int(k)),
+                format_number(float(mag.sel(rotation="forward"))),
+                format_number(float(phase.sel(rotation="forward"))),
+                format_number(float(mag.sel(rotation="backward"))),
+                format_number(float(phase.sel(rotation="backward"))),
+                format_number(float(ds[f"{prefix}_peak"].sel(order=k))),
+                format_number(float(ds[f"{prefix}_peak_normalised"].sel(order=k))),
+            )
+        tables.append(table)
     rotating = Text(
         "Rotating (order 1, forward): force "
         f"{format_number(float(ds['rotating_force_magnitude']))} N at "
@@ -83,4 +87,4 @@ def render(ds: xr.Dataset) -> RenderableType:
             format_number(float(ds["roll_phase"].sel(roll_order=k))),
             format_number(float(ds["roll_amplitude_normalised"].sel(roll_order=k))),
         )
-    return Group(Text(title, style="bold"), norm, table, rotating, roll)
+    return Group(Text(title, style="bold"), norm, *tables, rotating, roll)
