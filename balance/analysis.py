@@ -17,13 +17,22 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import kinematics, phasors
+from .balancing import Proposal, proposal_phasors, propose
 from .errors import InputError
 from .layout import Layout
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
 
-__all__ = ["DEFAULT_ORDERS", "Phasors", "analyse", "compute", "parse_orders"]
+__all__ = [
+    "DEFAULT_ORDERS",
+    "Balanced",
+    "Phasors",
+    "analyse",
+    "balance_engine",
+    "compute",
+    "parse_orders",
+]
 
 DEFAULT_ORDERS = 8
 MAX_ORDER = 1000
@@ -52,6 +61,22 @@ class Phasors:
     terms: int
     reference_force: float
     reference_z: float
+
+
+@dataclass(frozen=True)
+class Balanced:
+    """A balancing proposal and the residual with every proposed mass added.
+
+    The residual phasors are per order of the analysis: reciprocating + rotating +
+    counterweights + shafts (N, N m); ``roll`` is the engine's roll plus the shafts'.
+    """
+
+    proposal: Proposal
+    force_forward: ComplexArray
+    force_backward: ComplexArray
+    moment_forward: ComplexArray
+    moment_backward: ComplexArray
+    roll: ComplexArray
 
 
 def parse_orders(spec: int | str | Iterable[int] | None) -> NDArray[np.intp]:
@@ -173,6 +198,104 @@ def compute(
     )
 
 
+def balance_engine(
+    layout: Layout,
+    result: Phasors,
+    *,
+    cancel: Iterable[int] | None = None,
+    strategy: str | None = None,
+    balance_factor: float | None = None,
+    counterweight_radius: float | None = None,
+    cancel_roll: bool = False,
+    shaft_positions: list[tuple[float, float]] | None = None,
+) -> Balanced:
+    """Propose counterweights and shafts for an analysed layout and form the residual.
+
+    Settings not given here come from the layout's ``balance:`` section, then from the
+    defaults of :func:`balance.balancing.propose` (orders 1 and 2, two-plane counterweights
+    at the crank ends, counterweight radius = crank radius).
+    """
+    settings = layout.balance
+    if cancel is None and settings is not None and settings.orders is not None:
+        cancel = settings.orders
+    wanted = sorted({int(k) for k in (cancel if cancel is not None else (1, 2))})
+    if strategy is None:
+        strategy = settings.strategy if settings is not None else "two-plane"
+    if balance_factor is None and settings is not None:
+        balance_factor = settings.balance_factor
+    if counterweight_radius is None and settings is not None:
+        counterweight_radius = settings.counterweight_radius
+    # the phasors of the orders to cancel (computed again only if not already there)
+    needed = np.asarray(wanted, dtype=np.intp)
+    if np.all(np.isin(needed, result.orders)) and not np.isnan(result.moment_forward).any():
+        source = result
+    else:
+        source = compute(layout, needed, model=result.model, terms=result.terms)
+    pick = np.searchsorted(source.orders, needed)
+    first_order = (
+        source.acceleration_coefficients[:, int(np.searchsorted(source.orders, 1))]
+        if 1 in wanted
+        else np.ones(layout.n_cylinders, dtype=np.complex128)
+    )
+    proposal = propose(
+        layout,
+        first_order,
+        source.force_forward[pick],
+        source.force_backward[pick],
+        source.moment_forward[pick],
+        source.moment_backward[pick],
+        needed,
+        cancel=wanted,
+        strategy=strategy,
+        balance_factor=balance_factor,
+        counterweight_radius=counterweight_radius,
+        shaft_positions=shaft_positions,
+        cancel_roll=cancel_roll,
+        roll=source.roll[pick] if cancel_roll else None,
+    )
+    added = proposal_phasors(proposal, layout, result.orders)
+    ks = result.orders
+    w2 = layout.speed**2
+    first = (ks == 1).astype(np.float64)
+    lever = np.abs(layout.z - layout.reference_z)
+    # scale of the terms that meet in each residual sum, for the zero-by-symmetry threshold
+    force_scale = float(
+        np.sum((layout.reciprocating_mass + layout.rotating_mass) * layout.crank_radius) * w2
+    )
+    force_scale += sum(abs(c.unbalance) for c in proposal.counterweights) * w2
+    force_scale += sum(abs(u) * s.speed_ratio**2 for s in proposal.shafts for _, u in s.planes) * w2
+    span = float(
+        max(
+            lever.max(),
+            *(abs(c.z - layout.reference_z) for c in proposal.counterweights),
+            *(abs(z - layout.reference_z) for s in proposal.shafts for z, _ in s.planes),
+            0.0,
+        )
+    )
+    n_terms = 2 * layout.n_cylinders + len(proposal.counterweights) + 2 * len(proposal.shafts)
+
+    def clean(values: ComplexArray, scale: float) -> ComplexArray:
+        return phasors.cancel_to_zero(values, scale, n_terms)
+
+    roll_scale = float(np.sum(layout.reciprocating_mass * layout.crank_radius**2) * w2)
+    roll_scale += float(np.sum(np.abs(layout.conrod_inertia_correction)) * w2)
+    roll_scale += float(np.sum(np.abs(added.roll)))
+    return Balanced(
+        proposal=proposal,
+        force_forward=clean(
+            result.force_forward + first * result.rotating_force + added.force_forward,
+            force_scale,
+        ),
+        force_backward=clean(result.force_backward + added.force_backward, force_scale),
+        moment_forward=clean(
+            result.moment_forward + first * result.rotating_moment + added.moment_forward,
+            force_scale * span,
+        ),
+        moment_backward=clean(result.moment_backward + added.moment_backward, force_scale * span),
+        roll=clean(result.roll + added.roll, roll_scale),
+    )
+
+
 def analyse(
     layout: Layout,
     orders: int | str | Iterable[int] | None = None,
@@ -182,6 +305,12 @@ def analyse(
     terms: int = 3,
     moments: bool = True,
     roll: bool = True,
+    proposal: bool = True,
+    cancel: Iterable[int] | None = None,
+    strategy: str | None = None,
+    balance_factor: float | None = None,
+    counterweight_radius: float | None = None,
+    cancel_roll: bool = False,
 ) -> xr.Dataset:
     """Analyse a layout: free forces, moments, rotating forces and roll per order.
 
@@ -199,6 +328,12 @@ def analyse(
         Binomial terms for the ``series`` model.
     moments, roll : bool
         Whether to compute the moments and the roll torque.
+    proposal : bool
+        Propose counterweights and balance shafts and report the residual (needs moments
+        and roll).
+    cancel, strategy, balance_factor, counterweight_radius, cancel_roll
+        Proposal settings (see :func:`balance_engine`); by default from the layout's
+        ``balance:`` section.
 
     Returns
     -------
@@ -219,4 +354,15 @@ def analyse(
             raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
         layout = layout.with_speed(speed)
     result = compute(layout, orders, model=model, terms=terms, moments=moments, roll=roll)
-    return build_dataset(layout, result)
+    balanced = None
+    if proposal and moments and roll:
+        balanced = balance_engine(
+            layout,
+            result,
+            cancel=cancel,
+            strategy=strategy,
+            balance_factor=balance_factor,
+            counterweight_radius=counterweight_radius,
+            cancel_roll=cancel_roll,
+        )
+    return build_dataset(layout, result, balanced)

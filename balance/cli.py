@@ -157,6 +157,12 @@ def analyse_command(
     elif format is Format.netcdf:
         raise InputError("--format netcdf writes a binary file; give -o PATH")
     ds = analyse(load_layout(layout), order_list, speed=speed_value, model=model.value, terms=terms)
+    _write(ds, format, output, force)
+
+
+def _write(
+    ds: Any, format: Format, output: Path | None, force: bool, proposal_only: bool = False
+) -> None:
     if format is Format.json:
         from .views.json import to_json
 
@@ -172,16 +178,141 @@ def analyse_command(
         write_atomic(output, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"), force=force)
         sys.stderr.write(f"balance: wrote {output}\n")
     else:
-        from rich.console import Console
+        from rich.console import Console, Group
 
-        from .views.table import render
+        from .views.table import render, render_proposal
 
+        renderable = Group(*_proposal_table(ds, render_proposal)) if proposal_only else render(ds)
         if output is not None:
             console = Console(record=True, width=140, file=io.StringIO())
-            console.print(render(ds))
+            console.print(renderable)
             _emit_text(console.export_text(), output, force)
         else:
-            Console().print(render(ds))
+            Console().print(renderable)
+
+
+def _proposal_table(ds: Any, render_proposal: Any) -> list[Any]:
+    from rich.text import Text
+
+    from .views.table import render_factor_study
+
+    parts: list[Any] = [
+        Text(f"{ds.attrs['layout']} at {ds.attrs['speed_rpm']:.0f} rpm", style="bold")
+    ]
+    parts += render_proposal(ds)
+    if "study_factor" in ds:
+        parts += render_factor_study(ds)
+    return parts
+
+
+class Strategy(StrEnum):
+    """Counterweight strategies."""
+
+    two_plane = "two-plane"
+    per_throw = "per-throw"
+
+
+def _parse_fraction(text: str, option: str) -> float:
+    from .units import UnitProblem, parse_quantity
+
+    try:
+        value = parse_quantity(text, "fraction")
+    except UnitProblem as exc:
+        raise InputError(f"{option}: {exc}; {exc.valid}") from None
+    if not 0.0 <= value <= 2.0:
+        raise InputError(f"{option}: {text!r} is outside 0 % to 200 %")
+    return value
+
+
+def _parse_length(text: str, option: str) -> float:
+    from .units import UnitProblem, parse_quantity
+
+    try:
+        value = parse_quantity(text, "length")
+    except UnitProblem as exc:
+        raise InputError(f"{option}: {exc}; {exc.valid}") from None
+    if value <= 0:
+        raise InputError(f"{option}: must be more than zero")
+    return value
+
+
+@app.command("propose")
+@guarded
+def propose_command(
+    layout: Annotated[str, typer.Argument(help="Layout file or built-in name.")],
+    cancel: Annotated[
+        str | None,
+        typer.Option("--cancel", help="Orders to cancel, e.g. 1,2 (default: layout's, else 1,2)."),
+    ] = None,
+    strategy: Annotated[
+        Strategy | None, typer.Option("--strategy", help="Counterweights: two-plane or per-throw.")
+    ] = None,
+    balance_factor: Annotated[
+        str | None,
+        typer.Option(
+            "--balance-factor", help="Share of reciprocating mass on the crank, e.g. 50%."
+        ),
+    ] = None,
+    counterweight_radius: Annotated[
+        str | None,
+        typer.Option("--counterweight-radius", help="e.g. 55mm (default: crank radius)."),
+    ] = None,
+    cancel_roll: Annotated[
+        bool,
+        typer.Option("--cancel-roll", help="Place a shaft pair to cancel its order's roll too."),
+    ] = False,
+    factor_study: Annotated[
+        bool,
+        typer.Option("--factor-study", help="Residual first-order force for factors 0-100 %."),
+    ] = False,
+    orders: Annotated[str, typer.Option("--orders", help="Orders of the residual report.")] = "1-8",
+    speed: Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")] = None,
+    format: Annotated[Format, typer.Option("--format", "-f", help="Output format.")] = Format.table,
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write to this file.")
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Replace an existing output file.")
+    ] = False,
+) -> None:
+    """Propose counterweights and balance shafts, and show what remains."""
+    from .analysis import analyse, parse_orders
+    from .layout import load_layout
+
+    order_list = parse_orders(orders)
+    cancel_list = parse_orders(cancel).tolist() if cancel is not None else None
+    factor = _parse_fraction(balance_factor, "--balance-factor") if balance_factor else None
+    radius = (
+        _parse_length(counterweight_radius, "--counterweight-radius")
+        if counterweight_radius
+        else None
+    )
+    speed_value = _parse_speed(speed) if speed is not None else None
+    if output is not None:
+        from .output import check_target
+
+        check_target(output, force)
+    elif format is Format.netcdf:
+        raise InputError("--format netcdf writes a binary file; give -o PATH")
+    engine = load_layout(layout)
+    ds = analyse(
+        engine,
+        order_list,
+        speed=speed_value,
+        cancel=cancel_list,
+        strategy=strategy.value if strategy is not None else None,
+        balance_factor=factor,
+        counterweight_radius=radius,
+        cancel_roll=cancel_roll,
+    )
+    if factor_study:
+        from .study import factor_study_dataset
+
+        study = factor_study_dataset(
+            engine if speed_value is None else engine.with_speed(speed_value)
+        )
+        ds = ds.merge(study)
+    _write(ds, format, output, force, proposal_only=True)
 
 
 @app.command("layouts")

@@ -36,7 +36,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
-from .analysis import Phasors
+from .analysis import Balanced, Phasors
 from .layout import Layout
 
 __all__ = ["SCHEMA", "build_dataset", "phase_deg"]
@@ -67,7 +67,7 @@ def _safe_ratio(values: Any, scale: float) -> Any:
     return np.asarray(values) / scale
 
 
-def build_dataset(layout: Layout, result: Phasors) -> xr.Dataset:
+def build_dataset(layout: Layout, result: Phasors, balanced: Balanced | None = None) -> xr.Dataset:
     """Assemble the result Dataset of an analysis.
 
     Parameters
@@ -76,6 +76,8 @@ def build_dataset(layout: Layout, result: Phasors) -> xr.Dataset:
         The engine analysed.
     result : Phasors
         The phasors from :func:`balance.analysis.compute`.
+    balanced : Balanced, optional
+        A balancing proposal and its residual (:func:`balance.analysis.balance_engine`).
 
     Returns
     -------
@@ -291,4 +293,137 @@ def build_dataset(layout: Layout, result: Phasors) -> xr.Dataset:
         "conventions": "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
         "direction of rotation; (x, y) as y + i x",
     }
+    if balanced is not None:
+        data.update(_proposal_variables(balanced, f1, m1))
+        attrs.update(_proposal_attrs(balanced))
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
+
+
+def _proposal_attrs(balanced: Balanced) -> dict[str, Any]:
+    proposal = balanced.proposal
+    factor = proposal.balance_factor
+    return {
+        "proposal_strategy": proposal.strategy,
+        "proposal_orders": ",".join(map(str, proposal.orders)),
+        "proposal_balance_factor": "" if factor is None else float(factor),
+        "proposal_cancel_roll": int(proposal.cancel_roll),
+        "proposal_notes": "; ".join(proposal.notes),
+    }
+
+
+def _proposal_variables(balanced: Balanced, f1: float, m1: float) -> dict[str, xr.Variable]:
+    proposal = balanced.proposal
+    cws = proposal.counterweights
+    shafts = proposal.shafts
+    n_planes = max((len(s.planes) for s in shafts), default=0)
+    plane_z = np.full((len(shafts), n_planes), np.nan)
+    plane_u = np.full((len(shafts), n_planes), np.nan + 0j)
+    for i, shaft in enumerate(shafts):
+        for j, (z, u) in enumerate(shaft.planes):
+            plane_z[i, j] = z
+            plane_u[i, j] = u
+    force = np.stack([balanced.force_forward, balanced.force_backward], axis=-1)
+    moment = np.stack([balanced.moment_forward, balanced.moment_backward], axis=-1)
+    force_peak = np.abs(force).sum(axis=-1)
+    moment_peak = np.abs(moment).sum(axis=-1)
+    cw_u = np.array([c.unbalance for c in cws], dtype=np.complex128)
+    return {
+        "counterweight_z": _var(
+            ("counterweight",), [c.z for c in cws], "m", "axial plane of the proposed counterweight"
+        ),
+        "counterweight_mass": _var(
+            ("counterweight",),
+            [c.mass for c in cws],
+            "kg",
+            "counterweight mass at counterweight_radius",
+        ),
+        "counterweight_radius": _var(
+            ("counterweight",),
+            [c.radius for c in cws],
+            "m",
+            "radius of the counterweight's centre of gravity",
+        ),
+        "counterweight_angle": _var(
+            ("counterweight",),
+            [c.angle_deg for c in cws],
+            "deg",
+            "counterweight angle at crank angle 0, turning with the crank",
+        ),
+        "counterweight_unbalance": _var(
+            ("counterweight",), np.abs(cw_u), "kg m", "counterweight mass times radius"
+        ),
+        "shaft_speed_ratio": _var(
+            ("shaft",),
+            [s.speed_ratio for s in shafts],
+            "1",
+            "balance shaft speed over crank speed (negative: against it)",
+        ),
+        "shaft_x": _var(("shaft",), [s.x for s in shafts], "m", "balance shaft axis, x"),
+        "shaft_y": _var(("shaft",), [s.y for s in shafts], "m", "balance shaft axis, y"),
+        "shaft_plane_z": _var(
+            ("shaft", "shaft_plane"), plane_z, "m", "axial plane of the shaft's eccentric mass"
+        ),
+        "shaft_plane_unbalance": _var(
+            ("shaft", "shaft_plane"), np.abs(plane_u), "kg m", "eccentric mass times eccentricity"
+        ),
+        "shaft_plane_angle": _var(
+            ("shaft", "shaft_plane"),
+            phase_deg(plane_u),
+            "deg",
+            "eccentric angle at crank angle 0 (it sits at angle + speed_ratio * theta)",
+        ),
+        "residual_force_magnitude": _var(
+            ("order", "rotation"),
+            np.abs(force),
+            "N",
+            "residual force phasor magnitude with the proposal",
+        ),
+        "residual_force_phase": _var(
+            ("order", "rotation"),
+            phase_deg(force),
+            "deg",
+            "residual force phasor phase at crank angle 0",
+        ),
+        "residual_force_peak": _var(
+            ("order",), force_peak, "N", "peak residual force (reciprocating + rotating + proposal)"
+        ),
+        "residual_force_peak_normalised": _var(
+            ("order",), _safe_ratio(force_peak, f1), "1", "peak residual force per m_rec r omega^2"
+        ),
+        "residual_moment_magnitude": _var(
+            ("order", "rotation"),
+            np.abs(moment),
+            "N m",
+            "residual moment phasor magnitude with the proposal",
+        ),
+        "residual_moment_phase": _var(
+            ("order", "rotation"),
+            phase_deg(moment),
+            "deg",
+            "residual moment phasor phase at crank angle 0",
+        ),
+        "residual_moment_peak": _var(
+            ("order",),
+            moment_peak,
+            "N m",
+            "peak residual moment (reciprocating + rotating + proposal)",
+        ),
+        "residual_moment_peak_normalised": _var(
+            ("order",),
+            _safe_ratio(moment_peak, m1),
+            "1",
+            "peak residual moment per m_rec r omega^2 a",
+        ),
+        "residual_roll_amplitude": _var(
+            ("roll_order",),
+            np.abs(balanced.roll),
+            "N m",
+            "roll torque amplitude with the proposed shafts",
+        ),
+        "residual_roll_phase": _var(
+            ("roll_order",),
+            phase_deg(balanced.roll),
+            "deg",
+            "roll torque phase with the proposed shafts",
+        ),
+    }

@@ -17,12 +17,15 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .balancing import Proposal
 from .kinematics import conrod_angle_derivatives, normalised_slider
 from .layout import Layout
 
 __all__ = [
     "crank_angles",
     "phasors_from_samples",
+    "proposal_force_samples",
+    "proposal_roll_samples",
     "reciprocating_force_samples",
     "roll_newton_euler",
     "roll_phasors_from_samples",
@@ -174,3 +177,43 @@ def roll_newton_euler(
     N = (i_g * alpha - _cross(d, m_p * a_P) - _cross(C - G, m_c * a_G)) / d.imag
     torque = -s * N
     return np.asarray(torque.sum(axis=1), dtype=np.float64)
+
+
+def proposal_force_samples(
+    proposal: Proposal, layout: Layout, theta: ArrayLike, lever: bool = False
+) -> ComplexArray:
+    r"""Force (or moment) of every proposed mass at each crank angle [N, N m].
+
+    A counterweight :math:`U = mRe^{i\alpha}` at crank angle :math:`\theta` pulls with
+    :math:`U\omega^2 e^{i\theta}`; an eccentric on a shaft at :math:`s\omega` with
+    :math:`mRe^{i\alpha}` sits at :math:`\alpha + s\theta` and pulls with
+    :math:`U (s\omega)^2 e^{is\theta}`.
+    """
+    th = np.asarray(theta, dtype=np.float64)
+    w = layout.speed
+    total = np.zeros(th.shape, dtype=np.complex128)
+    for cw in proposal.counterweights:
+        arm = (cw.z - layout.reference_z) if lever else 1.0
+        total += arm * cw.unbalance * w**2 * np.exp(1j * th)
+    for shaft in proposal.shafts:
+        s = shaft.speed_ratio
+        for z, u in shaft.planes:
+            arm = (z - layout.reference_z) if lever else 1.0
+            total += arm * u * (s * w) ** 2 * np.exp(1j * s * th)
+    return total
+
+
+def proposal_roll_samples(proposal: Proposal, layout: Layout, theta: ArrayLike) -> FloatArray:
+    """Torque about the crank axis of the shafts' eccentric forces [N m] (rotation sense).
+
+    A force :math:`(F_x, F_y)` at :math:`(x, y)` turns the block by :math:`yF_x - xF_y`.
+    """
+    th = np.asarray(theta, dtype=np.float64)
+    w = layout.speed
+    total = np.zeros(th.shape)
+    for shaft in proposal.shafts:
+        s = shaft.speed_ratio
+        force = sum(u for _, u in shaft.planes) * (s * w) ** 2 * np.exp(1j * s * th)
+        f_y, f_x = force.real, force.imag
+        total += shaft.y * f_x - shaft.x * f_y
+    return total

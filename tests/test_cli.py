@@ -232,3 +232,53 @@ def test_each_bad_input_class_exits_2_with_location(tmp_path, old, new, where, m
     assert line.startswith(f"balance: {path}{where}"), line
     assert message in line and line.count("\n") == 1
     assert result.stdout == ""
+
+
+def test_analyse_json_has_the_contract_proposal():
+    data = json.loads(run("analyse", "inline-3", "-f", "json").stdout)
+    proposal = data["proposal"]
+    assert proposal["strategy"] == "two-plane" and proposal["orders"] == [1, 2]
+    for cw in proposal["counterweights"]:
+        assert set(cw) == {"z_m", "mass_kg", "radius_m", "angle_deg"}
+    for shaft in proposal["balance_shafts"]:
+        assert set(shaft) == {"speed_ratio", "x_m", "y_m", "planes"}
+        for plane in shaft["planes"]:
+            assert set(plane) == {"z_m", "unbalance_kgm", "angle_deg"}
+    assert [s["speed_ratio"] for s in proposal["balance_shafts"]] == [-1, 2, -2]
+    residual = proposal["residual"]
+    assert [r["order"] for r in residual["force"]] == list(range(1, 9))
+    assert residual["moment"][0]["peak"] == 0.0 and residual["moment"][1]["peak"] == 0.0
+    assert "peak" in residual["force"][0]
+
+
+def test_propose_options():
+    result = run(
+        "propose",
+        "single",
+        "-f",
+        "json",
+        "--cancel",
+        "1",
+        "--balance-factor",
+        "60%",
+        "--counterweight-radius",
+        "50mm",
+        "--factor-study",
+    )
+    assert result.exit_code == 0, result.stderr
+    data = json.loads(result.stdout)
+    proposal = data["proposal"]
+    assert proposal["orders"] == [1] and proposal["balance_factor"] == pytest.approx(0.6)
+    assert proposal["counterweights"][0]["radius_m"] == pytest.approx(0.05)
+    assert data["balance_factor_study"]["optimal_factor"] == pytest.approx(0.5, abs=1e-6)
+    table = run("propose", "inline-4", "--strategy", "per-throw", "--cancel-roll")
+    assert table.exit_code == 0, table.stderr
+    assert "per-throw" in table.stdout and "Balance shafts" in table.stdout
+    assert "cancel the order-2 roll" in table.stdout
+
+
+def test_propose_bad_options():
+    result = run("propose", "single", "--balance-factor", "5 kg")
+    assert result.exit_code == 2 and "--balance-factor" in result.stderr
+    result = run("propose", "single", "--strategy", "diagonal")
+    assert result.exit_code == 2

@@ -52,7 +52,7 @@ def to_dict(ds: xr.Dataset) -> dict[str, Any]:
             "peak": _num(ds[f"{prefix}_magnitude"]),
             "peak_normalised": _num(ds[f"{prefix}_normalised"]),
         }
-    return {
+    out = {
         "schema": ds.attrs["schema"],
         "layout": ds.attrs["layout"],
         "speed_rpm": float(ds.attrs["speed_rpm"]),
@@ -76,6 +76,85 @@ def to_dict(ds: xr.Dataset) -> dict[str, Any]:
             }
             for k in ds["roll_order"].values
         ],
+    }
+    if "counterweight_mass" in ds:
+        out["proposal"] = _proposal(ds)
+    if "study_factor" in ds:
+        out["balance_factor_study"] = {
+            "optimal_factor": _num(ds["optimal_balance_factor"]),
+            "factors": [
+                {
+                    "factor": float(f),
+                    "vertical_peak": _num(ds["study_vertical_peak"][i]),
+                    "horizontal_peak": _num(ds["study_horizontal_peak"][i]),
+                    "moment_peak": _num(ds["study_moment_peak"][i]),
+                }
+                for i, f in enumerate(ds["study_factor"].values)
+            ],
+        }
+    return out
+
+
+def _proposal(ds: xr.Dataset) -> dict[str, Any]:
+    counterweights = [
+        {
+            "z_m": _num(ds["counterweight_z"][i]),
+            "mass_kg": _num(ds["counterweight_mass"][i]),
+            "radius_m": _num(ds["counterweight_radius"][i]),
+            "angle_deg": _num(ds["counterweight_angle"][i]),
+        }
+        for i in range(ds.sizes.get("counterweight", 0))
+    ]
+    shafts = []
+    for i in range(ds.sizes.get("shaft", 0)):
+        planes = []
+        for j in range(ds.sizes.get("shaft_plane", 0)):
+            z = float(ds["shaft_plane_z"][i, j])
+            if math.isfinite(z):
+                planes.append(
+                    {
+                        "z_m": z,
+                        "unbalance_kgm": _num(ds["shaft_plane_unbalance"][i, j]),
+                        "angle_deg": _num(ds["shaft_plane_angle"][i, j]),
+                    }
+                )
+        shafts.append(
+            {
+                "speed_ratio": int(ds["shaft_speed_ratio"][i]),
+                "x_m": _num(ds["shaft_x"][i]),
+                "y_m": _num(ds["shaft_y"][i]),
+                "planes": planes,
+            }
+        )
+    factor = ds.attrs.get("proposal_balance_factor", "")
+    return {
+        "strategy": ds.attrs["proposal_strategy"],
+        "orders": [int(k) for k in str(ds.attrs["proposal_orders"]).split(",") if k],
+        "balance_factor": None if factor == "" else float(factor),
+        "notes": [n for n in str(ds.attrs.get("proposal_notes", "")).split("; ") if n],
+        "counterweights": counterweights,
+        "balance_shafts": shafts,
+        "residual": {
+            what: [
+                {
+                    "order": int(k),
+                    "peak": _num(ds[f"residual_{what}_peak"].sel(order=k)),
+                    "peak_normalised": _num(ds[f"residual_{what}_peak_normalised"].sel(order=k)),
+                }
+                for k in ds["order"].values
+            ]
+            for what in ("force", "moment")
+        }
+        | {
+            "roll": [
+                {
+                    "order": _order_value(k),
+                    "amplitude": _num(ds["residual_roll_amplitude"].sel(roll_order=k)),
+                    "phase_deg": _num(ds["residual_roll_phase"].sel(roll_order=k)),
+                }
+                for k in ds["roll_order"].values
+            ]
+        },
     }
 
 

@@ -10,7 +10,7 @@ import xarray as xr
 if TYPE_CHECKING:  # pragma: no cover
     from rich.console import RenderableType
 
-__all__ = ["format_number", "render"]
+__all__ = ["format_number", "render", "render_factor_study", "render_proposal"]
 
 
 def format_number(value: float, digits: int = 4) -> str:
@@ -87,4 +87,119 @@ def render(ds: xr.Dataset) -> RenderableType:
             format_number(float(ds["roll_phase"].sel(roll_order=k))),
             format_number(float(ds["roll_amplitude_normalised"].sel(roll_order=k))),
         )
-    return Group(Text(title, style="bold"), norm, *tables, rotating, roll)
+    parts: list[RenderableType] = [Text(title, style="bold"), norm, *tables, rotating, roll]
+    if "counterweight_mass" in ds:
+        parts.extend(render_proposal(ds))
+    return Group(*parts)
+
+
+def render_proposal(ds: xr.Dataset) -> list[RenderableType]:
+    """Rich renderables of the balancing proposal and its residual."""
+    from rich.table import Table
+    from rich.text import Text
+
+    factor = ds.attrs.get("proposal_balance_factor", "")
+    choice = (
+        f"Proposal: strategy {ds.attrs['proposal_strategy']}, cancelling orders "
+        f"{ds.attrs['proposal_orders']}"
+        + ("" if factor == "" else f", balance factor {float(factor):.0%}")
+    )
+    out: list[RenderableType] = [Text(choice, style="bold")]
+    notes = str(ds.attrs.get("proposal_notes", ""))
+    if notes:
+        out.append(Text(notes))
+    n_cw = ds.sizes.get("counterweight", 0)
+    n_shaft = ds.sizes.get("shaft", 0)
+    if n_cw == 0 and n_shaft == 0:
+        out.append(Text("Nothing to cancel: no counterweights or balance shafts are needed."))
+    if n_cw:
+        table = Table(title="Counterweights (turn with the crank)", title_justify="left")
+        for label in ("z [mm]", "mass [kg]", "radius [mm]", "angle [deg]"):
+            table.add_column(label, justify="right")
+        for i in range(n_cw):
+            table.add_row(
+                format_number(float(ds["counterweight_z"][i]) * 1e3),
+                format_number(float(ds["counterweight_mass"][i])),
+                format_number(float(ds["counterweight_radius"][i]) * 1e3),
+                format_number(float(ds["counterweight_angle"][i])),
+            )
+        out.append(table)
+    if n_shaft:
+        table = Table(title="Balance shafts", title_justify="left")
+        for label in (
+            "shaft",
+            "speed ratio",
+            "x [mm]",
+            "y [mm]",
+            "plane z [mm]",
+            "unbalance [kg mm]",
+            "angle [deg]",
+        ):
+            table.add_column(label, justify="right")
+        for i in range(n_shaft):
+            for j in range(ds.sizes.get("shaft_plane", 0)):
+                z = float(ds["shaft_plane_z"][i, j])
+                if not math.isfinite(z):
+                    continue
+                first = j == 0
+                table.add_row(
+                    str(i + 1) if first else "",
+                    f"{int(ds['shaft_speed_ratio'][i]):+d}" if first else "",
+                    format_number(float(ds["shaft_x"][i]) * 1e3) if first else "",
+                    format_number(float(ds["shaft_y"][i]) * 1e3) if first else "",
+                    format_number(z * 1e3),
+                    format_number(float(ds["shaft_plane_unbalance"][i, j]) * 1e3),
+                    format_number(float(ds["shaft_plane_angle"][i, j])),
+                )
+        out.append(table)
+    table = Table(
+        title="Residual with the proposal (all free forces and moments)", title_justify="left"
+    )
+    for label in (
+        "order",
+        "force peak [N]",
+        "peak / F1",
+        "moment peak [N m]",
+        "peak / (F1 a)",
+        "roll [N m]",
+    ):
+        table.add_column(label, justify="right")
+    roll_orders = {float(k) for k in ds["roll_order"].values}
+    for k in ds["order"].values:
+        roll = (
+            format_number(float(ds["residual_roll_amplitude"].sel(roll_order=float(k))))
+            if float(k) in roll_orders
+            else "-"
+        )
+        table.add_row(
+            str(int(k)),
+            format_number(float(ds["residual_force_peak"].sel(order=k))),
+            format_number(float(ds["residual_force_peak_normalised"].sel(order=k))),
+            format_number(float(ds["residual_moment_peak"].sel(order=k))),
+            format_number(float(ds["residual_moment_peak_normalised"].sel(order=k))),
+            roll,
+        )
+    out.append(table)
+    return out
+
+
+def render_factor_study(ds: xr.Dataset) -> list[RenderableType]:
+    """Rich renderables of a balance-factor study (:mod:`balance.study`)."""
+    from rich.table import Table
+    from rich.text import Text
+
+    table = Table(
+        title="Balance factor study: residual first order (rotating masses balanced in full)",
+        title_justify="left",
+    )
+    for label in ("factor", "vertical peak [N]", "horizontal peak [N]", "moment peak [N m]"):
+        table.add_column(label, justify="right")
+    for i, f in enumerate(ds["study_factor"].values):
+        table.add_row(
+            f"{f:.0%}",
+            format_number(float(ds["study_vertical_peak"][i])),
+            format_number(float(ds["study_horizontal_peak"][i])),
+            format_number(float(ds["study_moment_peak"][i])),
+        )
+    best = float(ds["optimal_balance_factor"])
+    return [table, Text(f"Factor minimising the larger force peak: {best:.1%}")]

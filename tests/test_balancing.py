@@ -1,0 +1,255 @@
+"""Balancing proposals: checked by adding the proposed masses in the crank-angle domain."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from helpers import engine
+from hypothesis import given
+from hypothesis import strategies as st
+from test_phasors import random_layouts
+
+from balance import kinematics as kin
+from balance import timedomain as td
+from balance.analysis import analyse, balance_engine, compute
+from balance.balancing import balance_factor_study, optimal_balance_factor
+from balance.layout import Layout, builtin_layout_names, load_layout
+from balance.study import factor_study_dataset
+
+ORDERS = np.arange(1, 9)
+
+
+def _units(layout: Layout) -> tuple[float, float]:
+    """Tolerance units: m_rec r w^2 (largest cylinder) and that times the pitch (or the
+    crank's axial span, or the stroke for single-plane engines)."""
+    f1 = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
+    span = float(np.ptp(layout.z))
+    pitch = layout.pitch if math.isfinite(layout.pitch) else (span or 2 * layout.crank_radius[0])
+    return f1, f1 * pitch
+
+
+def _time_domain_residual(layout: Layout, proposal) -> dict[str, np.ndarray]:
+    """Forward/backward phasors of the whole free force and moment with every proposed mass,
+    from sampled vector sums (independent of the phasor algebra)."""
+    theta = td.crank_angles(1024)
+    force = (
+        td.reciprocating_force_samples(layout, theta)
+        + td.rotating_force_samples(layout, theta)
+        + td.proposal_force_samples(proposal, layout, theta)
+    )
+    moment = (
+        td.reciprocating_force_samples(layout, theta, lever=True)
+        + td.rotating_force_samples(layout, theta, lever=True)
+        + td.proposal_force_samples(proposal, layout, theta, lever=True)
+    )
+    ff, fb = td.phasors_from_samples(force, ORDERS)
+    mf, mb = td.phasors_from_samples(moment, ORDERS)
+    return {"ff": ff, "fb": fb, "mf": mf, "mb": mb}
+
+
+@pytest.mark.parametrize("strategy", ["two-plane", "per-throw"])
+@pytest.mark.parametrize("name", builtin_layout_names())
+def test_every_builtin_proposal_cancels_what_it_sets_out_to(name, strategy):
+    """Issue 3: orders 1 and 2 (forward and backward, force and moment) vanish in the
+    residual to 1e-9 of m_rec r w^2 (forces) and m_rec r w^2 a (moments), by time domain."""
+    layout = load_layout(name)
+    result = compute(layout, ORDERS)
+    balanced = balance_engine(layout, result, strategy=strategy, cancel=[1, 2])
+    residual = _time_domain_residual(layout, balanced.proposal)
+    f_unit, m_unit = _units(layout)
+    for k in (1, 2):
+        i = k - 1
+        assert abs(residual["ff"][i]) <= 1e-9 * f_unit, (k, "forward force")
+        assert abs(residual["fb"][i]) <= 1e-9 * f_unit, (k, "backward force")
+        assert abs(residual["mf"][i]) <= 1e-9 * m_unit, (k, "forward moment")
+        assert abs(residual["mb"][i]) <= 1e-9 * m_unit, (k, "backward moment")
+    # and the reported residual agrees with the time domain for every order
+    for key, mine in (
+        ("ff", balanced.force_forward),
+        ("fb", balanced.force_backward),
+        ("mf", balanced.moment_forward),
+        ("mb", balanced.moment_backward),
+    ):
+        unit = f_unit if key[0] == "f" else m_unit
+        np.testing.assert_allclose(mine, residual[key], rtol=0, atol=1e-9 * unit)
+
+
+@given(layout=random_layouts(max_cylinders=8), per_throw=st.booleans())
+def test_random_layout_proposals_cancel_orders_one_to_three(layout, per_throw):
+    result = compute(layout, ORDERS)
+    strategy = "per-throw" if per_throw else "two-plane"
+    balanced = balance_engine(layout, result, strategy=strategy, cancel=[1, 2, 3])
+    residual = _time_domain_residual(layout, balanced.proposal)
+    f1 = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
+    f1 += float(np.sum(layout.rotating_mass * layout.crank_radius) * layout.speed**2)
+    m1 = f1 * (float(np.ptp(layout.z)) + float(np.max(np.abs(layout.z - layout.reference_z))))
+    for i in range(3):
+        for key in ("ff", "fb"):
+            assert abs(residual[key][i]) <= 1e-9 * f1
+        for key in ("mf", "mb"):
+            assert abs(residual[key][i]) <= 1e-9 * m1
+
+
+# --- textbook cases ----------------------------------------------------------------------
+
+
+def test_inline4_lanchester_pair():
+    """Two shafts, +2w and -2w, each with the unbalance A2 m_rec r / 2 (m_rec per
+    cylinder): each cancels half of the 4 A2 m_rec r w^2 second-order force at (2w)^2."""
+    layout = engine([0, 180, 180, 0])
+    result = compute(layout, ORDERS)
+    proposal = balance_engine(layout, result).proposal
+    assert proposal.counterweights == ()
+    assert sorted(s.speed_ratio for s in proposal.shafts) == [-2, 2]
+    lam = 0.043 / 0.143
+    a2 = float(kin.series_coefficients_centred(lam, 40, 2))
+    for shaft in proposal.shafts:
+        assert len(shaft.planes) == 1
+        assert abs(shaft.total_unbalance) == pytest.approx(a2 * 0.6 * 0.043 / 2, rel=1e-12)
+        # the force of one shaft: half the engine's second-order force
+        force = abs(shaft.total_unbalance) * (2 * layout.speed) ** 2
+        assert force == pytest.approx(0.5 * 4 * a2 * 0.6 * 0.043 * layout.speed**2, rel=1e-12)
+        assert shaft.planes[0][0] == pytest.approx(layout.reference_z)  # no couple
+
+
+def test_crossplane_v8_end_counterweights_only():
+    layout = engine([0, 90, 270, 180], banks=[-45, 45])
+    proposal = balance_engine(layout, compute(layout, ORDERS)).proposal
+    assert proposal.shafts == ()
+    assert len(proposal.counterweights) == 2
+    zs = sorted(c.z for c in proposal.counterweights)
+    assert zs == pytest.approx([0.0, 0.27])
+
+
+def test_inline3_counterweights_and_one_backward_shaft():
+    layout = engine([0, 240, 120])
+    proposal = balance_engine(layout, compute(layout, ORDERS), cancel=[1]).proposal
+    assert len(proposal.counterweights) == 2
+    assert [s.speed_ratio for s in proposal.shafts] == [-1]
+    shaft = proposal.shafts[0]
+    assert len(shaft.planes) == 2
+    assert abs(shaft.total_unbalance) == pytest.approx(0.0, abs=1e-15)  # a pure couple
+
+
+def test_ninety_degree_v_twin_full_reciprocating_mass_on_the_crank():
+    """90-degree V-twin on one pin: a counterweight of both rods' rotating mass plus 100 %
+    of one cylinder's reciprocating mass cancels the whole first order; no shaft."""
+    layout = engine([0], banks=[-45, 45], spacing=0.0, reciprocating=0.5, rotating=0.3)
+    ds = analyse(layout, cancel=[1])
+    assert ds.sizes["counterweight"] == 1 and ds.sizes["shaft"] == 0
+    mass = float(ds.counterweight_mass[0])
+    assert mass == pytest.approx(2 * 0.3 + 1.0 * 0.5, rel=1e-12)
+    assert float(ds.counterweight_angle[0]) == pytest.approx(180.0)
+    assert float(ds.residual_force_peak.sel(order=1)) == 0.0
+
+
+@pytest.mark.parametrize("name", ["inline-6", "v12-60", "boxer-6"])
+def test_nothing_to_cancel_gets_no_proposal(name):
+    ds = analyse(load_layout(name))
+    assert ds.sizes["counterweight"] == 0
+    assert ds.sizes["shaft"] == 0
+
+
+@given(layout=random_layouts(max_cylinders=6), seed=st.integers(0, 2**32 - 1))
+def test_proposal_invariant_to_cylinder_numbering(layout, seed):
+    order = np.random.default_rng(seed).permutation(layout.n_cylinders)
+    a = balance_engine(layout, compute(layout, ORDERS)).proposal
+    b = balance_engine(layout.reordered(order), compute(layout.reordered(order), ORDERS)).proposal
+    f_unit = float(np.sum((layout.reciprocating_mass + layout.rotating_mass) * layout.crank_radius))
+
+    def key(values):
+        return sorted((round(z, 9), round(u.real, 9), round(u.imag, 9)) for z, u in values)
+
+    cw_a = [(c.z, c.unbalance) for c in a.counterweights]
+    cw_b = [(c.z, c.unbalance) for c in b.counterweights]
+    assert len(cw_a) == len(cw_b)
+    for (za, ua), (zb, ub) in zip(
+        sorted(cw_a, key=lambda t: t[0]), sorted(cw_b, key=lambda t: t[0]), strict=True
+    ):
+        assert za == pytest.approx(zb)
+        assert abs(ua - ub) <= 1e-12 * f_unit
+    assert sorted(s.speed_ratio for s in a.shafts) == sorted(s.speed_ratio for s in b.shafts)
+    for sa in a.shafts:
+        sb = next(s for s in b.shafts if s.speed_ratio == sa.speed_ratio)
+        assert len(sa.planes) == len(sb.planes)
+        for (za, ua), (zb, ub) in zip(sa.planes, sb.planes, strict=True):
+            assert za == pytest.approx(zb)
+            assert abs(ua - ub) <= 1e-12 * f_unit
+
+
+# --- balance factor -----------------------------------------------------------------------
+
+
+def test_single_balance_factor_study():
+    """A single: 0 % leaves the whole first order vertical, 100 % moves it all to the
+    horizontal, 50 % makes a circle of half the size; the best factor is 50 %."""
+    layout = engine([0], spacing=0.0)  # no offset: G1 = 1 exactly, whatever lambda
+    f1 = 0.6 * 0.043 * layout.speed**2
+    g1 = np.ones(1, dtype=np.complex128)
+    study = balance_factor_study(layout, g1, [0.0, 0.5, 1.0])
+    np.testing.assert_allclose(study["vertical_peak"], [f1, f1 / 2, 0.0], atol=1e-9 * f1)
+    np.testing.assert_allclose(study["horizontal_peak"], [0.0, f1 / 2, f1], atol=1e-9 * f1)
+    assert optimal_balance_factor(layout, g1) == pytest.approx(0.5, abs=1e-9)
+
+
+def test_balance_factor_in_the_proposal_leaves_the_rest_as_residual():
+    layout = engine([0], spacing=0.0)
+    ds = analyse(layout, cancel=[1], balance_factor=0.7)
+    g1 = 1.0  # no offset
+    f1 = 0.6 * 0.043 * layout.speed**2
+    # counterweight: rotating + 70 % of the reciprocating mass
+    assert float(ds.counterweight_mass[0]) == pytest.approx(0.4 + 0.7 * 0.6, rel=1e-12)
+    # forward first order left: (1/2 - 0.7) F1 (the backward half is cancelled by a shaft)
+    fwd = float(ds.residual_force_magnitude.sel(order=1, rotation="forward"))
+    assert fwd == pytest.approx(abs(0.5 * g1 - 0.7) * f1, rel=1e-12)
+    assert float(ds.residual_force_magnitude.sel(order=1, rotation="backward")) == 0.0
+
+
+def test_factor_study_dataset_for_a_twin():
+    ds = factor_study_dataset(load_layout("inline-2-360"))
+    assert float(ds.optimal_balance_factor) == pytest.approx(0.5, abs=1e-6)
+    for name in ("study_vertical_peak", "study_horizontal_peak", "study_moment_peak"):
+        assert ds[name].attrs["units"]
+
+
+# --- roll ------------------------------------------------------------------------------------
+
+
+def test_lanchester_pair_placed_to_cancel_second_order_roll():
+    """A Lanchester pair at two heights also cancels the inline-4's 2nd-order roll (checked
+    with the Newton-Euler roll of the engine and the shafts' sampled torque)."""
+    layout = load_layout("inline-4")
+    result = compute(layout, ORDERS)
+    balanced = balance_engine(layout, result, cancel_roll=True)
+    k2 = 1  # index of order 2
+    assert balanced.roll[k2] == 0.0
+    theta = td.crank_angles(1024)
+    torque = td.roll_newton_euler(layout, theta) + td.proposal_roll_samples(
+        balanced.proposal, layout, theta
+    )
+    sampled = td.roll_phasors_from_samples(torque, ORDERS)
+    scale = float(np.max(layout.reciprocating_mass * layout.crank_radius**2) * layout.speed**2)
+    assert abs(sampled[k2]) <= 1e-9 * scale
+    # the forces are still cancelled
+    residual = _time_domain_residual(layout, balanced.proposal)
+    f_unit, _ = _units(layout)
+    assert abs(residual["ff"][k2]) <= 1e-9 * f_unit and abs(residual["fb"][k2]) <= 1e-9 * f_unit
+    # the shafts sit at different heights: that is what makes the roll couple
+    ys = sorted(s.y for s in balanced.proposal.shafts)
+    assert ys[1] - ys[0] > 0.05
+
+
+def test_shaft_roll_is_reported_and_checked_in_the_time_domain():
+    layout = load_layout("single")
+    result = compute(layout, ORDERS)
+    balanced = balance_engine(layout, result)
+    theta = td.crank_angles(1024)
+    torque = td.roll_newton_euler(layout, theta) + td.proposal_roll_samples(
+        balanced.proposal, layout, theta
+    )
+    sampled = td.roll_phasors_from_samples(torque, ORDERS)
+    scale = float(np.max(layout.reciprocating_mass * layout.crank_radius**2) * layout.speed**2)
+    np.testing.assert_allclose(balanced.roll, sampled, rtol=0, atol=1e-9 * scale)
+    assert abs(balanced.roll[0]) > 0  # a single -w shaft off the crank axis rocks the block
