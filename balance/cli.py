@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import io
+import signal
 import sys
 from collections.abc import Callable
 from enum import StrEnum
@@ -345,8 +346,17 @@ def expand_command(
     sys.stdout.write(expand_layout(layout))
 
 
+def _terminate(signum: int, frame: Any) -> None:
+    raise SystemExit(128 + signum)
+
+
 def main() -> None:
-    """Entry point of the ``balance`` command."""
+    """Entry point of the ``balance`` command.
+
+    SIGTERM ends the run like an interrupt, so that a file being written is removed and the
+    previous output stays in place.
+    """
+    signal.signal(signal.SIGTERM, _terminate)
     app()
 
 

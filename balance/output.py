@@ -30,6 +30,8 @@ def check_target(path: str | Path, force: bool = False) -> Path:
     parent = target.parent if str(target.parent) else Path(".")
     if target.is_dir():
         raise InputError(f"{target}: is a directory; give a file name")
+    if parent.exists() and not parent.is_dir():
+        raise InputError(f"{target}: {parent} is not a directory")
     if not parent.is_dir():
         raise InputError(f"{target}: directory {parent} does not exist; create it first")
     if not os.access(parent, os.W_OK):
