@@ -356,8 +356,41 @@ def main() -> None:
     SIGTERM ends the run like an interrupt, so that a file being written is removed and the
     previous output stays in place.
     """
+    usage_errors, aborts = _click_exceptions()
     signal.signal(signal.SIGTERM, _terminate)
-    app()
+    try:
+        code = app(standalone_mode=False)
+    except usage_errors as exc:
+        ctx = getattr(exc, "ctx", None)
+        where = ctx.command_path if ctx is not None else "balance"
+        if type(exc).__name__ == "NoArgsIsHelpError" and ctx is not None:
+            sys.stderr.write(ctx.get_help() + "\n")
+            sys.exit(2)
+        message = " ".join(exc.format_message().split()).rstrip(".")
+        sys.stderr.write(f"balance: {message}; see '{where} --help'\n")
+        sys.exit(2)
+    except aborts:
+        sys.stderr.write("balance: interrupted\n")
+        sys.exit(130)
+    sys.exit(code if isinstance(code, int) else 0)
+
+
+def _click_exceptions() -> tuple[tuple[type[BaseException], ...], tuple[type[BaseException], ...]]:
+    """Usage-error and abort classes of whichever click typer runs on (its own copy in
+    recent typer, the click package in older ones)."""
+    import importlib
+
+    usage: list[type[BaseException]] = []
+    aborts: list[type[BaseException]] = [typer.Abort]
+    for name in ("typer._click.exceptions", "click.exceptions"):
+        try:
+            module = importlib.import_module(name)
+        except ImportError:
+            continue
+        usage.append(module.UsageError)
+        if hasattr(module, "Abort"):
+            aborts.append(module.Abort)
+    return tuple(usage), tuple(aborts)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -282,3 +282,22 @@ def test_propose_bad_options():
     assert result.exit_code == 2 and "--balance-factor" in result.stderr
     result = run("propose", "single", "--strategy", "diagonal")
     assert result.exit_code == 2
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["analyse"], "Missing argument"),
+        (["analyse", "inline-4", "--format", "xml"], "'xml' is not one of"),
+        (["frobnicate"], "No such command 'frobnicate'"),
+        (["analyse", "inline-4", "--orders"], "requires an argument"),
+    ],
+)
+def test_usage_errors_are_one_line_from_the_real_entry_point(args, message):
+    proc = subprocess.run(
+        [sys.executable, "-m", "balance", *args], capture_output=True, text=True, check=False
+    )
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and message in proc.stderr
+    assert proc.stderr.startswith("balance: ") and "--help'" in proc.stderr
+    assert proc.stdout == ""

@@ -440,3 +440,15 @@ def test_crank_unbalance_is_per_throw_and_shared_by_its_rods(tmp_path):
     )
     layout = load_layout(write(tmp_path, explicit, "x.yaml"))
     np.testing.assert_allclose(layout.rotating_mass, [big_end + 0.1, big_end + 0.1, big_end + 0.2])
+
+
+def test_oversized_file_is_refused(tmp_path):
+    path = tmp_path / "huge.yaml"
+    path.write_text(BASE + "# " + "x" * 1_100_000 + "\n")
+    with pytest.raises(LayoutError, match="more than the 1000000 bytes a layout may have"):
+        load_layout(path)
+
+
+def test_deep_nesting_is_refused(tmp_path):
+    err = error_of(tmp_path, "a: " + "[" * 200 + "]" * 200 + "\n")
+    assert "nested deeper than 32 levels" in str(err)
