@@ -366,7 +366,7 @@ def main() -> None:
         if type(exc).__name__ == "NoArgsIsHelpError" and ctx is not None:
             sys.stderr.write(ctx.get_help() + "\n")
             sys.exit(2)
-        message = " ".join(exc.format_message().split()).rstrip(".")
+        message = " ".join(str(getattr(exc, "format_message", exc.__str__)()).split()).rstrip(".")
         sys.stderr.write(f"balance: {message}; see '{where} --help'\n")
         sys.exit(2)
     except aborts:
