@@ -79,7 +79,7 @@ class Balanced:
     roll: ComplexArray
 
 
-def parse_orders(spec: int | str | Iterable[int] | None) -> NDArray[np.intp]:
+def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -> NDArray[np.intp]:
     """Orders from an int (1..N), a spec string (``"1-8"``, ``"2"``, ``"1,2,4-6"``) or a list.
 
     Raises

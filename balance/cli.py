@@ -103,6 +103,16 @@ def _parse_speed(text: str) -> float:
         raise InputError(f"--speed: {exc}; {exc.valid}") from None
 
 
+def _console() -> Any:
+    """A rich console on stdout; wide when stdout is not a terminal, so that piped tables
+    are not cut to 80 columns."""
+    from rich.console import Console
+
+    if sys.stdout.isatty():
+        return Console()
+    return Console(width=240)
+
+
 def _emit_text(text: str, output: Path | None, force: bool) -> None:
     if output is None:
         sys.stdout.write(text)
@@ -189,7 +199,7 @@ def _write(
             console.print(renderable)
             _emit_text(console.export_text(), output, force)
         else:
-            Console().print(renderable)
+            _console().print(renderable)
 
 
 def _proposal_table(ds: Any, render_proposal: Any) -> list[Any]:
@@ -316,11 +326,140 @@ def propose_command(
     _write(ds, format, output, force, proposal_only=True)
 
 
+class CompareFormat(StrEnum):
+    """Output formats of ``balance compare``."""
+
+    table = "table"
+    markdown = "markdown"
+    csv = "csv"
+    json = "json"
+    netcdf = "netcdf"
+
+
+def _expand_layout_args(layouts: list[str], all_builtin: bool) -> list[str]:
+    import glob
+
+    from .layout import builtin_layout_names
+
+    names: list[str] = list(builtin_layout_names()) if all_builtin else []
+    for item in layouts:
+        if any(ch in item for ch in "*?["):
+            matches = sorted(glob.glob(item))
+            if not matches:
+                raise InputError(f"{item}: the pattern matches no file")
+            names.extend(matches)
+        else:
+            names.append(item)
+    if not names:
+        raise InputError("compare: give layout files, built-in names, a glob, or --all")
+    return names
+
+
+@app.command("compare")
+@guarded
+def compare_command(
+    layouts: Annotated[
+        list[str] | None, typer.Argument(help="Layout files, built-in names or globs.")
+    ] = None,
+    all_builtin: Annotated[bool, typer.Option("--all", help="Every built-in layout.")] = False,
+    orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-4.")] = "1-4",
+    absolute: Annotated[
+        bool, typer.Option("--absolute", help="Absolute values (N, N m) instead of normalised.")
+    ] = False,
+    speed: Annotated[
+        str | None, typer.Option("--speed", help="Common crank speed, e.g. 6000rpm.")
+    ] = None,
+    displacement: Annotated[
+        str | None,
+        typer.Option("--displacement", help="Scale every layout to this displacement, e.g. 2L."),
+    ] = None,
+    model: Annotated[
+        Model, typer.Option("--model", help="Piston acceleration model.")
+    ] = Model.exact,
+    format: Annotated[
+        CompareFormat, typer.Option("--format", "-f", help="Output format.")
+    ] = CompareFormat.table,
+    output: Annotated[
+        Path | None, typer.Option("--output", "-o", help="Write to this file.")
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Replace an existing output file.")
+    ] = False,
+) -> None:
+    """Compare layouts side by side: free forces, moments, roll and balancing needs."""
+    import json
+
+    from .analysis import parse_orders
+    from .compare import compare, compare_json, compare_table, markdown_table
+    from .layout import load_layout
+
+    names = _expand_layout_args(layouts or [], all_builtin)
+    order_list = parse_orders(orders)
+    speed_value = _parse_speed(speed) if speed is not None else None
+    volume = None
+    if displacement is not None:
+        from .units import UnitProblem, parse_quantity
+
+        try:
+            volume = parse_quantity(displacement, "volume")
+        except UnitProblem as exc:
+            raise InputError(f"--displacement: {exc}; {exc.valid}") from None
+        if volume <= 0:
+            raise InputError("--displacement: must be more than zero")
+    if output is not None:
+        from .output import check_target
+
+        check_target(output, force)
+    elif format is CompareFormat.netcdf:
+        raise InputError("--format netcdf writes a binary file; give -o PATH")
+    engines = [load_layout(name) for name in names]
+    labels = [Path(n).stem if n.endswith((".yaml", ".yml")) else n for n in names]
+    ds = compare(
+        engines, labels, order_list, speed=speed_value, displacement=volume, model=model.value
+    )
+    if format is CompareFormat.netcdf:
+        from .output import write_atomic
+
+        assert output is not None
+        write_atomic(output, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"), force=force)
+        sys.stderr.write(f"balance: wrote {output}\n")
+        return
+    if format is CompareFormat.json:
+        _emit_text(json.dumps(compare_json(ds), indent=2, allow_nan=False) + "\n", output, force)
+        return
+    headers, rows = compare_table(ds, normalised=not absolute)
+    if format is CompareFormat.markdown:
+        _emit_text(markdown_table(headers, rows), output, force)
+    elif format is CompareFormat.csv:
+        import csv
+
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(headers)
+        writer.writerows(rows)
+        _emit_text(buffer.getvalue(), output, force)
+    else:
+        from rich.console import Console
+        from rich.table import Table
+
+        kind = "absolute" if absolute else "normalised per F1 = m_rec r w^2 and pitch a"
+        table = Table(title=f"Comparison ({kind}; model {model.value})", title_justify="left")
+        for i, header in enumerate(headers):
+            table.add_column(header, justify="left" if i == 0 else "right")
+        for row in rows:
+            table.add_row(*row)
+        if output is not None:
+            console = Console(record=True, width=240, file=io.StringIO())
+            console.print(table)
+            _emit_text(console.export_text(), output, force)
+        else:
+            _console().print(table)
+
+
 @app.command("layouts")
 @guarded
 def layouts_command() -> None:
     """List the built-in layouts."""
-    from rich.console import Console
     from rich.table import Table
 
     from .layout import builtin_layout_names, load_layout
@@ -332,7 +471,7 @@ def layouts_command() -> None:
     for name in builtin_layout_names():
         layout = load_layout(name)
         table.add_row(name, str(layout.n_cylinders), layout.description or layout.name)
-    Console().print(table)
+    _console().print(table)
 
 
 @layout_app.command("expand")

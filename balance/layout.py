@@ -75,6 +75,8 @@ class Layout:
     pitch : float
         Cylinder pitch used to normalise moments [m]; NaN where it is undefined (all
         cylinders in one plane).
+    bore : float
+        Cylinder bore [m], NaN if not given (needed only for displacement).
     cycle : str
         ``"four-stroke"`` or ``"two-stroke"``.
     firing_order : tuple of int or None
@@ -96,6 +98,7 @@ class Layout:
     conrod_inertia_correction: FloatArray
     reference_z: float
     pitch: float
+    bore: float = float("nan")
     cycle: str = "four-stroke"
     firing_order: tuple[int, ...] | None = None
     description: str | None = None
@@ -108,6 +111,11 @@ class Layout:
     def n_cylinders(self) -> int:
         """Number of cylinders."""
         return int(self.throw.size)
+
+    @property
+    def displacement(self) -> float:
+        """Swept volume of all cylinders [m^3] (NaN without a bore)."""
+        return float(np.sum(np.pi / 4 * self.bore**2 * 2 * self.crank_radius))
 
     def with_speed(self, speed: float) -> Layout:
         """The same layout at another crank speed [rad/s]."""
@@ -223,7 +231,7 @@ def load_layout(source: str | Path) -> Layout:
     except OSError as exc:
         raise InputError(f"{source}: cannot read ({exc.strerror})") from None
     text = decode_text(raw, str(source))
-    return layout_from_text(text, file=str(source))
+    return layout_from_text(text, file=str(path))
 
 
 def layout_from_text(text: str, file: str = "<input>") -> Layout:
@@ -488,6 +496,7 @@ def _build(doc: SourceDocument) -> Layout:
         cycle=spec.cycle,
         reference_z=float(reference_z),
         pitch=pitch,
+        bore=float(spec.geometry.bore) if spec.geometry.bore is not None else math.nan,
         firing_order=firing,
         description=spec.description,
         source=spec.source,
@@ -622,6 +631,8 @@ def expand_layout(source: str | Path) -> str:
         geometry["stroke"] = _fmt(g.stroke, "mm", 1e3)
     else:
         geometry["crank_radius"] = _fmt(g.radius, "mm", 1e3)
+    if g.bore is not None:
+        geometry["bore"] = _fmt(g.bore, "mm", 1e3)
     geometry["conrod_length"] = _fmt(g.conrod_length, "mm", 1e3)
     geometry["offset"] = _fmt(g.offset, "mm", 1e3)
     out["geometry"] = geometry

@@ -8,6 +8,7 @@ replaced when asked to (``force``).
 from __future__ import annotations
 
 import os
+import signal
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -59,15 +60,23 @@ def write_atomic(path: str | Path, write: Callable[[Path], None], force: bool = 
         The target path.
     """
     target = check_target(path, force)
-    handle, tmp_name = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=".part", dir=target.parent or Path(".")
-    )
-    os.close(handle)
-    tmp = Path(tmp_name)
+    tmp: Path | None = None
+    # no signal may land between creating the temporary file and knowing its name
+    blocked = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
     try:
+        try:
+            handle, tmp_name = tempfile.mkstemp(
+                prefix=f".{target.name}.", suffix=".part", dir=target.parent
+            )
+            tmp = Path(tmp_name)
+            os.close(handle)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous)
         write(tmp)
         os.replace(tmp, target)
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        if tmp is not None:
+            tmp.unlink(missing_ok=True)
         raise
     return target

@@ -79,6 +79,7 @@ class GeometrySpec(_Strict):
     crank_radius: OptLength = None
     conrod_length: Length
     offset: Length = 0.0
+    bore: OptLength = None
 
     @model_validator(mode="after")
     def _check(self) -> GeometrySpec:
@@ -91,6 +92,7 @@ class GeometrySpec(_Strict):
         _positive(self.stroke, "stroke")
         _positive(self.crank_radius, "crank_radius")
         _positive(self.conrod_length, "conrod_length")
+        _positive(self.bore, "bore")
         return self
 
     @property
@@ -219,11 +221,21 @@ class CrankSpec(_Strict):
     throws: list[Angle] = Field(min_length=1, max_length=256)
     spacing: OptLength = None
     banks: list[Angle] = Field(default_factory=lambda: [0.0], min_length=1, max_length=64)
+    bank_count: int | None = Field(default=None, ge=1, le=64)
     split: list[Angle] | None = None
     bank_stagger: Length = 0.0
 
     @model_validator(mode="after")
     def _check(self) -> CrankSpec:
+        if self.bank_count is not None:
+            if "banks" in self.model_fields_set:
+                raise FieldProblem(
+                    "give banks or bank_count, not both",
+                    "bank_count: N spaces N banks evenly, 360/N degrees apart from 0",
+                    ("bank_count",),
+                )
+            evenly = [360.0 * j / self.bank_count for j in range(self.bank_count)]
+            object.__setattr__(self, "banks", evenly)
         if len(self.throws) > 1 and self.spacing is None:
             raise FieldProblem(
                 "missing 'spacing'", "with more than one throw give the axial spacing, e.g. '91 mm'"

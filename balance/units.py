@@ -61,6 +61,7 @@ KINDS: dict[str, tuple[str, str, str, float]] = {
     "speed": ("rad / s", "rad/s", "'6000 rpm'", 1e8),
     "fraction": ("", "a fraction (0.5 = 50 %)", "'50 %'", 1e3),
     "pressure": ("Pa", "pascals", "'1 bar'", 1e10),
+    "volume": ("m ** 3", "cubic metres", "'2.0 L'", 1e3),
 }
 
 _NUMBER = re.compile(
@@ -77,6 +78,7 @@ _DIMENSION_NAMES = {
     "1 / [time]": "a speed",
     "dimensionless": "a plain number",
     "[mass] / [length] / [time] ** 2": "a pressure",
+    "[length] ** 3": "a volume",
     "[time]": "a time",
 }
 
@@ -186,6 +188,7 @@ _KIND_ARTICLE = {
     "speed": "a speed",
     "fraction": "a fraction",
     "pressure": "a pressure",
+    "volume": "a volume",
 }
 
 

