@@ -296,7 +296,9 @@ _TYPE_NAMES = {
 
 def _layout_error(exc: ValidationError, doc: SourceDocument) -> LayoutError:
     errors = exc.errors(include_url=False)
-    # prefer errors that carry our own messages, then the first in file order
+    # an unknown key is usually a misspelt one that is also reported missing: report the
+    # unknown key (with its "did you mean") first
+    errors = sorted(errors, key=lambda e: e["type"] != "extra_forbidden")
     err = errors[0]
     loc = tuple(p for p in err["loc"] if isinstance(p, str | int))
     loc = tuple(p for p in loc if not (isinstance(p, str) and p.startswith("function-")))

@@ -61,6 +61,19 @@ def _var(dims: tuple[str, ...], data: Any, units: str, long_name: str, **attrs: 
     )
 
 
+def _coord(name: str, values: Any, long_name: str) -> xr.IndexVariable:
+    """An index coordinate built from a pandas Index.
+
+    (Handing xarray a pandas Index spares it a duck-array check that imports pint, which
+    would cost a cold start about 0.1 s.)
+    """
+    import pandas as pd
+
+    return xr.IndexVariable(
+        (name,), pd.Index(values, name=name), attrs={"units": "1", "long_name": long_name}
+    )
+
+
 def _safe_ratio(values: Any, scale: float) -> Any:
     if not math.isfinite(scale) or scale == 0.0:
         return np.full(np.shape(values), np.nan)
@@ -265,19 +278,16 @@ def build_dataset(layout: Layout, result: Phasors, balanced: Balanced | None = N
         "reference_moment": _var((), m1, "N m", "m_rec r omega^2 times cylinder pitch"),
     }
     coords = {
-        "order": _var(("order",), ks, "1", "harmonic order (multiple of crank speed)"),
-        "rotation": _var(
-            ("rotation",),
-            np.array(["forward", "backward"]),
-            "1",
+        "order": _coord("order", ks, "harmonic order (multiple of crank speed)"),
+        "rotation": _coord(
+            "rotation",
+            ["forward", "backward"],
             "sense of rotation of the phasor relative to the crank",
         ),
-        "roll_order": _var(
-            ("roll_order",), ks.astype(np.float64), "1", "harmonic order of the roll torque"
+        "roll_order": _coord(
+            "roll_order", ks.astype(np.float64), "harmonic order of the roll torque"
         ),
-        "cylinder": _var(
-            ("cylinder",), np.arange(1, layout.n_cylinders + 1), "1", "cylinder number"
-        ),
+        "cylinder": _coord("cylinder", np.arange(1, layout.n_cylinders + 1), "cylinder number"),
     }
     attrs = {
         "schema": SCHEMA,

@@ -148,6 +148,48 @@ def parse_quantity(value: Any, kind: str) -> float:
     return result
 
 
+# Common units read without pint (importing pint and building its registry costs about
+# half a second): unit text -> (kind, factor to the kind's SI unit).  Each factor is the
+# exact definition pint uses; tests check every entry against pint.
+_FAST_UNITS: dict[str, tuple[str, float]] = {
+    "m": ("length", 1.0),
+    "mm": ("length", 1e-3),
+    "cm": ("length", 1e-2),
+    "in": ("length", 0.0254),
+    "inch": ("length", 0.0254),
+    "ft": ("length", 0.3048),
+    "kg": ("mass", 1.0),
+    "g": ("mass", 1e-3),
+    "lb": ("mass", 0.45359237),
+    "deg": ("angle", 1.0),
+    "degree": ("angle", 1.0),
+    "degrees": ("angle", 1.0),
+    "°": ("angle", 1.0),
+    "rad": ("angle", 180.0 / math.pi),
+    "rpm": ("speed", 2.0 * math.pi / 60.0),
+    "rev/min": ("speed", 2.0 * math.pi / 60.0),
+    "rad/s": ("speed", 1.0),
+    "Hz": ("speed", 2.0 * math.pi),
+    "%": ("fraction", 0.01),
+    "percent": ("fraction", 0.01),
+    "kg m^2": ("inertia", 1.0),
+    "kg*m^2": ("inertia", 1.0),
+    "kg m**2": ("inertia", 1.0),
+    "kg*m**2": ("inertia", 1.0),
+    "kg·m²": ("inertia", 1.0),
+    "g cm^2": ("inertia", 1e-7),
+    "kg cm^2": ("inertia", 1e-4),
+    "Pa": ("pressure", 1.0),
+    "kPa": ("pressure", 1e3),
+    "MPa": ("pressure", 1e6),
+    "bar": ("pressure", 1e5),
+    "L": ("volume", 1e-3),
+    "l": ("volume", 1e-3),
+    "cc": ("volume", 1e-6),
+    "cm^3": ("volume", 1e-6),
+}
+
+
 def _from_text(text: str, kind: str, valid: str) -> float:
     if len(text) > 80:
         raise UnitProblem("value text is too long", valid)
@@ -162,6 +204,14 @@ def _from_text(text: str, kind: str, valid: str) -> float:
         return number
     if _BIG_EXPONENT.search(unit_text):
         raise UnitProblem(f"unit {unit_text!r} has an absurd exponent", valid)
+    fast = _FAST_UNITS.get(unit_text)
+    if fast is not None:
+        fast_kind, factor = fast
+        if fast_kind == kind:
+            return number * factor
+        raise UnitProblem(
+            f"{text!r} is {_KIND_ARTICLE[fast_kind]}, not {_KIND_ARTICLE.get(kind, kind)}", valid
+        )
     if unit_text.startswith("/"):
         unit_text = "1" + unit_text
     ureg = registry()

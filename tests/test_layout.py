@@ -452,3 +452,9 @@ def test_oversized_file_is_refused(tmp_path):
 def test_deep_nesting_is_refused(tmp_path):
     err = error_of(tmp_path, "a: " + "[" * 200 + "]" * 200 + "\n")
     assert "nested deeper than 32 levels" in str(err)
+
+
+def test_misspelt_required_key_gets_did_you_mean(tmp_path):
+    err = error_of(tmp_path, BASE.replace("conrod_length:", "conrod_lenght:"))
+    assert "geometry.conrod_lenght: unknown key 'conrod_lenght'" in str(err)
+    assert "did you mean 'conrod_length'?" in str(err)
