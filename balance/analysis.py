@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from . import kinematics, phasors
+from . import accuracy, kinematics, phasors
 from .balancing import Proposal, proposal_phasors, propose
 from .errors import InputError
 from .layout import Layout
@@ -61,6 +61,8 @@ class Phasors:
     terms: int
     reference_force: float
     reference_z: float
+    samples: int = 0
+    error_bound: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -121,6 +123,7 @@ def compute(
     *,
     model: str = "exact",
     terms: int = 3,
+    samples: int | None = None,
     moments: bool = True,
     roll: bool = True,
 ) -> Phasors:
@@ -132,19 +135,26 @@ def compute(
         The engine.
     orders : int, str or sequence of int, optional
         Orders to compute (default 1 to 8); see :func:`parse_orders`.
-    model : {'exact', 'series', 'textbook'}
+    model : {'exact', 'series', 'textbook', 'time'}
         How the piston acceleration is expanded
-        (:func:`balance.kinematics.acceleration_coefficients`).
+        (:func:`balance.kinematics.acceleration_coefficients`), or ``time``: forces, moments
+        and roll synthesised over ``samples`` crank angles and transformed
+        (:mod:`balance.timedomain`).
     terms : int
         Binomial terms of the ``series`` model.
+    samples : int, optional
+        Crank angles per revolution of the ``time`` model (default the smallest power of
+        two above 8 times the highest order, at least 256).
     moments, roll : bool
-        Compute the moments and the roll (otherwise they are left as NaN).
+        Compute the moments and the roll (otherwise they are left as NaN and not reported).
 
     Returns
     -------
     Phasors
     """
     ks = parse_orders(orders)
+    if model == "time":
+        return _compute_time(layout, ks, samples, moments=moments, roll=roll)
     omega2 = layout.speed**2
     r = layout.crank_radius
     ratio = r / layout.conrod_length
@@ -181,6 +191,7 @@ def compute(
     else:
         roll_ph = nan
     reference_force = float(np.mean(layout.reciprocating_mass) * np.mean(r) * omega2)
+    bound = accuracy.error_bound(model, ratio, offset_ratio, terms=terms, max_order=int(ks.max()))
     return Phasors(
         orders=ks,
         force_forward=f_fwd,
@@ -195,6 +206,83 @@ def compute(
         terms=terms,
         reference_force=reference_force,
         reference_z=layout.reference_z,
+        error_bound=bound,
+    )
+
+
+def _compute_time(
+    layout: Layout, ks: NDArray[np.intp], samples: int | None, *, moments: bool, roll: bool
+) -> Phasors:
+    """The ``time`` model: sample, sum as vectors, transform."""
+    from . import timedomain
+
+    k_max = int(ks.max())
+    if samples is None:
+        samples = max(256, 1 << math.ceil(math.log2(8 * k_max + 1)))
+    if samples <= 2 * k_max:
+        raise InputError(
+            f"samples: {samples} crank angles resolve orders up to {(samples - 1) // 2}, "
+            f"not {k_max}; give more than {2 * k_max}"
+        )
+    theta = timedomain.crank_angles(samples)
+    omega2 = layout.speed**2
+    r = layout.crank_radius
+    ratio = r / layout.conrod_length
+    offset_ratio = layout.offset / r
+    amp = layout.reciprocating_mass * r * omega2
+    n = layout.n_cylinders
+    force_scale = float(np.sum(amp))
+    f_fwd, f_bwd = timedomain.phasors_from_samples(
+        timedomain.reciprocating_force_samples(layout, theta), ks
+    )
+    f_fwd = phasors.cancel_to_zero(f_fwd, force_scale, n * 4)
+    f_bwd = phasors.cancel_to_zero(f_bwd, force_scale, n * 4)
+    lever = layout.z - layout.reference_z
+    nan = np.full(ks.size, np.nan + 0j)
+    m_fwd, m_bwd = nan, nan
+    rot_amp = layout.rotating_mass * r * omega2
+    rot_force = complex(phasors.rotating_phasor(rot_amp, layout.throw))
+    rot_moment = complex(np.nan, np.nan)
+    if moments:
+        moment_scale = float(np.sum(amp * np.abs(lever)))
+        m_fwd, m_bwd = timedomain.phasors_from_samples(
+            timedomain.reciprocating_force_samples(layout, theta, lever=True), ks
+        )
+        m_fwd = phasors.cancel_to_zero(m_fwd, moment_scale, n * 4)
+        m_bwd = phasors.cancel_to_zero(m_bwd, moment_scale, n * 4)
+        rot_moment = complex(phasors.rotating_phasor(rot_amp, layout.throw, lever))
+    roll_ph = nan
+    if roll:
+        roll_scale = float(
+            np.sum(layout.reciprocating_mass * r**2 + np.abs(layout.conrod_inertia_correction))
+            * omega2
+        )
+        roll_ph = phasors.cancel_to_zero(
+            timedomain.roll_phasors_from_samples(timedomain.roll_newton_euler(layout, theta), ks),
+            roll_scale,
+            n * 8,
+        )
+    beta = theta[None, :]
+    per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], offset_ratio[:, None])
+    coeffs = 2.0 * np.fft.rfft(per_cylinder, axis=-1)[:, ks] / samples
+    return Phasors(
+        orders=ks,
+        force_forward=f_fwd,
+        force_backward=f_bwd,
+        moment_forward=m_fwd,
+        moment_backward=m_bwd,
+        rotating_force=rot_force,
+        rotating_moment=rot_moment,
+        roll=roll_ph,
+        acceleration_coefficients=coeffs,
+        model="time",
+        terms=0,
+        reference_force=float(np.mean(layout.reciprocating_mass) * np.mean(r) * omega2),
+        reference_z=layout.reference_z,
+        samples=samples,
+        error_bound=accuracy.error_bound(
+            "time", ratio, offset_ratio, samples=samples, max_order=k_max
+        ),
     )
 
 
@@ -230,7 +318,13 @@ def balance_engine(
     if np.all(np.isin(needed, result.orders)) and not np.isnan(result.moment_forward).any():
         source = result
     else:
-        source = compute(layout, needed, model=result.model, terms=result.terms)
+        source = compute(
+            layout,
+            needed,
+            model=result.model,
+            terms=result.terms,
+            samples=result.samples or None,
+        )
     pick = np.searchsorted(source.orders, needed)
     first_order = (
         source.acceleration_coefficients[:, int(np.searchsorted(source.orders, 1))]
@@ -303,6 +397,8 @@ def analyse(
     speed: float | None = None,
     model: str = "exact",
     terms: int = 3,
+    samples: int | None = None,
+    tolerance: float | None = None,
     moments: bool = True,
     roll: bool = True,
     proposal: bool = True,
@@ -312,7 +408,7 @@ def analyse(
     counterweight_radius: float | None = None,
     cancel_roll: bool = False,
 ) -> xr.Dataset:
-    """Analyse a layout: free forces, moments, rotating forces and roll per order.
+    r"""Analyse a layout: free forces, moments, rotating forces and roll per order.
 
     Parameters
     ----------
@@ -322,10 +418,17 @@ def analyse(
         Orders to report; default 1 to 8.
     speed : float, optional
         Crank speed [rad/s] instead of the layout's.
-    model : {'exact', 'series', 'textbook'}
-        Piston acceleration model; ``exact`` is accurate to machine precision.
+    model : {'exact', 'series', 'textbook', 'time'}
+        Piston acceleration model; ``exact`` is accurate to machine precision; ``time``
+        synthesises the forces over crank angle (see :func:`compute`).
     terms : int
         Binomial terms for the ``series`` model.
+    samples : int, optional
+        Crank angles per revolution of the ``time`` model.
+    tolerance : float, optional
+        Instead of a model: the largest error allowed in the normalised coefficients (force
+        error per :math:`m_{rec} r\omega^2`); the cheapest model that meets it is used
+        (:func:`balance.accuracy.choose_model`) and recorded with its error bound.
     moments, roll : bool
         Whether to compute the moments and the roll torque.
     proposal : bool
@@ -353,7 +456,14 @@ def analyse(
         if not (math.isfinite(speed) and speed > 0):
             raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
         layout = layout.with_speed(speed)
-    result = compute(layout, orders, model=model, terms=terms, moments=moments, roll=roll)
+    if tolerance is not None:
+        r = layout.crank_radius
+        model, terms, _ = accuracy.choose_model(
+            tolerance, r / layout.conrod_length, layout.offset / r
+        )
+    result = compute(
+        layout, orders, model=model, terms=terms, samples=samples, moments=moments, roll=roll
+    )
     balanced = None
     if proposal and moments and roll:
         balanced = balance_engine(

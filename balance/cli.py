@@ -92,6 +92,7 @@ class Model(StrEnum):
     exact = "exact"
     series = "series"
     textbook = "textbook"
+    time = "time"
 
 
 def _parse_speed(text: str) -> float:
@@ -143,11 +144,28 @@ def analyse_command(
         typer.Option("--speed", help="Crank speed instead of the layout's, e.g. 7000rpm."),
     ] = None,
     model: Annotated[
-        Model, typer.Option("--model", help="Piston acceleration model.")
-    ] = Model.exact,
+        Model | None,
+        typer.Option("--model", help="Piston acceleration model (default exact)."),
+    ] = None,
     terms: Annotated[
         int, typer.Option("--terms", min=1, max=60, help="Series terms (--model series).")
     ] = 3,
+    samples: Annotated[
+        int | None,
+        typer.Option("--samples", min=4, max=2**22, help="Crank angles (--model time)."),
+    ] = None,
+    tolerance: Annotated[
+        float | None,
+        typer.Option(
+            "--tolerance",
+            help="Largest coefficient error allowed; picks the cheapest model that meets it.",
+        ),
+    ] = None,
+    no_moments: Annotated[bool, typer.Option("--no-moments", help="Skip the moments.")] = False,
+    no_roll: Annotated[bool, typer.Option("--no-roll", help="Skip the roll torque.")] = False,
+    no_proposal: Annotated[
+        bool, typer.Option("--no-proposal", help="Skip the balancing proposal.")
+    ] = False,
     output: Annotated[
         Path | None, typer.Option("--output", "-o", help="Write to this file.")
     ] = None,
@@ -155,7 +173,7 @@ def analyse_command(
         bool, typer.Option("--force", help="Replace an existing output file.")
     ] = False,
 ) -> None:
-    """Analyse a layout: free forces, moments and roll per order."""
+    """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
     from .analysis import analyse, parse_orders
     from .layout import load_layout
 
@@ -167,7 +185,22 @@ def analyse_command(
         check_target(output, force)
     elif format is Format.netcdf:
         raise InputError("--format netcdf writes a binary file; give -o PATH")
-    ds = analyse(load_layout(layout), order_list, speed=speed_value, model=model.value, terms=terms)
+    if tolerance is not None and model is not None:
+        raise InputError("give --model or --tolerance, not both")
+    if tolerance is not None and not (tolerance > 0 and tolerance < 1):
+        raise InputError(f"--tolerance: {tolerance!r} is not between 0 and 1, e.g. 1e-6")
+    ds = analyse(
+        load_layout(layout),
+        order_list,
+        speed=speed_value,
+        model=(model or Model.exact).value,
+        terms=terms,
+        samples=samples,
+        tolerance=tolerance,
+        moments=not no_moments,
+        roll=not no_roll,
+        proposal=not (no_proposal or no_moments or no_roll),
+    )
     _write(ds, format, output, force)
 
 

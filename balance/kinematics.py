@@ -233,6 +233,7 @@ def fourier_coefficients(
     batch_shape: tuple[int, ...] = (),
     min_samples: int = 64,
     max_samples: int = MAX_SAMPLES,
+    noise_floor: ArrayLike = 0.0,
 ) -> tuple[ComplexArray, int]:
     r"""Complex Fourier coefficients of a smooth periodic function, to machine precision.
 
@@ -247,6 +248,11 @@ def fourier_coefficients(
         Leading shape of what ``sample`` returns.
     min_samples, max_samples : int
         Range of the number of samples per revolution (powers of two).
+    noise_floor : array_like
+        The accuracy the samples allow (broadcast against ``batch_shape``): near the
+        geometric limit the function is so ill-conditioned that its rounding, not the
+        resolution, sets the error; once the wanted orders change by less than this from
+        one doubling to the next, they are taken.
 
     Returns
     -------
@@ -262,7 +268,9 @@ def fourier_coefficients(
     in order k is the aliased content of orders :math:`N \pm k`, which falls geometrically.
     The number of samples is doubled until the top quarter of the resolved spectrum is
     below :math:`8\epsilon` of the larger of its largest coefficient and the rms of the
-    samples (the rounding floor of the samples themselves).  Real and imaginary parts
+    samples (the rounding floor of the samples themselves), or, very near the geometric
+    limit where the tail meets that floor first, until the wanted orders change by less
+    than eight times the floor from one doubling to the next.  Real and imaginary parts
     below :math:`16\epsilon` of that scale are returned as exactly 0: they cannot be told
     from rounding (an unoffset slider has no odd orders above 1 and no sine terms).
     """
@@ -271,6 +279,7 @@ def fourier_coefficients(
     n = max(int(min_samples), 8)
     while n < 4 * (k_max + 1):
         n *= 2
+    previous = None
     while True:
         beta = 2.0 * np.pi * np.arange(n) / n
         values = np.asarray(sample(beta), dtype=np.float64).reshape(*batch_shape, n)
@@ -281,10 +290,19 @@ def fourier_coefficients(
             np.max(np.abs(spectrum), axis=-1, initial=0.0),
             np.sqrt(np.mean(values**2, axis=-1)),
         )
+        floor = 8.0 * _EPS * np.maximum(scale, np.finfo(float).tiny)
         tail = np.max(np.abs(spectrum[..., n // 4 :]), axis=-1, initial=0.0)
-        converged = bool(np.all(tail <= 8.0 * _EPS * np.maximum(scale, np.finfo(float).tiny)))
+        converged = bool(np.all(tail <= floor))
+        wanted = spectrum[..., orders_arr]
+        if not converged and previous is not None:
+            # very near the geometric limit the tail sinks into the rounding of the samples
+            # before it falls below the floor: accept once the wanted orders stop changing
+            change = np.max(np.abs(wanted - previous), axis=-1, initial=0.0)
+            allowed = np.maximum(8.0 * floor, 2.0 * np.asarray(noise_floor, dtype=np.float64))
+            converged = bool(np.all(change <= allowed))
         if converged or n >= max_samples:
             break
+        previous = wanted
         n *= 2
     if not converged:
         raise AnalysisError(
@@ -300,13 +318,23 @@ def fourier_coefficients(
     return real + 1j * imag, n
 
 
+def rounding_floor(ratio: ArrayLike, offset_ratio: ArrayLike) -> FloatArray:
+    r"""Estimated rounding error of the exact coefficients, :math:`10^{-14}(1-x)^{-3/2}`
+    with :math:`x = \lambda(1+|e|/r)` (see :mod:`balance.accuracy`)."""
+    x = np.asarray(ratio, dtype=np.float64) * (1 + np.abs(np.asarray(offset_ratio)))
+    return np.asarray(1e-14 * (1.0 - x) ** -1.5, dtype=np.float64)
+
+
 def _exact(ratio: FloatArray, offset_ratio: FloatArray, orders: NDArray[np.intp]) -> ComplexArray:
     pairs = np.stack([ratio.ravel(), offset_ratio.ravel()], axis=-1)
     unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
     lam_u = unique[:, :1]
     eps_u = unique[:, 1:]
     coeffs, _ = fourier_coefficients(
-        lambda b: normalised_acceleration(b, lam_u, eps_u), orders, (unique.shape[0],)
+        lambda b: normalised_acceleration(b, lam_u, eps_u),
+        orders,
+        (unique.shape[0],),
+        noise_floor=rounding_floor(unique[:, 0], unique[:, 1]),
     )
     return coeffs[inverse.ravel()].reshape(*ratio.shape, orders.size)
 
@@ -424,6 +452,7 @@ def acceleration_coefficients(
     orders_arr = np.asarray(orders, dtype=np.intp).ravel()
     if orders_arr.size and orders_arr.min() < 1:
         raise AnalysisError("orders start at 1")
+    _check_geometry(lam, eps)
     if model == "exact":
         return _exact(lam, eps, orders_arr)
     if model == "series":
@@ -434,6 +463,17 @@ def acceleration_coefficients(
         out[..., orders_arr == 2] = lam[..., None]
         return out
     raise AnalysisError(f"unknown model {model!r}; valid models: {', '.join(MODELS)}")
+
+
+def _check_geometry(ratio: FloatArray, offset_ratio: FloatArray) -> None:
+    """Refuse a crank slider at or past its limit l = r + |e| (or with lambda <= 0)."""
+    reach = ratio * (1.0 + np.abs(offset_ratio))
+    if not np.all(np.isfinite(reach)) or np.any(ratio <= 0) or np.any(reach >= 1.0):
+        worst = float(np.nanmax(reach)) if np.any(np.isfinite(reach)) else float("nan")
+        raise AnalysisError(
+            f"the crank slider cannot move: (r + |e|)/l = {worst:.6g}; it must be below 1 "
+            "(conrod_length > crank_radius + |offset|) and above 0"
+        )
 
 
 def roll_coefficients(
@@ -459,6 +499,7 @@ def roll_coefficients(
         np.asarray(ratio, dtype=np.float64), np.asarray(offset_ratio, dtype=np.float64)
     )
     orders_arr = np.asarray(orders, dtype=np.intp).ravel()
+    _check_geometry(lam, eps)
     pairs = np.stack([lam.ravel(), eps.ravel()], axis=-1)
     unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
     lam_u = unique[:, :1]
@@ -469,7 +510,14 @@ def roll_coefficients(
         dg, d2g = conrod_angle_derivatives(beta, lam_u, eps_u)
         return np.stack([d2s * (ds + eps_u), d2g * (1.0 + dg)])
 
-    coeffs, _ = fourier_coefficients(sample, orders_arr, (2, unique.shape[0]))
+    coeffs, _ = fourier_coefficients(
+        sample,
+        orders_arr,
+        (2, unique.shape[0]),
+        # the roll functions carry one more factor 1/D than the acceleration
+        noise_floor=rounding_floor(unique[:, 0], unique[:, 1])
+        / np.sqrt(1.0 - unique[:, 0] * (1 + np.abs(unique[:, 1]))),
+    )
     rec = coeffs[0][inverse.ravel()].reshape(*lam.shape, orders_arr.size)
     rod = coeffs[1][inverse.ravel()].reshape(*lam.shape, orders_arr.size)
     return rec, rod

@@ -296,6 +296,10 @@ def build_dataset(layout: Layout, result: Phasors, balanced: Balanced | None = N
         "cycle": layout.cycle,
         "model": result.model,
         "series_terms": result.terms if result.model == "series" else 0,
+        "time_samples": result.samples,
+        "error_bound": float(result.error_bound),
+        "error_bound_note": "bound on the normalised acceleration coefficients (force error per "
+        "m_rec r omega^2) of the model used; see balance.accuracy",
         # 12 significant digits: 8000 rpm read from a file stays 8000, not 7999.999999999999
         "speed_rpm": float(f"{layout.speed * 60.0 / (2.0 * math.pi):.12g}"),
         "firing_order": ",".join(map(str, layout.firing_order or ())),
@@ -306,6 +310,15 @@ def build_dataset(layout: Layout, result: Phasors, balanced: Balanced | None = N
     if balanced is not None:
         data.update(_proposal_variables(balanced, f1, m1))
         attrs.update(_proposal_attrs(balanced))
+    if np.isnan(result.moment_forward).all():  # moments not asked for
+        data = {
+            k: v
+            for k, v in data.items()
+            if not k.startswith(("reciprocating_moment", "rotating_moment"))
+        }
+    if np.isnan(result.roll).all():  # roll not asked for
+        data = {k: v for k, v in data.items() if not k.startswith("roll")}
+        coords = {k: v for k, v in coords.items() if k != "roll_order"}
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
 
 

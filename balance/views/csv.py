@@ -24,6 +24,8 @@ def to_csv(ds: xr.Dataset) -> str:
     columns: list[tuple[str, str, dict[str, str]]] = []
     for what in ("force", "moment"):
         prefix = f"reciprocating_{what}"
+        if f"{prefix}_magnitude" not in ds:
+            continue  # not asked for
         for rotation in ("forward", "backward"):
             for part in ("magnitude", "phase"):
                 columns.append(
@@ -34,9 +36,11 @@ def to_csv(ds: xr.Dataset) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     header = ["order"] + [f"{name} [{ds[var].attrs['units']}]" for var, name, _ in columns]
-    header += [f"roll_amplitude [{ds['roll_amplitude'].attrs['units']}]", "roll_phase [deg]"]
+    has_roll = "roll_amplitude" in ds
+    if has_roll:
+        header += [f"roll_amplitude [{ds['roll_amplitude'].attrs['units']}]", "roll_phase [deg]"]
     writer.writerow(header)
-    roll_orders = {float(k) for k in ds["roll_order"].values}
+    roll_orders = {float(k) for k in ds["roll_order"].values} if has_roll else set()
     for k in ds["order"].values:
         row = [str(int(k))]
         for var, _, sel in columns:
@@ -44,7 +48,7 @@ def to_csv(ds: xr.Dataset) -> str:
         if float(k) in roll_orders:
             row.append(_cell(float(ds["roll_amplitude"].sel(roll_order=float(k)))))
             row.append(_cell(float(ds["roll_phase"].sel(roll_order=float(k)))))
-        else:
+        elif has_roll:
             row += ["", ""]
         writer.writerow(row)
     return buffer.getvalue()

@@ -44,39 +44,44 @@ def _order_value(order: float) -> float | int:
 
 def to_dict(ds: xr.Dataset) -> dict[str, Any]:
     """The result as plain data in the contract's JSON shape (SI units, degrees)."""
+    has_moments = "reciprocating_moment_magnitude" in ds
+    whats = ("force", "moment") if has_moments else ("force",)
     rotating = {}
-    for what in ("force", "moment"):
+    for what in whats:
         prefix = f"rotating_{what}"
         rotating[what] = {
             "forward": _phasor(ds, prefix),
             "peak": _num(ds[f"{prefix}_magnitude"]),
             "peak_normalised": _num(ds[f"{prefix}_normalised"]),
         }
-    out = {
+    out: dict[str, Any] = {
         "schema": ds.attrs["schema"],
         "layout": ds.attrs["layout"],
         "speed_rpm": float(ds.attrs["speed_rpm"]),
         "reference_z_m": float(ds["reference_z"]),
         "model": ds.attrs["model"],
+        "accuracy": {
+            "error_bound": _num(ds.attrs.get("error_bound", float("nan"))),
+            "series_terms": int(ds.attrs.get("series_terms", 0)),
+            "time_samples": int(ds.attrs.get("time_samples", 0)),
+        },
         "normalisation": {
             "force_N": _num(ds["reference_force"]),
             "pitch_m": _num(ds["pitch"]),
             "moment_Nm": _num(ds["reference_moment"]),
         },
-        "reciprocating": {
-            "force": _orders(ds, "reciprocating_force"),
-            "moment": _orders(ds, "reciprocating_moment"),
-        },
+        "reciprocating": {what: _orders(ds, f"reciprocating_{what}") for what in whats},
         "rotating": rotating,
-        "roll": [
+    }
+    if "roll_amplitude" in ds:
+        out["roll"] = [
             {
                 "order": _order_value(k),
                 "amplitude": _num(ds["roll_amplitude"].sel(roll_order=k)),
                 "phase_deg": _num(ds["roll_phase"].sel(roll_order=k)),
             }
             for k in ds["roll_order"].values
-        ],
-    }
+        ]
     if "counterweight_mass" in ds:
         out["proposal"] = _proposal(ds)
     if "study_factor" in ds:

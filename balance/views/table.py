@@ -28,9 +28,11 @@ def render(ds: xr.Dataset) -> RenderableType:
     from rich.table import Table
     from rich.text import Text
 
+    bound = float(ds.attrs.get("error_bound", float("nan")))
     title = (
         f"{ds.attrs['layout']}: {len(ds['cylinder'])} cylinders at "
         f"{ds.attrs['speed_rpm']:.0f} rpm, model {ds.attrs['model']}"
+        + (f" (coefficient error below {bound:.1g})" if math.isfinite(bound) else "")
     )
     norm = Text(
         f"F1 = m_rec r w^2 = {format_number(float(ds['reference_force']))} N;  "
@@ -38,7 +40,9 @@ def render(ds: xr.Dataset) -> RenderableType:
         f"moments about z = {format_number(float(ds['reference_z']) * 1e3)} mm"
     )
     tables = []
-    for what, unit, per in (("force", "N", "F1"), ("moment", "N m", "F1 a")):
+    has_moments = "reciprocating_moment_magnitude" in ds
+    kinds = [("force", "N", "F1")] + ([("moment", "N m", "F1 a")] if has_moments else [])
+    for what, unit, per in kinds:
         table = Table(
             title=f"Reciprocating inertia: free {what}s"
             + (" about reference_z" if what == "moment" else ""),
@@ -68,13 +72,27 @@ def render(ds: xr.Dataset) -> RenderableType:
                 format_number(float(ds[f"{prefix}_peak_normalised"].sel(order=k))),
             )
         tables.append(table)
-    rotating = Text(
+    rotating_text = (
         "Rotating (order 1, forward): force "
         f"{format_number(float(ds['rotating_force_magnitude']))} N at "
-        f"{format_number(float(ds['rotating_force_phase']))} deg;  moment "
-        f"{format_number(float(ds['rotating_moment_magnitude']))} N m at "
-        f"{format_number(float(ds['rotating_moment_phase']))} deg"
+        f"{format_number(float(ds['rotating_force_phase']))} deg"
     )
+    if has_moments:
+        rotating_text += (
+            f";  moment {format_number(float(ds['rotating_moment_magnitude']))} N m at "
+            f"{format_number(float(ds['rotating_moment_phase']))} deg"
+        )
+    parts: list[RenderableType] = [Text(title, style="bold"), norm, *tables, Text(rotating_text)]
+    if "roll_amplitude" in ds:
+        parts.append(_roll_table(ds))
+    if "counterweight_mass" in ds:
+        parts.extend(render_proposal(ds))
+    return Group(*parts)
+
+
+def _roll_table(ds: xr.Dataset) -> RenderableType:
+    from rich.table import Table
+
     roll = Table(title="Roll torque on the block (a_k cos(k theta + phase))", title_justify="left")
     roll.add_column("order", justify="right")
     roll.add_column("amplitude [N m]", justify="right")
@@ -87,10 +105,7 @@ def render(ds: xr.Dataset) -> RenderableType:
             format_number(float(ds["roll_phase"].sel(roll_order=k))),
             format_number(float(ds["roll_amplitude_normalised"].sel(roll_order=k))),
         )
-    parts: list[RenderableType] = [Text(title, style="bold"), norm, *tables, rotating, roll]
-    if "counterweight_mass" in ds:
-        parts.extend(render_proposal(ds))
-    return Group(*parts)
+    return roll
 
 
 def render_proposal(ds: xr.Dataset) -> list[RenderableType]:
