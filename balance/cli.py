@@ -489,6 +489,82 @@ def compare_command(
             _console().print(table)
 
 
+class PlotFormat(StrEnum):
+    """Figure file formats."""
+
+    png = "png"
+    svg = "svg"
+    pdf = "pdf"
+
+
+@app.command("plot")
+@guarded
+def plot_command(
+    layout: Annotated[str, typer.Argument(help="Layout file or built-in name.")],
+    kind: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--kind",
+            "-k",
+            help="crank-star, phasors, crank-angle, locus, spectrum, roll or balance "
+            "(repeat for several; default all).",
+        ),
+    ] = None,
+    format: Annotated[PlotFormat, typer.Option("--format", "-f", help="File format.")] = (
+        PlotFormat.png
+    ),
+    output_dir: Annotated[
+        Path, typer.Option("--output-dir", "-o", help="Directory for the figures.")
+    ] = Path("."),
+    orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-8.")] = "1-8",
+    speed: Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")] = None,
+    force: Annotated[bool, typer.Option("--force", help="Replace existing files.")] = False,
+) -> None:
+    """Draw the design-review figures of a layout into a directory."""
+    from .analysis import analyse, parse_orders
+    from .layout import load_layout
+
+    order_list = parse_orders(orders)
+    speed_value = _parse_speed(speed) if speed is not None else None
+    if not output_dir.is_dir():
+        raise InputError(f"{output_dir}: no such directory; create it first")
+    engine = load_layout(layout)
+    ds = analyse(engine, order_list, speed=speed_value)
+    from .plots import save_plots
+
+    stem = Path(layout).stem if layout.endswith((".yaml", ".yml")) else layout
+    kinds = [k.replace("-", "_") for k in kind] if kind else None
+    written = save_plots(
+        ds, output_dir, kinds=kinds, fmt=format.value, prefix=f"{stem}-", force=force
+    )
+    for path in written:
+        sys.stderr.write(f"balance: wrote {path}\n")
+
+
+@app.command("report")
+@guarded
+def report_command(
+    layout: Annotated[str, typer.Argument(help="Layout file or built-in name.")],
+    output: Annotated[Path, typer.Option("--output", "-o", help="The HTML file to write.")],
+    orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-8.")] = "1-8",
+    speed: Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")] = None,
+    force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
+) -> None:
+    """Write a self-contained HTML design review (tables, figures, proposal, accuracy)."""
+    from .analysis import analyse, parse_orders
+    from .layout import load_layout
+    from .output import check_target
+
+    order_list = parse_orders(orders)
+    speed_value = _parse_speed(speed) if speed is not None else None
+    check_target(output, force)
+    ds = analyse(load_layout(layout), order_list, speed=speed_value)
+    from .report import write_report
+
+    write_report(ds, output, force=force)
+    sys.stderr.write(f"balance: wrote {output}\n")
+
+
 @app.command("layouts")
 @guarded
 def layouts_command() -> None:

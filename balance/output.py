@@ -71,6 +71,10 @@ def write_atomic(path: str | Path, write: Callable[[Path], None], force: bool = 
             )
             tmp = Path(tmp_name)
             os.close(handle)
+            # mkstemp makes the file private; results are ordinary files (0666 & ~umask)
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o666 & ~umask)
         finally:
             signal.pthread_sigmask(signal.SIG_SETMASK, previous)
         write(tmp)

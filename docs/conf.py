@@ -5,6 +5,7 @@ import sys
 
 # Make the package at the repository root importable for autodoc.
 sys.path.insert(0, os.path.abspath(".."))
+sys.path.insert(0, os.path.abspath("_ext"))
 
 project = "balance"
 author = "The balance contributors"
@@ -15,6 +16,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "numpydoc",
     "sphinx.ext.mathjax",
+    "gallery",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
@@ -33,4 +35,4 @@ html_theme_options = {
     "description": "Engine balancing analyser",
     "fixed_sidebar": True,
 }
-html_static_path = []
+html_static_path = ["_static"]

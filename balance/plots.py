@@ -1,0 +1,1120 @@
+r"""Figures of a result Dataset: compute first (:mod:`balance.synthesis`), then draw.
+
+Every figure is a function ``plot_<kind>(ds, *, ax=None, ...)`` that takes the Dataset of
+:func:`balance.analyse` and returns a :class:`matplotlib.figure.Figure`.  The figures are
+built object-oriented (no :mod:`matplotlib.pyplot`, no global state): they work headless,
+and matplotlib is imported only when a figure is drawn.  Each function draws under a fixed
+style (:data:`STYLE`, applied with :func:`matplotlib.rc_context`) so that figures look the
+same whatever the user's ``matplotlibrc``.
+
+``ax`` may be given to draw into existing axes: one :class:`~matplotlib.axes.Axes` for
+single-panel kinds, a sequence of as many axes as the kind has panels otherwise (polar axes
+for ``phasors``).  The figure title (layout name) is only set on a figure the function
+created, or when ``title`` is given.
+
+Kinds (:data:`PLOT_KINDS`):
+
+``crank_star``
+    Throws and banks seen from the front (+y up, +x right, crank turning clockwise).
+``phasors``
+    Polar diagrams of the force and moment phasors per order, forward and backward.
+``crank_angle``
+    Force (y and x) and pitch/yaw couples over one revolution, total and per order.
+``locus``
+    The path of the force and moment vectors in the transverse plane, per order and total.
+``spectrum``
+    Peak force and moment per order, as bars.
+``roll``
+    Roll torque over a revolution (or a cycle with half orders) and its spectrum.
+``balance``
+    Force, moment and roll before and after the proposed balancing.
+
+The force and moment drawn are by default the *free* ones: reciprocating inertia plus the
+centrifugal force of the rotating masses (``source="free"``; see
+:mod:`balance.synthesis`).  Moments are :math:`\sum (z_i - z_{ref}) F_i`, drawn along the
+force as in the CONTRACT; ``crank_angle`` shows them as the physical pitch and yaw couples.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Iterable, Sequence
+from contextlib import AbstractContextManager
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import synthesis
+from .errors import InputError
+from .synthesis import Quantity, Source
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "FORMATS",
+    "PLOT_KINDS",
+    "STYLE",
+    "figure_bytes",
+    "plot_balance",
+    "plot_crank_angle",
+    "plot_crank_star",
+    "plot_locus",
+    "plot_phasors",
+    "plot_roll",
+    "plot_spectrum",
+    "proposal_summary",
+    "readable_file_writer",
+    "save_plots",
+]
+
+#: Matplotlib settings every figure is drawn and saved with.
+STYLE: dict[str, Any] = {
+    "figure.dpi": 100,
+    "savefig.dpi": 100,
+    "savefig.facecolor": "white",
+    "figure.facecolor": "white",
+    "font.family": "DejaVu Sans",
+    "font.size": 10,
+    "axes.titlesize": 11,
+    "axes.labelsize": 10,
+    "xtick.labelsize": 9,
+    "ytick.labelsize": 9,
+    "legend.fontsize": 8.5,
+    "figure.titlesize": 12,
+    "axes.grid": True,
+    "grid.alpha": 0.35,
+    "grid.linewidth": 0.6,
+    "lines.linewidth": 1.4,
+    "axes.formatter.limits": (-4, 5),
+    "axes.formatter.use_mathtext": False,
+    "legend.framealpha": 0.9,
+    "svg.fonttype": "path",
+    "svg.hashsalt": "balance",
+    "pdf.fonttype": 42,
+    "path.simplify": False,
+}
+
+#: File formats :func:`save_plots` writes.
+FORMATS = ("png", "svg", "pdf")
+
+#: Share of the largest order below which an order counts as zero in a figure.
+ZERO_SHARE = 1e-9
+
+TOTAL_COLOUR = "black"
+#: Phasor arrows: forward wide and light, backward thin and dashed on top, so that equal
+#: forward and backward phasors (a line locus) both show.
+FORWARD_ARROW: dict[str, Any] = {
+    "arrowstyle": "-|>",
+    "lw": 3.4,
+    "alpha": 0.45,
+    "mutation_scale": 18,
+    "zorder": 2,
+}
+BACKWARD_ARROW: dict[str, Any] = {
+    "arrowstyle": "->",
+    "lw": 1.5,
+    "linestyle": "--",
+    "mutation_scale": 14,
+    "zorder": 3,
+}
+BEFORE_COLOUR = "0.55"
+
+AxesArg = Any  # Axes, a sequence or array of Axes, or None
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _styled() -> AbstractContextManager[Any]:
+    """Context in which :data:`STYLE` is in force (matplotlib's own rc_context)."""
+    import matplotlib as mpl
+
+    settings: Any = STYLE
+    return mpl.rc_context(settings)
+
+
+def _order_colour(order: float) -> str:
+    """The same colour for the same order in every figure (tab10, order 1 first)."""
+    return f"C{(round(2 * order) // 2 - 1) % 10}" if order >= 1 else "C9"
+
+
+def _new_figure(
+    ax: AxesArg,
+    n_axes: int,
+    figsize: tuple[float, float],
+    *,
+    nrows: int = 1,
+    ncols: int | None = None,
+    polar: bool = False,
+    kind: str,
+) -> tuple[Figure, list[Axes], bool]:
+    """Axes to draw on: new ones in a new figure, or the ones given (checked)."""
+    from matplotlib.figure import Figure
+
+    if ax is None:
+        fig = Figure(figsize=figsize, layout="constrained")
+        ncols = ncols if ncols is not None else math.ceil(n_axes / nrows)
+        grid = fig.subplots(
+            nrows, ncols, squeeze=False, subplot_kw={"projection": "polar"} if polar else None
+        )
+        return fig, list(np.ravel(grid))[:n_axes], True
+    axes = list(np.ravel(np.asarray(ax, dtype=object)))
+    if len(axes) != n_axes:
+        raise ValueError(f"plot_{kind}: ax must be {n_axes} axes, got {len(axes)}")
+    if polar and any(getattr(a, "name", "") != "polar" for a in axes):
+        raise ValueError(f"plot_{kind}: ax must be polar axes (projection='polar')")
+    parent = getattr(axes[0], "figure", None)
+    if parent is None:  # pragma: no cover - axes always belong to a figure
+        raise ValueError(f"plot_{kind}: the axes given belong to no figure")
+    root: Figure = getattr(parent, "figure", parent)  # a SubFigure's figure is the root
+    return root, axes, False
+
+
+def _finish(fig: Figure, owned: bool, title: str | None, default_title: str) -> Figure:
+    """Set the figure title (wrapped to the figure's width) on a figure of our own."""
+    import textwrap
+
+    if title is not None or owned:
+        text = default_title if title is None else title
+        # at most about 10 px per character at 12 pt and 100 dpi
+        width = max(30, int(fig.get_figwidth() * 100.0 / 10.0))
+        fig.suptitle(textwrap.fill(text, width))
+    return fig
+
+
+def _layout_name(ds: xr.Dataset) -> str:
+    return str(ds.attrs.get("layout", "engine"))
+
+
+def _scale(ds: xr.Dataset, quantity: Quantity, normalised: bool) -> tuple[float, str, str]:
+    """Divisor, unit and short name of the normalisation of a quantity."""
+    if quantity == "force":
+        unit, per, reference = "N", "F1", "reference_force"
+    else:
+        unit, per, reference = "N m", "F1 a", "reference_moment"
+    if normalised:
+        value = float(ds[reference]) if reference in ds else math.nan
+        if math.isfinite(value) and value > 0.0:
+            return value, f"per {per}", per
+    return 1.0, unit, ""
+
+
+def _axis_label(name: str, unit: str) -> str:
+    return f"{name} [{unit}]" if not unit.startswith("per ") else f"{name} / {unit[4:]} [1]"
+
+
+def _significant(values: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Orders whose size is not zero next to the largest."""
+    size = np.nan_to_num(np.abs(values), nan=0.0)
+    largest = float(size.max(initial=0.0))
+    return np.asarray(size > ZERO_SHARE * largest) if largest > 0 else np.zeros(size.shape, bool)
+
+
+def _pick_orders(all_orders: NDArray[Any], orders: Iterable[float] | None) -> NDArray[np.bool_]:
+    if orders is None:
+        return np.ones(all_orders.shape, dtype=bool)
+    wanted = np.asarray(list(orders), dtype=np.float64)
+    missing = [k for k in wanted if not np.any(np.isclose(all_orders, k))]
+    if missing:
+        raise ValueError(
+            f"orders {', '.join(f'{k:g}' for k in missing)} are not in the Dataset "
+            f"(it has {', '.join(f'{k:g}' for k in all_orders)})"
+        )
+    return np.asarray(np.isin(np.round(all_orders * 2), np.round(wanted * 2)))
+
+
+def _source_label(source: Source) -> str:
+    return {
+        "free": "free (reciprocating + rotating)",
+        "reciprocating": "reciprocating inertia",
+        "residual": "residual with the proposal",
+    }[source]
+
+
+def _format(value: float) -> str:
+    """Bar labels: whole numbers from 1000 up to 1e6, three significant digits otherwise."""
+    if not math.isfinite(value):
+        return "-"
+    if 1e3 <= abs(value) < 1e6:
+        return f"{value:.0f}"
+    return f"{value:.3g}"
+
+
+def _empty_note(axes: Axes, text: str) -> None:
+    axes.text(0.5, 0.8, text, transform=axes.transAxes, ha="center", va="center", color="0.4")
+
+
+def _denoise(values: NDArray[Any], reference: float) -> NDArray[Any]:
+    """Zero what is round-off of the phasor sums: parts below ZERO_SHARE of ``reference``.
+
+    Real and imaginary parts (x and y) are treated separately, so that a force along y does
+    not show a 1e-14 N wobble in x on an axis scaled to it.
+    """
+    if not (math.isfinite(reference) and reference > 0.0):
+        return values
+    limit = ZERO_SHARE * reference
+    if np.iscomplexobj(values):
+        real = np.where(np.abs(values.real) < limit, 0.0, values.real)
+        imag = np.where(np.abs(values.imag) < limit, 0.0, values.imag)
+        return np.asarray(real + 1j * imag)
+    return np.asarray(np.where(np.abs(values) < limit, 0.0, values))
+
+
+def _order_signals(
+    orders: NDArray[Any],
+    forward: NDArray[np.complex128],
+    backward: NDArray[np.complex128],
+    theta_deg: NDArray[np.float64],
+    divisor: float,
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Each order's signal and their sum, scaled by ``divisor`` and without round-off."""
+    per_order = (
+        synthesis.phasor_signal_per_order(
+            np.abs(forward),
+            np.degrees(np.angle(forward)),
+            np.abs(backward),
+            np.degrees(np.angle(backward)),
+            orders,
+            theta_deg,
+        )
+        / divisor
+    )
+    reference = float(np.nansum(synthesis.peaks(forward, backward))) / divisor
+    return _denoise(per_order, reference), _denoise(per_order.sum(axis=0), reference)
+
+
+def _degree_axis(axes: Axes, span: float = 360.0) -> None:
+    axes.set_xlim(0.0, span)
+    axes.set_xticks(np.arange(0.0, span + 1.0, 90.0 if span <= 360.0 else 180.0))
+    axes.set_xlabel("crank angle θ [deg]")
+
+
+# --------------------------------------------------------------------------- kinds
+
+
+def plot_crank_star(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = None) -> Figure:
+    """Crank star: throws and banks seen along the crank from the front.
+
+    The view is along -z: +y is up, +x to the right, and the crank turns clockwise (from +y
+    towards +x).  Each throw is drawn as a spoke at its angle (crank angle 0) with the
+    cylinders on it; each bank (bore axis) as a dashed line at its angle.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; a new figure otherwise.
+    title : str, optional
+        Figure title; by default the layout name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    with _styled():
+        fig, (axes,), owned = _new_figure(ax, 1, (6.0, 6.2), kind="crank_star")
+        throws = np.mod(np.asarray(ds["throw_angle"].values, dtype=np.float64), 360.0)
+        banks = np.mod(np.asarray(ds["bank_angle"].values, dtype=np.float64), 360.0)
+        cylinders = np.asarray(ds["cylinder"].values)
+        circle = np.radians(np.linspace(0.0, 360.0, 361))
+        axes.plot(np.sin(circle), np.cos(circle), color="0.75", lw=1.0, zorder=1)
+        axes.plot([0.0], [0.0], "o", color="black", ms=6, zorder=4)
+
+        bank_keys = np.round(banks, 6) % 360.0
+        for bank in np.unique(bank_keys):
+            on_bank = cylinders[bank_keys == bank]
+            a = math.radians(float(bank))
+            axes.plot(
+                [0.0, 1.6 * math.sin(a)],
+                [0.0, 1.6 * math.cos(a)],
+                ls="--",
+                color="C3",
+                lw=1.3,
+                zorder=2,
+            )
+            label = _signed_angle(float(bank))
+            names = ", ".join(str(int(c)) for c in on_bank)
+            axes.text(
+                1.72 * math.sin(a),
+                1.72 * math.cos(a),
+                f"bank {label}\ncyl. {names}"
+                if len(np.unique(bank_keys)) > 1
+                else f"bore axis {label}",
+                ha=_ha(a),
+                va=_va(a),
+                color="C3",
+                fontsize=9,
+            )
+
+        throw_keys = np.round(throws, 6) % 360.0
+        for throw in np.unique(throw_keys):
+            on_throw = cylinders[throw_keys == throw]
+            a = math.radians(float(throw))
+            tip = (math.sin(a), math.cos(a))
+            axes.plot([0.0, tip[0]], [0.0, tip[1]], color="C0", lw=3.0, zorder=3)
+            axes.plot([tip[0]], [tip[1]], "o", color="C0", ms=9, zorder=3)
+            axes.text(
+                1.2 * tip[0],
+                1.2 * tip[1],
+                f"{', '.join(str(int(c)) for c in on_throw)}\n({float(throw):g}°)",
+                ha=_ha(a),
+                va=_va(a),
+                fontsize=10,
+                fontweight="bold",
+                color="C0",
+                zorder=5,
+            )
+
+        # direction of rotation: from +y towards +x, i.e. clockwise in this view; drawn in
+        # the lower left corner, where no bank label goes unless a bank points there
+        centre = (-2.15, -2.15)
+        start, end = math.radians(-60.0), math.radians(60.0)
+        axes.annotate(
+            "",
+            xy=(centre[0] + 0.28 * math.sin(end), centre[1] + 0.28 * math.cos(end)),
+            xytext=(centre[0] + 0.28 * math.sin(start), centre[1] + 0.28 * math.cos(start)),
+            arrowprops={
+                "arrowstyle": "-|>",
+                "color": "0.3",
+                "lw": 1.3,
+                "connectionstyle": "arc3,rad=-0.55",
+            },
+        )
+        axes.text(centre[0], centre[1] - 0.05, "rotation", ha="center", va="top", color="0.3")
+        axes.set_xlim(-2.6, 2.6)
+        axes.set_ylim(-2.6, 2.6)
+        axes.set_aspect("equal")
+        axes.grid(False)
+        axes.set_xticks([-1.0, 0.0, 1.0])
+        axes.set_yticks([-1.0, 0.0, 1.0])
+        axes.set_xlabel("x / crank radius [1]  (towards the pin after +y)")
+        axes.set_ylabel("y / crank radius [1]  (up)")
+        axes.set_title("throws (solid) and banks (dashed), seen from the front")
+        return _finish(fig, owned, title, f"{_layout_name(ds)}: crank star")
+
+
+def _signed_angle(angle_deg: float) -> str:
+    signed = (angle_deg + 180.0) % 360.0 - 180.0
+    return f"{signed:+g}°" if signed else "0°"
+
+
+def _ha(angle_rad: float) -> str:
+    s = math.sin(angle_rad)
+    return "center" if abs(s) < 0.3 else ("left" if s > 0 else "right")
+
+
+def _va(angle_rad: float) -> str:
+    c = math.cos(angle_rad)
+    return "center" if abs(c) < 0.3 else ("bottom" if c > 0 else "top")
+
+
+def plot_phasors(
+    ds: xr.Dataset,
+    *,
+    ax: AxesArg = None,
+    source: Source = "free",
+    orders: Iterable[int] | None = None,
+    normalised: bool = False,
+    title: str | None = None,
+) -> Figure:
+    """Polar diagrams of the force and moment phasors, forward (solid) and backward (dashed).
+
+    Angles are drawn as in the engine frame: 0 (+y) at the top, increasing clockwise (the
+    direction of rotation seen from the front).  Each arrow is a phasor at crank angle 0;
+    forward phasors turn clockwise at k times crank speed, backward ones anticlockwise.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    ax : sequence of 2 polar Axes, optional
+        Axes for the force and the moment; a new figure otherwise.
+    source : {'free', 'reciprocating', 'residual'}
+        Which force and moment (see :mod:`balance.synthesis`).
+    orders : iterable of int, optional
+        Orders to draw; default every order of the Dataset (zero ones are not drawn).
+    normalised : bool
+        Draw per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
+    title : str, optional
+        Figure title; by default the layout name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.lines import Line2D
+
+    with _styled():
+        fig, axes_list, owned = _new_figure(ax, 2, (10.0, 5.4), polar=True, kind="phasors")
+        legend_orders: dict[int, Line2D] = {}
+        for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
+            ks, fwd, bwd = synthesis.dataset_phasors(ds, quantity, source)
+            divisor, unit, _ = _scale(ds, quantity, normalised)
+            fwd, bwd = fwd / divisor, bwd / divisor
+            keep = _pick_orders(ks, orders)
+            polar: Any = axes  # PolarAxes
+            polar.set_theta_zero_location("N")
+            polar.set_theta_direction(-1)
+            name = "force" if quantity == "force" else "moment Σ Δz·F"
+            axes.set_title(
+                f"{name} [{unit}]" if not unit.startswith("per ") else f"{name} / {unit[4:]} [1]",
+                pad=14,
+            )
+            if np.isnan(fwd).all():
+                _empty_note(axes, "not computed")
+                continue
+            size = np.concatenate([np.abs(fwd[keep]), np.abs(bwd[keep])])
+            shown = _significant(size)
+            largest = float(np.nanmax(size, initial=0.0))
+            polar.set_rmax(1.12 * largest if largest > 0 else 1.0)
+            polar.set_rmin(0.0)
+            if not shown.any():
+                _empty_note(axes, "all zero")
+            n = int(keep.sum())
+            for i, (k, pf, pb) in enumerate(zip(ks[keep], fwd[keep], bwd[keep], strict=True)):
+                colour = _order_colour(int(k))
+                for phasor, arrow, visible in (
+                    (pf, FORWARD_ARROW, shown[i]),
+                    (pb, BACKWARD_ARROW, shown[n + i]),
+                ):
+                    if not visible:
+                        continue
+                    axes.annotate(
+                        "",
+                        xy=(float(np.angle(phasor)), float(abs(phasor))),
+                        xytext=(0.0, 0.0),
+                        arrowprops={"color": colour, "shrinkA": 0, "shrinkB": 0, **arrow},
+                    )
+                    legend_orders.setdefault(
+                        int(k), Line2D([], [], color=colour, lw=2.0, label=f"order {int(k)}")
+                    )
+            polar.set_thetagrids(
+                np.arange(0, 360, 45), [f"{a}°" for a in range(0, 360, 45)], fontsize=8.5
+            )
+            axes.tick_params(axis="y", labelsize=8)
+        handles = [legend_orders[k] for k in sorted(legend_orders)]
+        handles += [
+            Line2D([], [], color="black", lw=3.4, alpha=0.45, label="forward (wide)"),
+            Line2D([], [], color="black", lw=1.5, ls="--", label="backward (dashed)"),
+        ]
+        fig.legend(handles=handles, loc="outside right center")
+        return _finish(
+            fig, owned, title, f"{_layout_name(ds)}: phasors at θ = 0, {_source_label(source)}"
+        )
+
+
+def plot_crank_angle(
+    ds: xr.Dataset,
+    *,
+    ax: AxesArg = None,
+    source: Source = "free",
+    orders: Iterable[int] | None = None,
+    normalised: bool = False,
+    samples: int = 721,
+    title: str | None = None,
+) -> Figure:
+    """Force (y and x) and the pitch and yaw couples over one revolution.
+
+    Thick black: the sum of the orders of the Dataset; thin: each non-zero order.  The
+    couples are :math:`M_x = -\\sum \\Delta z\\,F_y` (pitch) and
+    :math:`M_y = \\sum \\Delta z\\,F_x` (yaw) about ``reference_z``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    ax : sequence of 4 Axes, optional
+        Axes for F_y, F_x, M_x and M_y; a new figure otherwise.
+    source : {'free', 'reciprocating', 'residual'}
+        Which force and moment (see :mod:`balance.synthesis`).
+    orders : iterable of int, optional
+        Orders to include; default all of the Dataset.
+    normalised : bool
+        Per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
+    samples : int
+        Crank angles over the revolution.
+    title : str, optional
+        Figure title; by default the layout name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    theta = synthesis.crank_angle_grid(samples)
+    with _styled():
+        fig, axes_list, owned = _new_figure(ax, 4, (10.0, 7.0), nrows=2, kind="crank_angle")
+        for row, quantity in enumerate(synthesis.QUANTITIES):
+            ks, fwd, bwd = synthesis.dataset_phasors(ds, quantity, source)
+            keep = _pick_orders(ks, orders)
+            divisor, unit, _ = _scale(ds, quantity, normalised)
+            per_order, total = _order_signals(ks[keep], fwd[keep], bwd[keep], theta, divisor)
+            split = (
+                synthesis.transverse_components
+                if quantity == "force"
+                else synthesis.couple_components
+            )
+            first, second = split(per_order)
+            first_total, second_total = split(total)
+            if quantity == "force":  # (y, x): vertical first
+                first, second, first_total, second_total = second, first, second_total, first_total
+                names = ("vertical force F_y", "horizontal force F_x")
+            else:
+                names = ("pitch couple M_x", "yaw couple M_y")
+            shown = _significant(synthesis.peaks(fwd[keep], bwd[keep]))
+            components = zip((first, second), (first_total, second_total), names, strict=True)
+            for col, (values, total_values, name) in enumerate(components):
+                axes = axes_list[2 * row + col]
+                _degree_axis(axes)
+                axes.set_ylabel(_axis_label(name, unit))
+                axes.set_title(name)
+                if np.isnan(values).all():
+                    _empty_note(axes, "not computed")
+                    continue
+                for k, line, visible in zip(ks[keep], values, shown, strict=True):
+                    if visible:
+                        axes.plot(
+                            theta,
+                            line,
+                            color=_order_colour(int(k)),
+                            lw=1.1,
+                            label=f"order {int(k)}",
+                            zorder=2,
+                        )
+                axes.plot(theta, total_values, color=TOTAL_COLOUR, lw=2.6, label="total", zorder=1)
+        _shared_legend(fig, axes_list)
+        return _finish(
+            fig, owned, title, f"{_layout_name(ds)}: {_source_label(source)} over a revolution"
+        )
+
+
+def _shared_legend(fig: Figure, axes_list: Sequence[Axes]) -> None:
+    """One legend for the figure with every distinct label of the axes, total last."""
+    seen: dict[str, Any] = {}
+    for axes in axes_list:
+        handles, labels = axes.get_legend_handles_labels()
+        for handle, label in zip(handles, labels, strict=True):
+            seen.setdefault(label, handle)
+    if not seen:
+        return
+    labels = sorted(
+        seen,
+        key=lambda s: (s == "total", float(s.split()[-1]) if s.startswith("order") else 0.0, s),
+    )
+    fig.legend([seen[s] for s in labels], labels, loc="outside right center")
+
+
+def plot_locus(
+    ds: xr.Dataset,
+    *,
+    ax: AxesArg = None,
+    source: Source = "free",
+    orders: Iterable[int] | None = None,
+    normalised: bool = False,
+    samples: int = 721,
+    title: str | None = None,
+) -> Figure:
+    """Path of the force and moment vectors in the transverse plane over a revolution.
+
+    Each order traces an ellipse (a circle if it only turns one way, a line if forward and
+    backward are equal); the total (thick black) is their sum.  The open circle marks crank
+    angle 0 and the arrow the direction of travel.  Seen from the front: +y up, +x right.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    ax : sequence of 2 Axes, optional
+        Axes for the force and the moment; a new figure otherwise.
+    source : {'free', 'reciprocating', 'residual'}
+        Which force and moment (see :mod:`balance.synthesis`).
+    orders : iterable of int, optional
+        Orders to include; default all of the Dataset.
+    normalised : bool
+        Per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
+    samples : int
+        Crank angles over the revolution.
+    title : str, optional
+        Figure title; by default the layout name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    theta = synthesis.crank_angle_grid(samples)
+    with _styled():
+        fig, axes_list, owned = _new_figure(ax, 2, (10.5, 5.2), kind="locus")
+        for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
+            ks, fwd, bwd = synthesis.dataset_phasors(ds, quantity, source)
+            keep = _pick_orders(ks, orders)
+            divisor, unit, _ = _scale(ds, quantity, normalised)
+            per_order, total = _order_signals(ks[keep], fwd[keep], bwd[keep], theta, divisor)
+            name = "force F" if quantity == "force" else "moment Σ Δz·F"
+            axes.set_title(name)
+            axes.set_xlabel(_axis_label(f"{name}, x", unit))
+            axes.set_ylabel(_axis_label(f"{name}, y (up)", unit))
+            axes.set_aspect("equal", adjustable="box")
+            if np.isnan(per_order).all():
+                _empty_note(axes, "not computed")
+                continue
+            shown = _significant(synthesis.peaks(fwd[keep], bwd[keep]))
+            curves = [
+                (values, _order_colour(int(k)), 1.2, f"order {int(k)}")
+                for k, values, visible in zip(ks[keep], per_order, shown, strict=True)
+                if visible
+            ]
+            curves.insert(0, (total, TOTAL_COLOUR, 2.6, "total"))
+            reach = max(float(np.max(np.abs(c[0]), initial=0.0)) for c in curves)
+            reach = 1.12 * reach if reach > 0 else 1.0
+            for values, colour, width, label in curves:
+                x, y = synthesis.transverse_components(values)
+                axes.plot(x, y, color=colour, lw=width, label=label, zorder=2 if width < 2 else 1)
+                axes.plot([x[0]], [y[0]], "o", color=colour, mfc="white", ms=6)
+                _direction_arrow(axes, x, y, colour, reach)
+            if not shown.any() and not np.any(np.abs(total) > 0):
+                _empty_note(axes, "zero")
+            axes.set_xlim(-reach, reach)
+            axes.set_ylim(-reach, reach)
+            axes.axhline(0.0, color="0.6", lw=0.8, zorder=0)
+            axes.axvline(0.0, color="0.6", lw=0.8, zorder=0)
+        _shared_legend(fig, axes_list)
+        return _finish(
+            fig,
+            owned,
+            title,
+            f"{_layout_name(ds)}: locus of the {_source_label(source)} force and moment",
+        )
+
+
+def _direction_arrow(
+    axes: Axes, x: NDArray[np.float64], y: NDArray[np.float64], colour: str, reach: float
+) -> None:
+    """An arrowhead on a closed path, where it has moved far enough to show a direction."""
+    step = np.hypot(np.diff(x), np.diff(y))
+    if step.sum() < 1e-3 * reach:
+        return
+    start = max(1, len(x) // 24)
+    for i in range(start, len(x) - 1):
+        if np.hypot(x[i] - x[start - 1], y[i] - y[start - 1]) > 0.04 * reach:
+            break
+    else:
+        return
+    axes.annotate(
+        "",
+        xy=(float(x[i]), float(y[i])),
+        xytext=(float(x[start - 1]), float(y[start - 1])),
+        arrowprops={"arrowstyle": "-|>", "color": colour, "lw": 1.2, "mutation_scale": 14},
+    )
+
+
+def plot_spectrum(
+    ds: xr.Dataset,
+    *,
+    ax: AxesArg = None,
+    source: Source = "free",
+    normalised: bool = False,
+    log: bool = False,
+    title: str | None = None,
+) -> Figure:
+    """Order spectra: the peak force and peak moment of each order, as bars.
+
+    The peak of order k over a revolution is ``|P+| + |P-|``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    ax : sequence of 2 Axes, optional
+        Axes for the force and the moment; a new figure otherwise.
+    source : {'free', 'reciprocating', 'residual'}
+        Which force and moment (see :mod:`balance.synthesis`).
+    normalised : bool
+        Per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
+    log : bool
+        Logarithmic vertical axis (zero orders are then not drawn).
+    title : str, optional
+        Figure title; by default the layout name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    with _styled():
+        fig, axes_list, owned = _new_figure(ax, 2, (10.0, 4.6), kind="spectrum")
+        for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
+            ks, fwd, bwd = synthesis.dataset_phasors(ds, quantity, source)
+            divisor, unit, _ = _scale(ds, quantity, normalised)
+            peak = synthesis.peaks(fwd, bwd) / divisor
+            name = "peak force" if quantity == "force" else "peak moment"
+            _order_bars(axes, ks, [(peak, "C0", None)], log=log)
+            axes.set_title(name)
+            axes.set_ylabel(_axis_label(name, unit))
+        return _finish(
+            fig, owned, title, f"{_layout_name(ds)}: order spectrum, {_source_label(source)}"
+        )
+
+
+def _order_bars(
+    axes: Axes,
+    orders: NDArray[Any],
+    series: Sequence[tuple[NDArray[np.float64], str, str | None]],
+    *,
+    log: bool = False,
+    width: float = 0.8,
+) -> None:
+    """Grouped bars per order, each non-zero bar labelled with its value."""
+    n = len(series)
+    positions = np.arange(len(orders), dtype=np.float64)
+    bar_width = width / n
+    top = 0.0
+    for i, (values, colour, label) in enumerate(series):
+        shown = _significant(values)
+        heights = np.where(shown, np.nan_to_num(values, nan=0.0), 0.0)
+        offset = (i - (n - 1) / 2.0) * bar_width
+        bars = axes.bar(
+            positions + offset, heights, bar_width * 0.92, color=colour, label=label, zorder=3
+        )
+        axes.bar_label(
+            bars,
+            labels=[_format(float(h)) if s else "" for h, s in zip(heights, shown, strict=True)],
+            fontsize=7.5,
+            padding=2,
+            rotation=90 if n > 1 else 0,
+        )
+        top = max(top, float(heights.max(initial=0.0)))
+    axes.set_xticks(positions, [f"{k:g}" for k in orders])
+    axes.set_xlabel("order k [1]")
+    axes.grid(axis="x", visible=False)
+    if log and top > 0:
+        axes.set_yscale("log")
+        axes.set_ylim(top * 1e-7, top * 8.0)
+    else:
+        axes.set_ylim(0.0, top * (1.35 if n > 1 else 1.18) if top > 0 else 1.0)
+    if top == 0:
+        _empty_note(axes, "all zero")
+
+
+def plot_roll(
+    ds: xr.Dataset,
+    *,
+    ax: AxesArg = None,
+    residual: bool = False,
+    normalised: bool = False,
+    samples: int = 721,
+    title: str | None = None,
+) -> Figure:
+    """Roll torque on the block about the crank axis: over the crank angle and its spectrum.
+
+    The torque is positive in the direction of rotation, ``Σ a_k cos(kθ + phase_k)``;
+    with half orders (a four-stroke with gas forces) it is drawn over 720 deg.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    ax : sequence of 2 Axes, optional
+        Axes for the torque and the spectrum; a new figure otherwise.
+    residual : bool
+        The roll with the proposed balance shafts.
+    normalised : bool
+        Per ``m_rec r^2 omega^2`` [1] instead of N m.
+    samples : int
+        Crank angles drawn.
+    title : str, optional
+        Figure title; by default the layout name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    ks, amplitude, phase = synthesis.dataset_roll(ds, residual=residual)
+    unit = "N m"
+    if normalised and not residual:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratio = np.asarray(ds["roll_amplitude_normalised"].values) / amplitude
+        scale = ratio[np.isfinite(ratio)]
+        if scale.size:
+            amplitude = amplitude * float(scale[0])
+            unit = "per m_rec r² ω²"
+    span = synthesis.roll_span_deg(ks)
+    theta = synthesis.crank_angle_grid(samples, span)
+    with _styled():
+        fig, (torque_axes, bar_axes), owned = _new_figure(ax, 2, (10.5, 4.6), kind="roll")
+        reference = float(np.nansum(amplitude))
+        per_order = _denoise(
+            synthesis.roll_signal_per_order(amplitude, phase, ks, theta), reference
+        )
+        shown = _significant(amplitude)
+        _degree_axis(torque_axes, span)
+        label = _axis_label("roll torque", unit)
+        torque_axes.set_ylabel(label)
+        torque_axes.set_title("roll torque on the block (+ with rotation)")
+        if np.isnan(amplitude).all():
+            _empty_note(torque_axes, "not computed")
+        else:
+            for k, values, visible in zip(ks, per_order, shown, strict=True):
+                if visible:
+                    torque_axes.plot(
+                        theta,
+                        values,
+                        color=_order_colour(float(k)),
+                        lw=1.1,
+                        label=f"order {k:g}",
+                        zorder=2,
+                    )
+            torque_axes.plot(
+                theta, per_order.sum(axis=0), color=TOTAL_COLOUR, lw=2.6, label="total", zorder=1
+            )
+        _order_bars(bar_axes, ks, [(amplitude, "C4", None)])
+        bar_axes.set_title("amplitude per order")
+        bar_axes.set_ylabel(_axis_label("amplitude", unit))
+        _shared_legend(fig, [torque_axes])
+        what = "roll with the proposed shafts" if residual else "roll"
+        return _finish(fig, owned, title, f"{_layout_name(ds)}: {what}")
+
+
+def plot_balance(
+    ds: xr.Dataset,
+    *,
+    ax: AxesArg = None,
+    normalised: bool = False,
+    samples: int = 721,
+    title: str | None = None,
+) -> Figure:
+    """The free force, moment and roll before and after the proposed balancing.
+
+    Top: the size of the force and moment vectors and the roll torque over a revolution
+    (before dashed grey, after solid); bottom: the peak of each order before and after.
+    "Before" is the free force and moment (reciprocating + rotating); "after" the residual
+    with every proposed counterweight and balance-shaft mass.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse` with a proposal (``proposal=True``).
+    ax : sequence of 6 Axes, optional
+        Axes in two rows of three (force, moment, roll); a new figure otherwise.
+    normalised : bool
+        Force and moment per ``reference_force`` and ``reference_moment`` [1].
+    samples : int
+        Crank angles over the revolution.
+    title : str, optional
+        Figure title; by default the layout name and the proposal.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        If the Dataset holds no proposal.
+    """
+    if not synthesis.has_proposal(ds):
+        raise InputError(
+            "plot_balance: this result has no balancing proposal (no residual_* variables); "
+            "analyse with the proposal enabled (balance.analyse(..., proposal=True), the "
+            "default, with moments and roll)"
+        )
+    theta = synthesis.crank_angle_grid(samples)
+    with _styled():
+        fig, axes_list, owned = _new_figure(ax, 6, (13.0, 7.6), nrows=2, kind="balance")
+        for col, quantity in enumerate(synthesis.QUANTITIES):
+            divisor, unit, _ = _scale(ds, quantity, normalised)
+            ks, bf, bb = synthesis.dataset_phasors(ds, quantity, "free")
+            _, af, ab = synthesis.dataset_phasors(ds, quantity, "residual")
+            reference = float(np.nansum(synthesis.peaks(bf, bb))) / divisor
+            before = _denoise(
+                synthesis.dataset_signal(ds, theta, quantity, "free") / divisor, reference
+            )
+            after = _denoise(
+                synthesis.dataset_signal(ds, theta, quantity, "residual") / divisor, reference
+            )
+            name = "force |F|" if quantity == "force" else "moment |Σ Δz·F|"
+            top = axes_list[col]
+            _degree_axis(top)
+            top.plot(
+                theta,
+                np.abs(before),
+                color=BEFORE_COLOUR,
+                ls="--",
+                lw=1.8,
+                label="before (free)",
+                zorder=3,
+            )
+            top.plot(theta, np.abs(after), color=f"C{col}", lw=2.2, label="after (residual)")
+            top.set_ylim(bottom=0.0)
+            top.set_title(name)
+            top.set_ylabel(_axis_label(name, unit))
+            top.legend(loc="upper right")
+            bottom = axes_list[3 + col]
+            _order_bars(
+                bottom,
+                ks,
+                [
+                    (synthesis.peaks(bf, bb) / divisor, BEFORE_COLOUR, "before"),
+                    (synthesis.peaks(af, ab) / divisor, f"C{col}", "after"),
+                ],
+            )
+            bottom.set_ylabel(_axis_label("peak", unit))
+            bottom.legend(loc="upper right")
+        rk, ra, rp = synthesis.dataset_roll(ds)
+        _, qa, qp = synthesis.dataset_roll(ds, residual=True)
+        span = synthesis.roll_span_deg(rk)
+        roll_theta = synthesis.crank_angle_grid(samples, span)
+        top = axes_list[2]
+        _degree_axis(top, span)
+        roll_reference = float(np.nansum(ra))
+        top.plot(
+            roll_theta,
+            _denoise(synthesis.roll_signal(ra, rp, rk, roll_theta), roll_reference),
+            color=BEFORE_COLOUR,
+            ls="--",
+            lw=1.8,
+            label="before",
+            zorder=3,
+        )
+        top.plot(
+            roll_theta,
+            _denoise(synthesis.roll_signal(qa, qp, rk, roll_theta), roll_reference),
+            color="C4",
+            lw=2.2,
+            label="after (with shafts)",
+        )
+        top.set_title("roll torque")
+        top.set_ylabel("roll torque [N m]")
+        top.legend(loc="upper right")
+        _order_bars(axes_list[5], rk, [(ra, BEFORE_COLOUR, "before"), (qa, "C4", "after")])
+        axes_list[5].set_ylabel("roll amplitude [N m]")
+        axes_list[5].legend(loc="upper right")
+        return _finish(fig, owned, title, f"{_layout_name(ds)}: {proposal_summary(ds)}")
+
+
+def proposal_summary(ds: xr.Dataset) -> str:
+    """One line describing the proposal of a Dataset (strategy, orders, masses)."""
+    if not synthesis.has_proposal(ds):
+        return "no balancing proposal"
+    n_cw = int(ds.sizes.get("counterweight", 0))
+    n_shaft = int(ds.sizes.get("shaft", 0))
+    parts = [
+        f"{n_cw} counterweight{'s' if n_cw != 1 else ''}",
+        f"{n_shaft} balance shaft{'s' if n_shaft != 1 else ''}",
+    ]
+    return (
+        f"balancing {ds.attrs.get('proposal_strategy', '')}, orders "
+        f"{ds.attrs.get('proposal_orders', '')}: {' and '.join(parts)}"
+    )
+
+
+#: Every figure kind and the function that draws it.
+PLOT_KINDS: dict[str, Callable[..., Figure]] = {
+    "crank_star": plot_crank_star,
+    "phasors": plot_phasors,
+    "crank_angle": plot_crank_angle,
+    "locus": plot_locus,
+    "spectrum": plot_spectrum,
+    "roll": plot_roll,
+    "balance": plot_balance,
+}
+
+
+def _metadata(fmt: str) -> dict[str, Any]:
+    """File metadata without dates, so that the same result gives the same bytes."""
+    if fmt == "svg":
+        return {"Date": None}
+    if fmt == "pdf":
+        return {"CreationDate": None, "ModDate": None}
+    return {}
+
+
+def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
+    """A figure as the bytes of a ``png``, ``svg`` or ``pdf`` file (under :data:`STYLE`)."""
+    import io
+
+    if fmt not in FORMATS:
+        raise InputError(f"format {fmt!r}: expected one of {', '.join(FORMATS)}")
+    buffer = io.BytesIO()
+    with _styled():
+        fig.savefig(buffer, format=fmt, metadata=_metadata(fmt))
+    return buffer.getvalue()
+
+
+def save_plots(
+    ds: xr.Dataset,
+    directory: str | os.PathLike[str],
+    kinds: Iterable[str] | None = None,
+    fmt: str = "png",
+    *,
+    prefix: str = "",
+    force: bool = False,
+) -> list[Path]:
+    """Draw figures of a result and write them as ``<directory>/<prefix><kind>.<fmt>``.
+
+    Each file is written to a temporary file in the same directory and renamed into place,
+    so an interrupted run leaves no partial file.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    directory : path
+        Where to write; created if missing.
+    kinds : iterable of str, optional
+        Kinds of :data:`PLOT_KINDS`; default all (``balance`` only with a proposal).
+    fmt : {'png', 'svg', 'pdf'}
+        File format.
+    prefix : str
+        Prefix of every file name (for example the layout's name and a dash).
+    force : bool
+        Replace existing files.
+
+    Returns
+    -------
+    list of Path
+        The files written, in the order of ``kinds``.
+
+    Raises
+    ------
+    InputError
+        For an unknown kind or format, a file that exists without ``force``, or ``balance``
+        asked for without a proposal.
+    """
+    from .output import check_target, write_atomic
+
+    if fmt not in FORMATS:
+        raise InputError(f"format {fmt!r}: expected one of {', '.join(FORMATS)}")
+    if kinds is None:
+        chosen = [k for k in PLOT_KINDS if k != "balance" or synthesis.has_proposal(ds)]
+    else:
+        chosen = list(kinds)
+        unknown = [k for k in chosen if k not in PLOT_KINDS]
+        if unknown:
+            raise InputError(f"plot kind {unknown[0]!r}: expected one of {', '.join(PLOT_KINDS)}")
+    target_dir = Path(directory)
+    target_dir.mkdir(parents=True, exist_ok=True)
+    targets = [target_dir / f"{prefix}{kind}.{fmt}" for kind in chosen]
+    for target in targets:  # fail before any figure is drawn
+        check_target(target, force)
+    for kind, target in zip(chosen, targets, strict=True):
+        data = figure_bytes(PLOT_KINDS[kind](ds), fmt)
+        write_atomic(target, readable_file_writer(data), force)
+    return targets
+
+
+def readable_file_writer(data: bytes) -> Callable[[Path], None]:
+    """A writer for :func:`balance.output.write_atomic` that also gives the file the usual
+    permissions (0666 less the umask; the temporary file is created private)."""
+
+    def write(tmp: Path) -> None:
+        tmp.write_bytes(data)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+
+    return write

@@ -1,0 +1,689 @@
+"""A self-contained HTML design review of a result Dataset.
+
+One file, readable offline: inline CSS, figures as inline SVG (:mod:`balance.plots`), no
+script, no external resource.  Every piece of text that comes from the Dataset is escaped.
+
+Sections (each an ``<section>`` with the ``id`` of :data:`SECTIONS`): the layout and the
+assumptions of the analysis, the free forces, the free moments, the rotating force and
+couple, the roll torque, the balancing proposal with its residual, and the model used with
+its accuracy.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import os
+import re
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from . import synthesis
+from .views.table import format_number
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+
+__all__ = ["SECTIONS", "accuracy_statement", "render_report", "svg_fragment", "write_report"]
+
+#: Section ids and headings of the report, in order.
+SECTIONS: tuple[tuple[str, str], ...] = (
+    ("layout", "Layout and assumptions"),
+    ("forces", "Free forces"),
+    ("moments", "Free moments"),
+    ("rotating", "Rotating force and couple"),
+    ("roll", "Roll torque"),
+    ("proposal", "Balancing proposal and residual"),
+    ("model", "Model and accuracy"),
+)
+
+_CSS = """
+:root { color-scheme: light; }
+body { font-family: "DejaVu Sans", "Helvetica Neue", Arial, sans-serif; margin: 0 auto;
+  max-width: 1100px; padding: 1.5em 2em 3em; color: #1b1b1b; line-height: 1.45; }
+h1 { font-size: 1.6em; margin-bottom: 0.2em; }
+h2 { font-size: 1.3em; border-bottom: 2px solid #d0d7de; padding-bottom: 0.2em;
+  margin-top: 2em; }
+h3 { font-size: 1.05em; margin-top: 1.4em; }
+p.meta { color: #555; margin-top: 0; }
+nav ol { columns: 2; }
+table { border-collapse: collapse; margin: 0.6em 0 1em; font-size: 0.9em; }
+th, td { border: 1px solid #d0d7de; padding: 0.25em 0.6em; }
+th { background: #f3f5f7; font-weight: 600; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+td.zero { color: #999; }
+dl.facts { display: grid; grid-template-columns: max-content auto; gap: 0.2em 1em; }
+dl.facts dt { font-weight: 600; }
+dl.facts dd { margin: 0; }
+figure { margin: 1em 0 1.6em; }
+figure svg { max-width: 100%; height: auto; display: block; }
+figcaption { color: #444; font-size: 0.9em; margin-top: 0.3em; }
+.note { background: #fff8e1; border-left: 4px solid #f0b400; padding: 0.4em 0.8em; }
+footer { margin-top: 3em; color: #666; font-size: 0.85em; }
+@media print { nav { display: none; } section { break-inside: avoid-page; } }
+"""
+
+
+def _e(text: object) -> str:
+    return html.escape(str(text), quote=True)
+
+
+def _num(value: Any, scale: float = 1.0) -> str:
+    """A number (float, numpy or 0-d DataArray) in compact engineering format."""
+    return format_number(float(value) * scale)
+
+
+def _table(headers: Sequence[str], rows: Iterable[Sequence[str]], caption: str = "") -> str:
+    """An HTML table; headers and cells are plain text (escaped here)."""
+    out = ["<table>"]
+    if caption:
+        out.append(f"<caption>{_e(caption)}</caption>")
+    out.append("<thead><tr>" + "".join(f"<th>{_e(h)}</th>" for h in headers) + "</tr></thead>")
+    out.append("<tbody>")
+    for row in rows:
+        cells = []
+        for cell in row:
+            css = "num zero" if cell in ("0", "-") else "num"
+            cells.append(f'<td class="{css}">{_e(cell)}</td>')
+        out.append("<tr>" + "".join(cells) + "</tr>")
+    out.append("</tbody></table>")
+    return "\n".join(out)
+
+
+def _facts(items: Iterable[tuple[str, str]]) -> str:
+    body = "".join(f"<dt>{_e(k)}</dt><dd>{_e(v)}</dd>" for k, v in items)
+    return f'<dl class="facts">{body}</dl>'
+
+
+_XML_PROLOG = re.compile(r"<\?xml[^>]*\?>\s*", re.S)
+_DOCTYPE = re.compile(r"<!DOCTYPE[^>]*>\s*", re.S)
+_COMMENT = re.compile(r"<!--.*?-->\s*", re.S)
+_METADATA = re.compile(r"<metadata>.*?</metadata>\s*", re.S)
+_ID = re.compile(r'\bid="([^"]+)"')
+
+
+def svg_fragment(svg: str, prefix: str) -> str:
+    """Make a matplotlib SVG file fit to be inlined in an HTML page.
+
+    Removes the XML prolog, the DOCTYPE (which names an external DTD), comments and
+    metadata, and prefixes every ``id`` (and each reference to it) with ``prefix`` so that
+    several figures can share one page.
+
+    Parameters
+    ----------
+    svg : str
+        The text of an SVG file.
+    prefix : str
+        Prefix for the ids, unique in the page.
+
+    Returns
+    -------
+    str
+        An ``<svg>`` element.
+    """
+    text = _XML_PROLOG.sub("", svg)
+    text = _DOCTYPE.sub("", text)
+    text = _COMMENT.sub("", text)
+    text = _METADATA.sub("", text)
+    ids = set(_ID.findall(text))
+    if ids:
+        names = "|".join(re.escape(i) for i in sorted(ids, key=len, reverse=True))
+        text = _ID.sub(lambda m: f'id="{prefix}{m.group(1)}"', text)
+        text = re.sub(
+            rf'(href=")#({names})"', lambda m: f'{m.group(1)}#{prefix}{m.group(2)}"', text
+        )
+        text = re.sub(rf"url\(#({names})\)", lambda m: f"url(#{prefix}{m.group(1)})", text)
+    start = text.find("<svg")
+    return text[start:].strip()
+
+
+def _figure(ds: xr.Dataset, kind: str, caption: str, number: int) -> str:
+    from .plots import PLOT_KINDS, figure_bytes
+
+    fig = PLOT_KINDS[kind](ds)
+    svg = figure_bytes(fig, "svg").decode("utf-8")
+    fragment = svg_fragment(svg, f"f{number}-")
+    label = f'role="img" aria-label="{_e(caption)}" '
+    fragment = fragment.replace("<svg ", f"<svg {label}", 1)
+    return (
+        f'<figure id="figure-{_e(kind)}">{fragment}<figcaption>{_e(caption)}</figcaption></figure>'
+    )
+
+
+def accuracy_statement(ds: xr.Dataset) -> str:
+    """What the model of the analysis does and how accurate its numbers are.
+
+    Uses the Dataset's ``error_bound`` attribute (the bound on the normalised acceleration
+    coefficients, see :mod:`balance.accuracy`) where the analysis recorded one.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+
+    Returns
+    -------
+    str
+        Plain text.
+    """
+    model = str(ds.attrs.get("model", ""))
+    radius = np.asarray(ds["crank_radius"].values, dtype=np.float64)
+    rod = np.asarray(ds["conrod_length"].values, dtype=np.float64)
+    offset = np.asarray(ds["offset"].values, dtype=np.float64)
+    ratio = float(np.max(radius / rod))
+    x = float(np.max(radius / rod * (1.0 + np.abs(offset / radius))))
+    if model == "exact":
+        text = (
+            "Exact crank-slider kinematics: the Fourier coefficients of the piston "
+            "acceleration are computed by FFT with the number of samples doubled until the "
+            "aliased spectrum is below machine precision, so the phasors are as accurate as "
+            "the floating-point arithmetic allows (checked in the test suite against a "
+            "brute-force crank-angle computation)."
+        )
+    elif model == "series":
+        terms = int(ds.attrs.get("series_terms", 0))
+        text = (
+            f"Binomial series of the conrod term in λ = r/l truncated after {terms} terms "
+            f"(highest power λ^{2 * terms - 1}), with λ(1 + |e|/r) = {x:.4g}; the error "
+            f"falls like x^(2n+1) with the number of terms n."
+        )
+    elif model == "textbook":
+        text = (
+            "Textbook model cos β + λ cos 2β: only orders 1 and 2, and the second order is "
+            f"low by about λ²/4 = {ratio**2 / 4.0:.2%} relative (λ = r/l = {ratio:.4g}); "
+            "orders 4, 6, ... and every effect of an offset are missing."
+        )
+    elif model == "time":
+        samples = int(ds.attrs.get("time_samples", 0))
+        text = (
+            f"Crank-angle model: forces, moments and roll sampled at {samples} crank angles "
+            "per revolution, summed as vectors and transformed by FFT; orders above half the "
+            "samples alias into the reported ones."
+        )
+    else:
+        text = f"Model {model!r}."
+    bound = float(ds.attrs.get("error_bound", math.nan))
+    if math.isfinite(bound):
+        force = bound * float(ds["reference_force"])
+        text += (
+            f" Error bound of the normalised acceleration coefficients: {bound:.2g} "
+            f"(a force error of about {force:.2g} N per cylinder at m_rec r ω² = "
+            f"{_num(ds['reference_force'])} N)."
+        )
+    text += (
+        " Beyond the model: constant crank speed, rigid parts, inertia only (no gas forces), "
+        "and only the listed orders."
+    )
+    return text
+
+
+def _header(ds: xr.Dataset) -> str:
+    name = ds.attrs.get("layout", "engine")
+    meta = (
+        f"{int(ds.sizes['cylinder'])} cylinders, {float(ds.attrs.get('speed_rpm', math.nan)):g} "
+        f"rpm, {ds.attrs.get('cycle', '')}; model {ds.attrs.get('model', '')}; "
+        f"balance {ds.attrs.get('balance_version', '')}, schema {ds.attrs.get('schema', '')}"
+    )
+    toc = "".join(f'<li><a href="#{i}">{_e(t)}</a></li>' for i, t in SECTIONS)
+    return (
+        f"<header><h1>Balance design review: {_e(name)}</h1>"
+        f'<p class="meta">{_e(meta)}</p></header>'
+        f'<nav aria-label="contents"><ol>{toc}</ol></nav>'
+    )
+
+
+def _layout_section(ds: xr.Dataset, figures: bool) -> str:
+    speed = float(ds["speed"])
+    facts = [
+        ("speed", f"{float(ds.attrs.get('speed_rpm', math.nan)):g} rpm ({_num(speed)} rad/s)"),
+        ("cycle", str(ds.attrs.get("cycle", ""))),
+        ("firing order", str(ds.attrs.get("firing_order", "")) or "not given"),
+        ("moments about", f"z = {_num(float(ds['reference_z']), 1e3)} mm on the crank axis"),
+        ("cylinder pitch a", f"{_num(float(ds['pitch']), 1e3)} mm"),
+        ("F1 = m_rec r ω²", f"{_num(float(ds['reference_force']))} N"),
+        ("F1 a", f"{_num(float(ds['reference_moment']))} N m"),
+        ("source file", str(ds.attrs.get("source_file", "")) or "-"),
+    ]
+    headers = [
+        "cylinder",
+        "throw [deg]",
+        "bank [deg]",
+        "z [mm]",
+        "crank radius [mm]",
+        "conrod [mm]",
+        "offset [mm]",
+        "m_rec [kg]",
+        "m_rot [kg]",
+        "rod inertia corr. [kg m²]",
+    ]
+    rows = []
+    for i, cylinder in enumerate(ds["cylinder"].values):
+        rows.append(
+            [
+                str(int(cylinder)),
+                _num(ds["throw_angle"].values[i]),
+                _num(ds["bank_angle"].values[i]),
+                _num(ds["axial_position"].values[i], 1e3),
+                _num(ds["crank_radius"].values[i], 1e3),
+                _num(ds["conrod_length"].values[i], 1e3),
+                _num(ds["offset"].values[i], 1e3),
+                _num(ds["reciprocating_mass"].values[i]),
+                _num(ds["rotating_mass"].values[i]),
+                _num(ds["conrod_inertia_correction"].values[i]),
+            ]
+        )
+    assumptions = [
+        "Constant crank speed; crank, conrods and block rigid.",
+        "Each conrod is split into a reciprocating mass at the piston pin and a rotating "
+        "mass at the crank pin (static equivalence, exact for the forces); the roll torque "
+        "adds the difference between the rod's real moment of inertia and that model's.",
+        "Inertia forces only: gas pressure does not shake the block as a whole and is not "
+        "part of these free forces and moments.",
+        "Shaking forces are those the moving parts put on the block (-m a); angles are "
+        "measured from +y (up) in the direction of rotation, crank angle 0 with throw 1 at "
+        "+y; a transverse vector (x, y) is the complex number y + i x.",
+        f"Orders {_orders_text(ds['order'].values)} are reported; higher ones are left out.",
+    ]
+    items = "".join(f"<li>{_e(a)}</li>" for a in assumptions)
+    out = [
+        _facts(facts),
+        "<h3>Cylinders</h3>",
+        _table(headers, rows),
+        f"<h3>Assumptions</h3><ul>{items}</ul>",
+    ]
+    if figures:
+        out.append(
+            _figure(
+                ds,
+                "crank_star",
+                "Crank star seen from the front (+y up, +x right, crank turning clockwise): "
+                "throws with the cylinders on them, and the banks.",
+                1,
+            )
+        )
+    return "\n".join(out)
+
+
+def _orders_text(orders: Iterable[float]) -> str:
+    values = [float(k) for k in orders]
+    if not values:
+        return "none"
+    return (
+        f"{values[0]:g} to {values[-1]:g}"
+        if len(values) > 2
+        else ", ".join(f"{k:g}" for k in values)
+    )
+
+
+NOT_COMPUTED = (
+    '<p class="note">{what} not computed in this analysis ({option}); '
+    "the figures leave them out.</p>"
+)
+
+
+def _phasor_section(ds: xr.Dataset, quantity: str, figures: bool) -> str:
+    if quantity == "moment" and not synthesis.has_moments(ds):
+        return NOT_COMPUTED.format(what="Moments were", option="moments=False")
+    unit = "N" if quantity == "force" else "N m"
+    per = "F1" if quantity == "force" else "F1 a"
+    prefix = f"reciprocating_{quantity}"
+    headers = [
+        "order",
+        f"forward [{unit}]",
+        "phase [deg]",
+        f"backward [{unit}]",
+        "phase [deg]",
+        f"peak [{unit}]",
+        f"forward / {per}",
+        f"backward / {per}",
+        f"peak / {per}",
+    ]
+    rows = []
+    for k in ds["order"].values:
+        mag = ds[f"{prefix}_magnitude"].sel(order=k)
+        phase = ds[f"{prefix}_phase"].sel(order=k)
+        norm = ds[f"{prefix}_normalised"].sel(order=k)
+        rows.append(
+            [
+                str(int(k)),
+                _num(mag.sel(rotation="forward")),
+                _num(phase.sel(rotation="forward")),
+                _num(mag.sel(rotation="backward")),
+                _num(phase.sel(rotation="backward")),
+                _num(ds[f"{prefix}_peak"].sel(order=k)),
+                _num(norm.sel(rotation="forward")),
+                _num(norm.sel(rotation="backward")),
+                _num(ds[f"{prefix}_peak_normalised"].sel(order=k)),
+            ]
+        )
+    what = (
+        "Reciprocating inertia forces on the block, per order"
+        if quantity == "force"
+        else "Reciprocating inertia moments Σ (z_i − z_ref) F_i about reference_z, per order "
+        "(drawn along the force; the couple is this turned by −90° about z)"
+    )
+    out = [
+        f"<p>{_e(what)}. Forward phasors turn with the crank, backward ones against it; "
+        f"the peak over a revolution is |forward| + |backward|. {_e(per)} = "
+        f"{_e(_num(float(ds['reference_force' if quantity == 'force' else 'reference_moment'])))}"
+        f" {_e(unit)}.</p>",
+        _table(headers, rows),
+    ]
+    if figures and quantity == "force":
+        out.append(
+            _figure(
+                ds,
+                "spectrum",
+                "Peak free force and moment per order (reciprocating + rotating).",
+                2,
+            )
+        )
+        out.append(
+            _figure(
+                ds,
+                "locus",
+                "Path of the free force and moment vectors over a revolution, seen from the "
+                "front: per order (ellipses) and total; o marks crank angle 0.",
+                3,
+            )
+        )
+    # the phasor and crank-angle figures go with the moments, or with the forces without them
+    if figures and (quantity == "moment" or not synthesis.has_moments(ds)):
+        out.append(
+            _figure(
+                ds,
+                "phasors",
+                "Phasors at crank angle 0 (0° up, clockwise = direction of rotation): forward "
+                "wide, backward dashed.",
+                4,
+            )
+        )
+        out.append(
+            _figure(
+                ds,
+                "crank_angle",
+                "Free force components and pitch/yaw couples over a revolution, total and "
+                "per order.",
+                5,
+            )
+        )
+    return "\n".join(out)
+
+
+def _rotating_section(ds: xr.Dataset) -> str:
+    rows = [
+        [
+            "force [N]",
+            _num(ds["rotating_force_magnitude"]),
+            _num(ds["rotating_force_phase"]),
+            _num(ds["rotating_force_normalised"]),
+        ],
+    ]
+    if synthesis.has_moments(ds):
+        rows.append(
+            [
+                "moment [N m]",
+                _num(ds["rotating_moment_magnitude"]),
+                _num(ds["rotating_moment_phase"]),
+                _num(ds["rotating_moment_normalised"]),
+            ]
+        )
+    return "\n".join(
+        [
+            "<p>Centrifugal force of the rotating masses (order 1, forward only): a mass turning "
+            "with the crank (a counterweight) can cancel it.</p>",
+            _table(["", "magnitude", "phase [deg]", "per F1 (force) / F1 a (moment)"], rows),
+        ]
+    )
+
+
+def _roll_section(ds: xr.Dataset, figures: bool) -> str:
+    if not synthesis.has_roll(ds):
+        return NOT_COMPUTED.format(what="The roll torque was", option="roll=False")
+    proposal = synthesis.has_proposal(ds)
+    headers = ["order", "amplitude [N m]", "phase [deg]", "per m_rec r² ω²"]
+    if proposal:
+        headers += ["with shafts [N m]", "phase [deg]"]
+    rows = []
+    for k in ds["roll_order"].values:
+        row = [
+            f"{float(k):g}",
+            _num(ds["roll_amplitude"].sel(roll_order=k)),
+            _num(ds["roll_phase"].sel(roll_order=k)),
+            _num(ds["roll_amplitude_normalised"].sel(roll_order=k)),
+        ]
+        if proposal:
+            row += [
+                _num(ds["residual_roll_amplitude"].sel(roll_order=k)),
+                _num(ds["residual_roll_phase"].sel(roll_order=k)),
+            ]
+        rows.append(row)
+    out = [
+        "<p>Torque about the crank axis that the block receives from the inertia of the "
+        "pistons and conrods, positive in the direction of rotation: Σ a_k cos(k θ + phase_k)."
+        "</p>",
+        _table(headers, rows),
+    ]
+    if figures:
+        out.append(_figure(ds, "roll", "Roll torque over a revolution and per order.", 6))
+    return "\n".join(out)
+
+
+def _proposal_section(ds: xr.Dataset, figures: bool) -> str:
+    if not synthesis.has_proposal(ds):
+        return '<p class="note">No balancing proposal in this result (analysed without one).</p>'
+    factor = ds.attrs.get("proposal_balance_factor", "")
+    facts = [
+        ("strategy", str(ds.attrs.get("proposal_strategy", ""))),
+        ("orders cancelled", str(ds.attrs.get("proposal_orders", ""))),
+        ("balance factor", "-" if factor == "" else f"{float(factor):.0%}"),
+        ("roll cancelled", "yes" if int(ds.attrs.get("proposal_cancel_roll", 0)) else "no"),
+    ]
+    out = [_facts(facts)]
+    notes = str(ds.attrs.get("proposal_notes", ""))
+    if notes:
+        out.append(f'<p class="note">{_e(notes)}</p>')
+    n_cw = int(ds.sizes.get("counterweight", 0))
+    n_shaft = int(ds.sizes.get("shaft", 0))
+    out.append("<h3>Counterweights (turn with the crank)</h3>")
+    if n_cw:
+        rows = [
+            [
+                _num(ds["counterweight_z"].values[i], 1e3),
+                _num(ds["counterweight_mass"].values[i]),
+                _num(ds["counterweight_radius"].values[i], 1e3),
+                _num(ds["counterweight_angle"].values[i]),
+                _num(ds["counterweight_unbalance"].values[i], 1e3),
+            ]
+            for i in range(n_cw)
+        ]
+        out.append(
+            _table(
+                ["z [mm]", "mass [kg]", "radius [mm]", "angle at θ = 0 [deg]", "m R [kg mm]"],
+                rows,
+            )
+        )
+    else:
+        out.append("<p>None needed.</p>")
+    out.append("<h3>Balance shafts</h3>")
+    if n_shaft:
+        rows = []
+        for i in range(n_shaft):
+            for j in range(int(ds.sizes.get("shaft_plane", 0))):
+                z = float(ds["shaft_plane_z"].values[i, j])
+                if not math.isfinite(z):
+                    continue
+                first = j == 0
+                rows.append(
+                    [
+                        str(i + 1) if first else "",
+                        f"{float(ds['shaft_speed_ratio'].values[i]):+g}" if first else "",
+                        _num(ds["shaft_x"].values[i], 1e3) if first else "",
+                        _num(ds["shaft_y"].values[i], 1e3) if first else "",
+                        _num(z, 1e3),
+                        _num(ds["shaft_plane_unbalance"].values[i, j], 1e3),
+                        _num(ds["shaft_plane_angle"].values[i, j]),
+                    ]
+                )
+        out.append(
+            _table(
+                [
+                    "shaft",
+                    "speed ratio",
+                    "x [mm]",
+                    "y [mm]",
+                    "plane z [mm]",
+                    "m e [kg mm]",
+                    "angle at θ = 0 [deg]",
+                ],
+                rows,
+            )
+        )
+    else:
+        out.append("<p>None needed.</p>")
+    out.append("<h3>Residual with the proposal</h3>")
+    roll_orders = [float(k) for k in ds["roll_order"].values]
+    _, ff, fb = synthesis.dataset_phasors(ds, "force", "free")
+    _, mf, mb = synthesis.dataset_phasors(ds, "moment", "free")
+    free_force = synthesis.peaks(ff, fb)
+    free_moment = synthesis.peaks(mf, mb)
+    rows = []
+    for i, k in enumerate(ds["order"].values):
+        has_roll = float(k) in roll_orders
+        rows.append(
+            [
+                str(int(k)),
+                _num(free_force[i]),
+                _num(ds["residual_force_peak"].sel(order=k)),
+                _num(ds["residual_force_peak_normalised"].sel(order=k)),
+                _num(free_moment[i]),
+                _num(ds["residual_moment_peak"].sel(order=k)),
+                _num(ds["residual_moment_peak_normalised"].sel(order=k)),
+                _num(ds["roll_amplitude"].sel(roll_order=float(k))) if has_roll else "-",
+                _num(ds["residual_roll_amplitude"].sel(roll_order=float(k))) if has_roll else "-",
+            ]
+        )
+    out.append(
+        "<p>Peaks per order before (free: reciprocating + rotating) and after the proposal "
+        "(residual: with every proposed mass), and the roll amplitude without and with the "
+        "balance shafts.</p>"
+    )
+    out.append(
+        _table(
+            [
+                "order",
+                "force before [N]",
+                "force after [N]",
+                "after / F1",
+                "moment before [N m]",
+                "moment after [N m]",
+                "after / (F1 a)",
+                "roll before [N m]",
+                "roll after [N m]",
+            ],
+            rows,
+        )
+    )
+    if figures:
+        out.append(
+            _figure(
+                ds,
+                "balance",
+                "Before (free: reciprocating + rotating) and after the proposal (residual).",
+                7,
+            )
+        )
+    return "\n".join(out)
+
+
+def _model_section(ds: xr.Dataset) -> str:
+    model = str(ds.attrs.get("model", ""))
+    facts = [("piston acceleration model", model)]
+    if model == "series":
+        facts.append(("series terms", str(ds.attrs.get("series_terms", ""))))
+    facts += [
+        ("conventions", str(ds.attrs.get("conventions", ""))),
+        ("result schema", str(ds.attrs.get("schema", ""))),
+        ("balance version", str(ds.attrs.get("balance_version", ""))),
+    ]
+    return f"{_facts(facts)}\n<p>{_e(accuracy_statement(ds))}</p>"
+
+
+def render_report(ds: xr.Dataset, *, figures: bool = True) -> str:
+    """The design review of a result as one self-contained HTML page.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    figures : bool
+        Include the figures (inline SVG); without them the report is tables only.
+
+    Returns
+    -------
+    str
+        An HTML5 document: inline CSS and SVG, no script, no external resource.
+    """
+    name = str(ds.attrs.get("layout", "engine"))
+    bodies = {
+        "layout": _layout_section(ds, figures),
+        "forces": _phasor_section(ds, "force", figures),
+        "moments": _phasor_section(ds, "moment", figures),
+        "rotating": _rotating_section(ds),
+        "roll": _roll_section(ds, figures),
+        "proposal": _proposal_section(ds, figures),
+        "model": _model_section(ds),
+    }
+    sections = "\n".join(
+        f'<section id="{ident}">\n<h2>{n}. {_e(heading)}</h2>\n{bodies[ident]}\n</section>'
+        for n, (ident, heading) in enumerate(SECTIONS, start=1)
+    )
+    return (
+        "<!DOCTYPE html>\n"
+        '<html lang="en">\n<head>\n<meta charset="utf-8">\n'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
+        f"<title>Balance design review: {_e(name)}</title>\n"
+        f"<style>{_CSS}</style>\n</head>\n<body>\n"
+        f"{_header(ds)}\n<main>\n{sections}\n</main>\n"
+        f"<footer>Generated by balance {_e(ds.attrs.get('balance_version', ''))} from the "
+        "result Dataset; all values in SI units unless stated, angles in degrees.</footer>\n"
+        "</body>\n</html>\n"
+    )
+
+
+def write_report(
+    ds: xr.Dataset, path: str | os.PathLike[str], *, force: bool = False, figures: bool = True
+) -> Path:
+    """Write the HTML design review of a result to ``path``, atomically.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse`.
+    path : path
+        The HTML file to write.
+    force : bool
+        Replace an existing file.
+    figures : bool
+        Include the figures.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    InputError
+        If the file exists (without ``force``) or its directory cannot be written.
+    """
+    from .output import check_target, write_atomic
+    from .plots import readable_file_writer
+
+    target = Path(path)
+    check_target(target, force)  # fail before the figures are drawn
+    data = render_report(ds, figures=figures).encode("utf-8")
+    return write_atomic(target, readable_file_writer(data), force)

@@ -1,0 +1,325 @@
+"""Figures: the synthesis behind them (numbers) and the figures themselves (pytest-mpl).
+
+Image tests compare against ``tests/baseline/*.png`` when run with ``--mpl``; regenerate
+the baselines (after checking the figures by eye) with::
+
+    python -m pytest tests/test_plots.py --mpl-generate-path=tests/baseline
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from functools import cache
+
+import numpy as np
+import pytest
+from helpers import engine
+
+import balance
+from balance import plots, synthesis, timedomain
+from balance.analysis import balance_engine, compute
+from balance.errors import InputError
+
+try:
+    import pytest_mpl  # noqa: F401
+except ImportError:  # pragma: no cover - the image tests need the plugin
+    image_compare = pytest.mark.skip(reason="pytest-mpl is not installed (pip install pytest-mpl)")
+else:
+    image_compare = pytest.mark.mpl_image_compare(
+        baseline_dir="baseline", tolerance=2, style="default"
+    )
+
+ORDERS = 40
+REL = 1e-9
+
+
+@cache
+def analysed(name: str, orders: int = 8, proposal: bool = True):
+    return balance.analyse(balance.load_layout(name), orders=orders, proposal=proposal)
+
+
+def offset_engine():
+    """A V engine with offsets, uneven throws and a short rod: every order is present."""
+    return engine(
+        [0, 75, 200, 290],
+        banks=[-30, 40],
+        geometry={"stroke": 0.09, "conrod_length": 0.13, "offset": 0.006},
+    )
+
+
+LAYOUTS = {
+    "inline-4": lambda: balance.load_layout("inline-4"),
+    "inline-3": lambda: balance.load_layout("inline-3"),
+    "v8-crossplane": lambda: balance.load_layout("v8-crossplane"),
+    "v-twin-45": lambda: balance.load_layout("v-twin-45"),
+    "offset-v8": offset_engine,
+}
+
+
+def _relative_error(got, expected):
+    return float(np.max(np.abs(got - expected)) / np.max(np.abs(expected)))
+
+
+# --------------------------------------------------------------------------- synthesis
+
+
+@pytest.mark.parametrize("name", sorted(LAYOUTS))
+@pytest.mark.parametrize("quantity", ["force", "moment"])
+def test_sum_of_phasors_is_the_sampled_reciprocating_force(name, quantity, rng):
+    """With 40 orders the phasors sum back to the brute-force force at any crank angle."""
+    layout = LAYOUTS[name]()
+    ds = balance.analyse(layout, orders=ORDERS, proposal=False)
+    theta_deg = np.concatenate([[0.0, 90.0, 360.0], rng.uniform(-720.0, 720.0, 60)])
+    orders, fwd, bwd = synthesis.dataset_phasors(ds, quantity, "reciprocating")
+    got = synthesis.phasor_signal(
+        np.abs(fwd),
+        np.degrees(np.angle(fwd)),
+        np.abs(bwd),
+        np.degrees(np.angle(bwd)),
+        orders,
+        theta_deg,
+    )
+    expected = timedomain.reciprocating_force_samples(
+        layout, np.radians(theta_deg), lever=quantity == "moment"
+    )
+    if np.max(np.abs(expected)) < 1e-9 * float(ds["reference_force"]):
+        assert np.max(np.abs(got)) < 1e-9 * float(ds["reference_force"])
+    else:
+        assert _relative_error(got, expected) < REL
+
+
+@pytest.mark.parametrize("name", sorted(LAYOUTS))
+def test_free_and_residual_signals_match_the_sampled_forces(name, rng):
+    """'free' adds the rotating masses, 'residual' every proposed mass as well."""
+    layout = LAYOUTS[name]()
+    ds = balance.analyse(layout, orders=ORDERS)
+    proposal = balance_engine(layout, compute(layout, ORDERS)).proposal
+    theta_deg = rng.uniform(0.0, 360.0, 50)
+    theta = np.radians(theta_deg)
+    for quantity, lever in (("force", False), ("moment", True)):
+        free = timedomain.reciprocating_force_samples(layout, theta, lever)
+        free = free + timedomain.rotating_force_samples(layout, theta, lever)
+        residual = free + timedomain.proposal_force_samples(proposal, layout, theta, lever)
+        # relative to the force or moment, or to F1 (times the longest lever) where that is 0
+        lever_arm = float(np.max(np.abs(layout.z - layout.reference_z))) if lever else 1.0
+        scale = max(float(np.max(np.abs(free))), float(ds["reference_force"]) * lever_arm)
+        got_free = synthesis.dataset_signal(ds, theta_deg, quantity, "free")
+        got_residual = synthesis.dataset_signal(ds, theta_deg, quantity, "residual")
+        assert np.max(np.abs(got_free - free)) <= REL * scale
+        assert np.max(np.abs(got_residual - residual)) <= REL * scale
+
+
+@pytest.mark.parametrize("name", ["inline-4", "v8-crossplane", "offset-v8"])
+def test_roll_signal_is_the_newton_euler_roll(name, rng):
+    layout = LAYOUTS[name]()
+    ds = balance.analyse(layout, orders=ORDERS, proposal=False)
+    theta_deg = rng.uniform(0.0, 360.0, 40)
+    orders, amplitude, phase = synthesis.dataset_roll(ds)
+    got = synthesis.roll_signal(amplitude, phase, orders, theta_deg)
+    expected = timedomain.roll_newton_euler(layout, np.radians(theta_deg))
+    assert _relative_error(got, expected) < REL
+
+
+def test_inline4_second_order_is_a_vertical_line():
+    ds = analysed("inline-4")
+    theta = synthesis.crank_angle_grid(361)
+    per_order = synthesis.dataset_signal(ds, theta, "force", per_order=True)
+    x, y = synthesis.transverse_components(per_order[1])
+    assert np.max(np.abs(x)) < 1e-9 * np.max(np.abs(y))
+    assert np.max(y) == pytest.approx(float(ds["reciprocating_force_peak"].sel(order=2)))
+
+
+def test_crossplane_v8_first_order_moment_is_a_circle_turning_with_the_crank():
+    ds = analysed("v8-crossplane")
+    theta = synthesis.crank_angle_grid(73)
+    first = synthesis.dataset_signal(ds, theta, "moment", per_order=True)[0]
+    radius = np.abs(first)
+    assert np.ptp(radius) < 1e-9 * radius.max()
+    # forward: the angle grows with the crank angle, one turn per revolution
+    turned = np.unwrap(np.angle(first))
+    assert turned[-1] - turned[0] == pytest.approx(2 * np.pi)
+
+
+def test_complex_plane_convention():
+    """(x, y) is y + i x: a forward phasor at phase 90 deg points along +x at theta 0."""
+    q = synthesis.phasor_signal([1.0], [90.0], [0.0], [0.0], [1], [0.0, 90.0])
+    x, y = synthesis.transverse_components(q)
+    np.testing.assert_allclose(x, [1.0, 0.0], atol=1e-15)
+    np.testing.assert_allclose(y, [0.0, -1.0], atol=1e-15)
+    pitch, yaw = synthesis.couple_components(np.array([1.0 + 2.0j]))
+    assert (pitch[0], yaw[0]) == (-1.0, 2.0)
+
+
+def test_synthesis_checks_its_input():
+    with pytest.raises(ValueError, match="one entry per order"):
+        synthesis.phasor_signal([1.0, 2.0], [0.0, 0.0], [1.0], [0.0], [1, 2], [0.0])
+    with pytest.raises(ValueError, match="proposal"):
+        synthesis.dataset_phasors(analysed("inline-4", proposal=False), "force", "residual")
+    with pytest.raises(ValueError, match="quantity"):
+        synthesis.dataset_phasors(analysed("inline-4"), "torque", "free")  # type: ignore[arg-type]
+    assert synthesis.roll_span_deg([1.0, 2.0]) == 360.0
+    assert synthesis.roll_span_deg([0.5, 1.0]) == 720.0
+
+
+# --------------------------------------------------------------------------- figures
+
+
+@image_compare
+def test_crank_star_inline4():
+    return plots.plot_crank_star(analysed("inline-4"))
+
+
+@image_compare
+def test_crank_star_v8_crossplane():
+    return plots.plot_crank_star(analysed("v8-crossplane"))
+
+
+@image_compare
+def test_phasors_inline3():
+    return plots.plot_phasors(analysed("inline-3"))
+
+
+@image_compare
+def test_phasors_v8_crossplane():
+    return plots.plot_phasors(analysed("v8-crossplane"))
+
+
+@image_compare
+def test_crank_angle_inline3():
+    return plots.plot_crank_angle(analysed("inline-3"))
+
+
+@image_compare
+def test_locus_inline4():
+    return plots.plot_locus(analysed("inline-4"))
+
+
+@image_compare
+def test_locus_v8_crossplane():
+    return plots.plot_locus(analysed("v8-crossplane"))
+
+
+@image_compare
+def test_spectrum_inline4_normalised():
+    return plots.plot_spectrum(analysed("inline-4"), normalised=True)
+
+
+@image_compare
+def test_roll_inline4():
+    return plots.plot_roll(analysed("inline-4"))
+
+
+@image_compare
+def test_balance_inline3():
+    return plots.plot_balance(analysed("inline-3"))
+
+
+@image_compare
+def test_balance_v8_crossplane():
+    return plots.plot_balance(analysed("v8-crossplane"))
+
+
+def test_every_kind_draws_every_builtin_layout():
+    from matplotlib.figure import Figure
+
+    for name in balance.builtin_layout_names():
+        ds = analysed(name)
+        for kind, function in plots.PLOT_KINDS.items():
+            fig = function(ds)
+            assert isinstance(fig, Figure), (name, kind)
+            fig.canvas.draw()  # layout and text really drawn
+
+
+@pytest.mark.parametrize("options", [{"moments": False}, {"roll": False}, {"model": "time"}])
+def test_every_kind_draws_what_was_computed(options):
+    """Without moments or roll the figures say so instead of failing; balance needs both."""
+    ds = balance.analyse(balance.load_layout("v8-crossplane"), **options)
+    for kind, function in plots.PLOT_KINDS.items():
+        if kind == "balance" and not synthesis.has_proposal(ds):
+            continue
+        plots.figure_bytes(function(ds), "png")
+    if "moments" in options:
+        _, forward, backward = synthesis.dataset_phasors(ds, "moment")
+        assert np.isnan(forward).all() and np.isnan(backward).all()
+    if "roll" in options:
+        assert synthesis.dataset_roll(ds)[0].size == 0
+
+
+def test_plots_leave_global_state_alone():
+    import matplotlib as mpl
+
+    before = dict(mpl.rcParams)
+    ds = analysed("inline-3")
+    for function in plots.PLOT_KINDS.values():
+        plots.figure_bytes(function(ds), "svg")
+    assert dict(mpl.rcParams) == before
+
+
+def test_no_pyplot_and_lazy_matplotlib():
+    """Importing balance.plots loads no matplotlib; drawing never loads pyplot."""
+    code = (
+        "import sys, balance, balance.plots, balance.report, balance.synthesis\n"
+        "assert 'matplotlib' not in sys.modules, 'matplotlib imported at import time'\n"
+        "ds = balance.analyse(balance.load_layout('inline-3'))\n"
+        "for f in balance.plots.PLOT_KINDS.values():\n"
+        "    balance.plots.figure_bytes(f(ds), 'png')\n"
+        "balance.report.render_report(ds)\n"
+        "assert 'matplotlib.pyplot' not in sys.modules, 'pyplot imported'\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+
+
+def test_balance_without_a_proposal_is_a_clear_error():
+    with pytest.raises(InputError, match="no balancing proposal"):
+        plots.plot_balance(analysed("inline-4", proposal=False))
+
+
+def test_drawing_into_given_axes():
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    axes = fig.subplots(1, 2)
+    assert plots.plot_locus(analysed("inline-4"), ax=axes) is fig
+    assert fig.get_suptitle() == ""  # the caller's figure keeps its own title
+    with pytest.raises(ValueError, match="2 axes"):
+        plots.plot_locus(analysed("inline-4"), ax=axes[0])
+    with pytest.raises(ValueError, match="polar"):
+        plots.plot_phasors(analysed("inline-4"), ax=axes)
+    single = Figure().subplots()
+    assert plots.plot_crank_star(analysed("inline-4"), ax=single) is single.figure
+
+
+def test_orders_must_exist():
+    with pytest.raises(ValueError, match="not in the Dataset"):
+        plots.plot_locus(analysed("inline-4"), orders=[9])
+
+
+@pytest.mark.parametrize("fmt", plots.FORMATS)
+def test_save_plots_writes_whole_files(tmp_path, fmt):
+    ds = analysed("inline-3")
+    written = plots.save_plots(ds, tmp_path / "figures", fmt=fmt, prefix="i3-")
+    assert [p.name for p in written] == [f"i3-{kind}.{fmt}" for kind in plots.PLOT_KINDS]
+    assert sorted(p.name for p in (tmp_path / "figures").iterdir()) == sorted(
+        p.name for p in written
+    )  # no temporary files left
+    magic = {"png": b"\x89PNG", "svg": b"<?xml", "pdf": b"%PDF"}[fmt]
+    for path in written:
+        assert path.read_bytes().startswith(magic)
+    with pytest.raises(InputError, match="exists"):
+        plots.save_plots(ds, tmp_path / "figures", kinds=["locus"], fmt=fmt, prefix="i3-")
+    again = plots.save_plots(ds, tmp_path / "figures", ["locus"], fmt, prefix="i3-", force=True)
+    assert again[0].read_bytes() == written[3].read_bytes()  # deterministic
+
+
+def test_save_plots_choices(tmp_path):
+    no_proposal = analysed("inline-4", proposal=False)
+    written = plots.save_plots(no_proposal, tmp_path)
+    assert "balance.png" not in {p.name for p in written}
+    with pytest.raises(InputError, match="no balancing proposal"):
+        plots.save_plots(no_proposal, tmp_path / "b", kinds=["balance"])
+    with pytest.raises(InputError, match="plot kind"):
+        plots.save_plots(no_proposal, tmp_path, kinds=["pie"])
+    with pytest.raises(InputError, match="format"):
+        plots.save_plots(no_proposal, tmp_path, fmt="jpg")

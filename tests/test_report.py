@@ -1,0 +1,239 @@
+"""The HTML design review: self-contained, escaped, complete, and rendered by a real browser."""
+
+from __future__ import annotations
+
+import re
+from functools import cache
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+
+import balance
+from balance.errors import InputError
+from balance.report import SECTIONS, accuracy_statement, render_report, write_report
+
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source"}
+FIGURE_KINDS = ("crank_star", "spectrum", "locus", "phasors", "crank_angle", "roll", "balance")
+
+
+@cache
+def analysed(name: str, proposal: bool = True):
+    return balance.analyse(balance.load_layout(name), proposal=proposal)
+
+
+@cache
+def report(name: str, proposal: bool = True) -> str:
+    return render_report(analysed(name, proposal))
+
+
+class Document(HTMLParser):
+    """Every element with its attributes, checking that the tags nest and close."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.elements: list[tuple[str, dict[str, str | None]]] = []
+        self.stack: list[str] = []
+        self.errors: list[str] = []
+        self.text: list[str] = []
+        self.figures: list[list[str]] = []  # tags directly inside each <figure>
+
+    def handle_starttag(self, tag, attrs):
+        self.elements.append((tag, dict(attrs)))
+        if self.stack and self.stack[-1] == "figure":
+            self.figures[-1].append(tag)
+        if tag == "figure":
+            self.figures.append([])
+        if tag not in VOID:
+            self.stack.append(tag)
+
+    def handle_startendtag(self, tag, attrs):
+        self.elements.append((tag, dict(attrs)))
+
+    def handle_endtag(self, tag):
+        if tag in VOID:
+            return
+        if not self.stack or self.stack[-1] != tag:
+            self.errors.append(f"</{tag}> closes <{self.stack[-1] if self.stack else None}>")
+            return
+        self.stack.pop()
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+def parse(text: str) -> Document:
+    document = Document()
+    document.feed(text)
+    document.close()
+    return document
+
+
+@pytest.mark.parametrize("name", ["inline-4", "inline-3", "v8-crossplane"])
+def test_report_parses_and_has_every_section(name):
+    text = report(name)
+    assert text.startswith("<!DOCTYPE html>")
+    document = parse(text)
+    assert document.errors == []
+    assert document.stack == []
+    ids = [a["id"] for _, a in document.elements if a.get("id")]
+    assert len(ids) == len(set(ids)), "ids must be unique in the page"
+    sections = [a.get("id") for tag, a in document.elements if tag == "section"]
+    assert sections == [ident for ident, _ in SECTIONS]
+    body = " ".join(document.text)
+    for _, heading in SECTIONS:
+        assert heading in body
+    ds = analysed(name)
+    assert ds.attrs["layout"] in body
+    assert accuracy_statement(ds) in body
+    assert f"model {ds.attrs['model']}" in body
+
+
+@pytest.mark.parametrize("name", ["inline-4", "v8-crossplane"])
+def test_report_is_self_contained(name):
+    text = report(name)
+    document = parse(text)
+    tags = {tag for tag, _ in document.elements}
+    assert not tags & {"script", "img", "link", "iframe", "object", "embed", "image"}
+    for _, attrs in document.elements:
+        for key in ("src", "href", "xlink:href", "action"):
+            value = attrs.get(key)
+            assert value is None or value.startswith("#"), (key, value)
+    assert not re.search(r"""(src|href)\s*=\s*["']?\s*(https?:)?//""", text, re.I)
+    assert "url(http" not in text and "@import" not in text
+    assert "<!DOCTYPE svg" not in text and "<?xml" not in text
+
+
+def test_every_figure_is_an_inline_svg():
+    document = parse(report("inline-3"))
+    assert len(document.figures) == len(FIGURE_KINDS)
+    for inside in document.figures:
+        assert inside[0] == "svg"
+    figure_ids = [a["id"] for tag, a in document.elements if tag == "figure"]
+    assert sorted(figure_ids) == sorted(f"figure-{k}" for k in FIGURE_KINDS)
+
+
+def test_tables_hold_the_dataset_numbers():
+    from balance.views.table import format_number
+
+    ds = analysed("v8-crossplane")
+    body = " ".join(parse(report("v8-crossplane")).text)
+    peak = format_number(float(ds["reciprocating_moment_peak"].sel(order=1)))
+    assert peak in body
+    assert format_number(float(ds["counterweight_mass"][0])) in body
+    assert "Counterweights" in body and "Residual with the proposal" in body
+
+
+def test_report_without_a_proposal():
+    text = report("inline-4", proposal=False)
+    document = parse(text)
+    body = " ".join(document.text)
+    assert "No balancing proposal" in body
+    assert len(document.figures) == len(FIGURE_KINDS) - 1
+    assert document.errors == []
+
+
+def test_report_without_moments_or_roll():
+    ds = balance.analyse(balance.load_layout("inline-3"), moments=False, roll=False)
+    document = parse(render_report(ds))
+    assert document.errors == []
+    body = " ".join(document.text)
+    assert "Moments were not computed" in body
+    assert "The roll torque was not computed" in body
+    sections = [a.get("id") for tag, a in document.elements if tag == "section"]
+    assert sections == [ident for ident, _ in SECTIONS]
+    figures = {a["id"] for tag, a in document.elements if tag == "figure"}
+    assert figures == {f"figure-{k}" for k in FIGURE_KINDS if k not in ("roll", "balance")}
+
+
+def test_every_text_is_escaped():
+    ds = analysed("inline-4").copy()
+    ds.attrs["layout"] = '<script>alert("x")</script> & <b>bold</b> --> "q"'
+    ds.attrs["proposal_notes"] = "<img src=http://example.com/x.png>"
+    ds.attrs["source_file"] = '"><script>1</script>'
+    text = render_report(ds, figures=True)
+    document = parse(text)
+    assert document.errors == []
+    assert not any(tag in {"script", "img", "b"} for tag, _ in document.elements)
+    assert "&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt; &amp; &lt;b&gt;" in text
+    assert "http://example.com" not in re.sub(r"&lt;img src=http://example.com", "", text)
+
+
+def test_accuracy_statement_per_model():
+    layout = balance.load_layout("inline-4")
+    series = accuracy_statement(balance.analyse(layout, model="series", terms=2, proposal=False))
+    assert "2 terms" in series and "λ^3" in series
+    textbook = accuracy_statement(balance.analyse(layout, model="textbook", proposal=False))
+    assert "cos 2β" in textbook and "orders 4, 6" in textbook
+    assert "machine precision" in accuracy_statement(analysed("inline-4"))
+    time = accuracy_statement(balance.analyse(layout, model="time", proposal=False))
+    assert "crank angles per revolution" in time
+
+
+def test_write_report_is_atomic_and_refuses_to_overwrite(tmp_path):
+    ds = analysed("inline-4")
+    target = tmp_path / "review.html"
+    assert write_report(ds, target, figures=False) == target
+    assert target.read_text(encoding="utf-8") == render_report(ds, figures=False)
+    with pytest.raises(InputError, match="exists"):
+        write_report(ds, target, figures=False)
+    target.write_text("old")
+    write_report(ds, target, force=True, figures=False)
+    assert target.read_text(encoding="utf-8").startswith("<!DOCTYPE html>")
+    assert [p.name for p in tmp_path.iterdir()] == ["review.html"]  # no temporary file left
+    with pytest.raises(InputError, match="does not exist"):
+        write_report(ds, tmp_path / "missing" / "review.html")
+
+
+def test_report_is_deterministic():
+    ds = analysed("inline-3")
+    assert render_report(ds) == report("inline-3")
+
+
+@pytest.mark.skipif(
+    not CHROMIUM.exists(),
+    reason="needs Debian chromium at /usr/bin/chromium (apt-get install -y chromium)",
+)
+@pytest.mark.parametrize("name", ["inline-3", "v8-crossplane"])
+def test_report_renders_in_a_headless_browser(name, tmp_path):
+    from playwright import sync_api  # a test dependency: only a missing browser skips
+
+    path = write_report(analysed(name), tmp_path / f"{name}.html")
+    console: list[str] = []
+    failed: list[str] = []
+    requests: list[str] = []
+    with sync_api.sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={"width": 1280, "height": 1000})
+            page.on("console", lambda m: console.append(f"{m.type}: {m.text}"))
+            page.on("pageerror", lambda e: console.append(f"pageerror: {e}"))
+            page.on("requestfailed", lambda r: failed.append(r.url))
+            page.on("request", lambda r: requests.append(r.url))
+            page.goto(path.resolve().as_uri(), wait_until="load")
+            boxes = page.eval_on_selector_all(
+                "svg",
+                "els => els.map(e => { const r = e.getBoundingClientRect();"
+                " return [r.width, r.height]; })",
+            )
+            headings = page.eval_on_selector_all("section > h2", "els => els.length")
+            page.screenshot(path=str(tmp_path / f"{name}.png"), full_page=True)
+        finally:
+            browser.close()
+    assert [m for m in console if m.startswith(("error", "pageerror"))] == []
+    assert failed == []
+    assert requests == [path.resolve().as_uri()]  # the page itself and nothing else
+    assert len(boxes) == len(FIGURE_KINDS)
+    assert all(width > 100 and height > 100 for width, height in boxes), boxes
+    assert headings == len(SECTIONS)
+    assert (tmp_path / f"{name}.png").stat().st_size > 10_000
