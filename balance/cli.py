@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import io
+import os
 import signal
 import sys
 from collections.abc import Callable
@@ -21,6 +22,10 @@ import typer
 from .errors import BalanceError, InputError
 
 __all__ = ["app", "main"]
+
+# pydantic looks for plugins through package metadata on first use, which costs a command
+# line start about 10 ms; the command line has none (set the variable to override)
+os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
 
 app = typer.Typer(
     name="balance",
