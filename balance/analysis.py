@@ -442,6 +442,9 @@ def analyse(
     -------
     xarray.Dataset
         Every variable carries ``units`` and ``long_name``; see :mod:`balance.result`.
+        With a ``gas:`` section the Dataset also holds the forces and torque over the cycle
+        (dimension ``crank_angle``), the torque summary, and the roll with gas forces, in
+        half orders for a four-stroke (:mod:`balance.torque`).
 
     Examples
     --------
@@ -475,4 +478,9 @@ def analyse(
             counterweight_radius=counterweight_radius,
             cancel_roll=cancel_roll,
         )
-    return build_dataset(layout, result, balanced)
+    torque = None
+    if layout.gas is not None:
+        from .torque import compute_torque
+
+        torque = compute_torque(layout, result.orders)
+    return build_dataset(layout, result, balanced, torque=torque)

@@ -570,6 +570,196 @@ def report_command(
     sys.stderr.write(f"balance: wrote {output}\n")
 
 
+@app.command("sweep")
+@guarded
+def sweep_command(
+    layout: Annotated[str, typer.Argument(help="Layout file or built-in name.")],
+    vary: Annotated[
+        list[str],
+        typer.Option(
+            "--vary",
+            help="FIELD=start:stop:count or FIELD=a,b,c, e.g. conrod_length=130mm:160mm:31 "
+            "or cylinders[3].reciprocating=0.4kg:0.7kg:13; repeat for more dimensions.",
+        ),
+    ],
+    output: Annotated[Path, typer.Option("--output", "-o", help="netCDF file to write.")],
+    orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-8 or 1,2.")] = "1-8",
+    model: Annotated[
+        str, typer.Option("--model", help="Piston acceleration model: exact, series, textbook.")
+    ] = "exact",
+    no_moments: Annotated[bool, typer.Option("--no-moments", help="Skip the moments.")] = False,
+    no_roll: Annotated[bool, typer.Option("--no-roll", help="Skip the roll torque.")] = False,
+    chunk_size: Annotated[
+        int, typer.Option("--chunk-size", min=1, help="Grid points per chunk (bounds memory).")
+    ] = 50_000,
+    scheduler: Annotated[
+        str | None, typer.Option("--scheduler", help="Dask scheduler address to run chunks on.")
+    ] = None,
+    workers: Annotated[
+        int | None, typer.Option("--workers", min=1, help="Run on a local Dask cluster.")
+    ] = None,
+    progress: Annotated[
+        bool | None,
+        typer.Option("--progress/--no-progress", help="Progress bar (default: on a terminal)."),
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
+) -> None:
+    """Analyse a grid of layout variants and write one Dataset (netCDF), chunk by chunk."""
+    from .layout import load_layout
+    from .output import check_target
+    from .sweep import sweep_to_file
+
+    check_target(output, force)
+    if scheduler is not None and workers is not None:
+        raise InputError("give --scheduler or --workers, not both")
+    base = load_layout(layout)
+    show = sys.stderr.isatty() if progress is None else progress
+    kwargs: dict[str, Any] = {
+        "model": model,
+        "moments": not no_moments,
+        "roll": not no_roll,
+        "chunk_size": chunk_size,
+        "progress": show,
+        "force": force,
+    }
+    if scheduler is None and workers is None:
+        sweep_to_file(base, vary, output, orders, **kwargs)
+    else:
+        from distributed import Client, LocalCluster
+
+        if scheduler is not None:
+            with Client(scheduler) as client:
+                sweep_to_file(base, vary, output, orders, client=client, **kwargs)
+        else:
+            with (
+                LocalCluster(
+                    n_workers=workers, threads_per_worker=1, dashboard_address=None
+                ) as cluster,
+                Client(cluster) as client,
+            ):
+                sweep_to_file(base, vary, output, orders, client=client, **kwargs)
+    sys.stderr.write(f"balance: wrote {output}\n")
+
+
+@app.command("search")
+@guarded
+def search_command(
+    cylinders: Annotated[int, typer.Option("--cylinders", min=1, max=16, help="Cylinders.")],
+    banks: Annotated[
+        str, typer.Option("--banks", help="Bank angles, e.g. 0 (inline) or -45,45 (90 deg V).")
+    ] = "0",
+    step: Annotated[str, typer.Option("--step", help="Angle step of throws.")] = "30deg",
+    even_firing: Annotated[
+        bool, typer.Option("--even-firing", help="Only evenly firing arrangements.")
+    ] = False,
+    no_split: Annotated[
+        bool, typer.Option("--no-split", help="Common crank pins only (no split-pin offsets).")
+    ] = False,
+    objective: Annotated[
+        str, typer.Option("--objective", help="free, moments or shafts (after counterweights).")
+    ] = "free",
+    orders: Annotated[str, typer.Option("--orders", help="Orders the objective counts.")] = "1-2",
+    rod_ratio: Annotated[
+        float, typer.Option("--rod-ratio", help="Crank radius / conrod length.")
+    ] = 0.3,
+    top: Annotated[int, typer.Option("--top", min=1, help="How many to print.")] = 5,
+) -> None:
+    """Enumerate crank arrangements, drop symmetric duplicates, print the best."""
+    from .analysis import parse_orders
+    from .search import search
+    from .units import UnitProblem, parse_quantity
+
+    try:
+        step_deg = parse_quantity(step, "angle")
+        bank_list = [parse_quantity(b, "angle") for b in banks.split(",")]
+    except UnitProblem as exc:
+        raise InputError(f"--step/--banks: {exc}; {exc.valid}") from None
+    result = search(
+        cylinders,
+        bank_list,
+        step=step_deg,
+        even_firing=even_firing,
+        split=not no_split,
+        objective=objective,
+        orders=[int(k) for k in parse_orders(orders)],
+        rod_ratio=rod_ratio,
+        top=top,
+    )
+    out = sys.stdout
+    out.write(
+        f"{result.enumerated} arrangements enumerated, {result.evaluated} distinct evaluated "
+        f"in {result.seconds:.3f} s; objective {result.objective}, orders "
+        f"{','.join(map(str, result.orders))} (normalised, after counterweights)\n"
+    )
+    for rank, a in enumerate(result.best, 1):
+        throws = "/".join(f"{t:g}" for t in a.throws)
+        split = "" if not any(a.splits) else " split " + "/".join(f"{s:g}" for s in a.splits)
+        firing = "-".join(map(str, a.firing_order)) if a.firing_order else "uneven"
+        peaks = " ".join(
+            f"F{k}={f:.3g} M{k}={m:.3g}"
+            for k, f, m in zip(result.orders, a.force_peaks, a.moment_peaks, strict=True)
+        )
+        out.write(
+            f"{rank}. throws {throws}{split}: score {a.score:.4g}, shafts {a.shafts}, "
+            f"{peaks}, firing {firing}\n"
+        )
+
+
+@app.command("tolerance")
+@guarded
+def tolerance_command(
+    layout: Annotated[str, typer.Argument(help="Layout file or built-in name.")],
+    scatter: Annotated[
+        list[str],
+        typer.Option("--scatter", help="FIELD=±TOL, e.g. reciprocating=±3g; repeatable."),
+    ],
+    samples: Annotated[int, typer.Option("--samples", min=1, help="Engines drawn.")] = 100_000,
+    orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-2.")] = "1-2",
+    distribution: Annotated[
+        str, typer.Option("--distribution", help="uniform (±TOL) or normal (sigma TOL/3).")
+    ] = "uniform",
+    seed: Annotated[int, typer.Option("--seed", help="Random seed.")] = 0,
+    plot: Annotated[
+        Path | None, typer.Option("--plot", help="Write a histogram figure (png, svg, pdf).")
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="Replace an existing plot.")] = False,
+) -> None:
+    """Monte Carlo over part-mass and geometry scatter: percentiles of the residuals."""
+    from .layout import load_layout
+    from .montecarlo import PERCENTILES, histogram, tolerance
+
+    if plot is not None:
+        from .output import check_target
+
+        check_target(plot, force)
+    result = tolerance(
+        load_layout(layout),
+        scatter,
+        samples=samples,
+        orders=orders,
+        distribution=distribution,
+        seed=seed,
+    )
+    table = result.percentiles()
+    out = sys.stdout
+    out.write(
+        f"{samples} samples in {result.seconds:.2f} s; peaks per order, percentiles "
+        f"{', '.join(f'{q:g}' for q in PERCENTILES)}\n"
+    )
+    for key, values in table.items():
+        unit = "N" if key.startswith("force") else "N m"
+        for col, k in enumerate(result.orders):
+            cells = " ".join(f"{v:10.4g}" for v in values[:, col])
+            out.write(f"{key:16s} order {int(k)} [{unit}]: {cells}\n")
+    if plot is not None:
+        from .output import write_atomic
+
+        fig = histogram(result)
+        fmt = plot.suffix.lstrip(".") or "png"
+        write_atomic(plot, lambda tmp: fig.savefig(tmp, format=fmt), force=force)
+        sys.stderr.write(f"balance: wrote {plot}\n")
+
+
 @app.command("layouts")
 @guarded
 def layouts_command() -> None:

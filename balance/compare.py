@@ -116,6 +116,10 @@ def compare(
         keep = [name for name, var in ds.data_vars.items() if set(var.dims) <= _PER_LAYOUT_DIMS]
         piece = ds[keep]
         piece = piece.drop_vars([c for c in piece.coords if c not in _PER_LAYOUT_DIMS])
+        if "roll_order" in piece.dims:
+            # with gas forces a four-stroke's roll has half orders too; compare the orders
+            # every layout has
+            piece = piece.sel(roll_order=ks.astype(np.float64))
         extra = {
             "n_cylinders": (layout.n_cylinders, "1", "number of cylinders"),
             "displacement": (layout.displacement, "m3", "swept volume (NaN without a bore)"),
@@ -138,7 +142,18 @@ def compare(
             piece[name] = xr.Variable((), value, attrs={"units": units, "long_name": long_name})
         piece = piece.expand_dims(layout=[_label(layout, given, taken)])
         pieces.append(piece)
+    # variables that only some layouts have (the torque summary with gas forces) are left out
+    common = set.intersection(*(set(p.data_vars) for p in pieces))
+    pieces = [p[[name for name in p.data_vars if name in common]] for p in pieces]
     out = xr.concat(pieces, dim="layout", combine_attrs="drop_conflicts")
+    for var_name in out.data_vars:
+        # a long_name that differs between layouts (roll with or without gas) is dropped by
+        # the concatenation; keep the units and a name that covers both
+        if "long_name" not in out[var_name].attrs:
+            names = sorted({str(p[var_name].attrs.get("long_name", var_name)) for p in pieces})
+            out[var_name].attrs["long_name"] = " / ".join(names)
+        if "units" not in out[var_name].attrs:
+            out[var_name].attrs["units"] = str(pieces[0][var_name].attrs.get("units", "1"))
     out["layout"].attrs.update({"units": "1", "long_name": "layout"})
     out.attrs = {
         "schema": "balance.comparison/1",

@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 from pydantic import BaseModel, ValidationError
 
 from .errors import InputError, LayoutError, Location
+from .gas import GasInput, cycle_degrees, firing_tdc, read_pressure_trace
 from .schema import (
     GEOMETRY_KEYS,
     LUMPED_KEYS,
@@ -83,6 +84,9 @@ class Layout:
         Cylinder numbers (1-based) in firing order, if given.
     balance : BalanceSettings or None
         The ``balance:`` section, if given.
+    gas : GasInput or None
+        The ``gas:`` and ``flywheel:`` sections, resolved (pressure trace read, firing TDCs
+        placed); None for an inertia-only analysis.
     """
 
     name: str
@@ -106,6 +110,7 @@ class Layout:
     path: str | None = None
     balance: BalanceSettings | None = None
     spec: LayoutSpec | None = field(default=None, repr=False)
+    gas: GasInput | None = field(default=None, repr=False)
 
     @property
     def n_cylinders(self) -> int:
@@ -146,7 +151,8 @@ class Layout:
                 "conrod_inertia_correction",
             )
         }
-        return replace(self, firing_order=None, spec=None, **arrays)
+        gas = self.gas.reordered(idx) if self.gas is not None else None
+        return replace(self, firing_order=None, spec=None, gas=gas, **arrays)
 
 
 # ---------------------------------------------------------------------------------------
@@ -492,6 +498,7 @@ def _build(doc: SourceDocument) -> Layout:
     reference_z = spec.reference_z if spec.reference_z is not None else 0.5 * (z.min() + z.max())
     pitch = _pitch(spec, z)
     firing = _firing_order(spec, n, doc)
+    gas = _gas(spec, doc, cylinders, prefix, arrays, firing) if spec.gas is not None else None
     return Layout(
         name=spec.name,
         speed=spec.speed,
@@ -505,7 +512,65 @@ def _build(doc: SourceDocument) -> Layout:
         path=None if doc.file.startswith("<") else doc.file,
         balance=spec.balance,
         spec=spec,
+        gas=gas,
         **arrays,
+    )
+
+
+def _gas(
+    spec: LayoutSpec,
+    doc: SourceDocument,
+    cylinders: list[CylinderSpec],
+    prefix: tuple[str | int, ...] | None,
+    arrays: dict[str, Any],
+    firing: tuple[int, ...] | None,
+) -> GasInput:
+    """Resolve the ``gas:`` and ``flywheel:`` sections: read the trace, place firing TDCs."""
+    section = spec.gas
+    assert section is not None
+    cycle_deg = cycle_degrees(spec.cycle)
+    angle = pressure = None
+    source = "model"
+    if section.pressure_trace is not None:
+        base = Path(doc.file).parent if not doc.file.startswith("<") else Path.cwd()
+        trace = base / section.pressure_trace
+        if not trace.is_file():
+            raise LayoutError(
+                f"no such file {str(trace)!r}",
+                doc.location(("gas", "pressure_trace")),
+                field="gas.pressure_trace",
+                valid="a CSV file of crank angle [deg from firing TDC] and absolute pressure, "
+                "relative to the layout file",
+            )
+        angle, pressure = read_pressure_trace(trace, cycle_deg)
+        source = str(trace)
+    tdc_given = [c.tdc for c in cylinders] if prefix is not None else None
+    tdc = firing_tdc(
+        np.degrees(arrays["throw"]), np.degrees(arrays["bank"]), spec.cycle, firing, tdc_given
+    )
+    if isinstance(tdc, str):
+        path: tuple[str | int, ...] = ("firing_order",) if firing else ("gas",)
+        raise LayoutError(
+            tdc,
+            doc.location(path),
+            field="firing_order",
+            valid="add e.g. 'firing_order: [1, 3, 4, 2]' (or give every cylinder 'tdc')"
+            if not firing
+            else "list the cylinders in the order they fire",
+        )
+    bore = section.bore if section.bore is not None else spec.geometry.bore
+    flywheel = spec.flywheel
+    return GasInput(
+        angle=angle,
+        pressure=pressure,
+        model=section.model,
+        crankcase_pressure=section.crankcase_pressure,
+        bore=float(bore),  # type: ignore[arg-type]
+        firing_tdc=tdc,
+        cycle_deg=cycle_deg,
+        flywheel_inertia=flywheel.inertia if flywheel is not None else None,
+        speed_fluctuation=flywheel.speed_fluctuation if flywheel is not None else None,
+        source=source,
     )
 
 
@@ -657,6 +722,15 @@ def expand_layout(source: str | Path) -> str:
         out["firing_order"] = list(layout.firing_order)
     if spec.balance is not None:
         out["balance"] = _balance_dict(spec.balance)
+    if spec.gas is not None:
+        out["gas"] = _gas_dict(spec.gas, layout.path)
+    if spec.flywheel is not None:
+        fly: dict[str, str] = {}
+        if spec.flywheel.inertia is not None:
+            fly["inertia"] = _fmt(spec.flywheel.inertia, "kg m^2")
+        if spec.flywheel.speed_fluctuation is not None:
+            fly["speed_fluctuation"] = _fmt(spec.flywheel.speed_fluctuation, "%", 100)
+        out["flywheel"] = fly
 
     class _Dumper(yaml.SafeDumper):
         pass
@@ -700,6 +774,37 @@ _MASS_UNITS = {
 
 def _masses_dict(values: dict[str, float]) -> dict[str, str]:
     return {k: _fmt(v, *_MASS_UNITS[k]) for k, v in values.items() if k in _MASS_UNITS}
+
+
+def _gas_dict(gas: Any, path: str | None) -> dict[str, Any]:
+    """The gas section with units; a trace path made absolute, so that the expanded text
+    stands on its own wherever it is saved."""
+    out: dict[str, Any] = {}
+    if gas.pressure_trace is not None:
+        trace = Path(gas.pressure_trace)
+        if not trace.is_absolute() and path is not None:
+            trace = (Path(path).resolve().parent / trace).resolve()
+        out["pressure_trace"] = str(trace)
+    if gas.model is not None:
+        units = {
+            "intake_pressure": ("bar", 1e-5),
+            "exhaust_pressure": ("bar", 1e-5),
+            "peak_pressure": ("bar", 1e-5),
+            "combustion_start": ("deg", 1.0),
+            "combustion_duration": ("deg", 1.0),
+            "heat_released": ("J", 1.0),
+        }
+        model: dict[str, Any] = {}
+        for key, value in gas.model.model_dump(exclude_none=True).items():
+            if key in units:
+                model[key] = _fmt(value, units[key][0], units[key][1])
+            else:
+                model[key] = float(value)
+        out["model"] = model
+    out["crankcase_pressure"] = _fmt(gas.crankcase_pressure, "bar", 1e-5)
+    if gas.bore is not None:
+        out["bore"] = _fmt(gas.bore, "mm", 1e3)
+    return out
 
 
 def _balance_dict(settings: BalanceSettings) -> dict[str, Any]:

@@ -28,6 +28,12 @@ Kinds (:data:`PLOT_KINDS`):
     Roll torque over a revolution (or a cycle with half orders) and its spectrum.
 ``balance``
     Force, moment and roll before and after the proposed balancing.
+``torque``
+    With gas forces: torque of each cylinder and engine torque over the working cycle
+    (without a ``gas:`` section the figure says so and draws nothing).
+``forces``
+    With gas forces: the forces on one cylinder's crank train over the cycle, P, N, S, T, K
+    (seed 001's force diagrams; a note without gas).
 
 The force and moment drawn are by default the *free* ones: reciprocating inertia plus the
 centrifugal force of the rotating masses (``source="free"``; see
@@ -64,10 +70,12 @@ __all__ = [
     "plot_balance",
     "plot_crank_angle",
     "plot_crank_star",
+    "plot_forces",
     "plot_locus",
     "plot_phasors",
     "plot_roll",
     "plot_spectrum",
+    "plot_torque",
     "proposal_summary",
     "readable_file_writer",
     "save_plots",
@@ -1012,6 +1020,141 @@ def proposal_summary(ds: xr.Dataset) -> str:
     )
 
 
+def _no_gas(ds: xr.Dataset, ax: AxesArg, kind: str, title: str | None) -> Figure | None:
+    """A figure that says there is no gas section, or None when the Dataset has gas."""
+    if "engine_torque" in ds:
+        return None
+    with _styled():
+        fig, (axes,), owned = _new_figure(ax, 1, (8.0, 3.0), kind=kind)
+        axes.set_axis_off()
+        axes.text(
+            0.5,
+            0.5,
+            "no gas forces: add a gas: section (pressure trace or model) to the layout",
+            transform=axes.transAxes,
+            ha="center",
+            va="center",
+            color="0.4",
+        )
+        return _finish(fig, owned, title, f"{_layout_name(ds)}: {kind}")
+
+
+def plot_torque(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = None) -> Figure:
+    """Torque of each cylinder and engine torque over the working cycle, with the mean.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse` for a layout with a ``gas:`` section; without
+        one the figure only says so.
+    ax : Axes, optional
+        Axes to draw into; a new figure otherwise.
+    title : str, optional
+        Figure title; by default the layout name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    empty = _no_gas(ds, ax, "torque", title)
+    if empty is not None:
+        return empty
+    theta = np.asarray(ds["crank_angle"].values)
+    span = float(ds["crank_angle"].values[1] - ds["crank_angle"].values[0]) * theta.size
+    per = np.asarray(ds["cylinder_torque"].values)
+    total = np.asarray(ds["engine_torque"].values)
+    closed = np.append(theta, span)
+    with _styled():
+        fig, (axes,), owned = _new_figure(ax, 1, (10.0, 4.8), kind="torque")
+        for i, values in enumerate(per):
+            axes.plot(
+                closed,
+                np.append(values, values[0]),
+                color=f"C{i % 10}",
+                lw=0.9,
+                alpha=0.8,
+                label=f"cylinder {int(ds['cylinder'].values[i])}",
+            )
+        axes.plot(closed, np.append(total, total[0]), color=TOTAL_COLOUR, lw=2.2, label="engine")
+        mean = float(ds["torque_mean"])
+        axes.axhline(mean, color=TOTAL_COLOUR, ls="--", lw=1.0, label=f"mean {mean:.4g} N m")
+        _degree_axis(axes, span)
+        axes.set_ylabel("torque [N m]")
+        axes.set_title("torque on the crankshaft (+ with rotation), gas and inertia")
+        axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        return _finish(fig, owned, title, f"{_layout_name(ds)}: torque over the cycle")
+
+
+FORCE_NAMES = (
+    ("piston_force", "P (along the bore)"),
+    ("side_thrust", "N (side thrust)"),
+    ("rod_force", "S (rod)"),
+    ("tangential_force", "T (tangential)"),
+    ("radial_force", "K (radial)"),
+)
+
+
+def plot_forces(
+    ds: xr.Dataset, *, cylinder: int = 1, ax: AxesArg = None, title: str | None = None
+) -> Figure:
+    """Forces on one cylinder's crank train over the cycle: P, N, S, T and K (seed 001).
+
+    The cycle angle is counted from the cylinder's firing TDC.  :math:`P` is split into the
+    gas and the inertia force in the first panel.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`balance.analyse` with gas forces (a note otherwise).
+    cylinder : int
+        Cylinder number (1-based).
+    ax : sequence of 2 Axes, optional
+        Axes for P (with its parts) and for N, S, T, K; a new figure otherwise.
+    title : str, optional
+        Figure title; by default the layout name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    empty = _no_gas(ds, ax, "forces", title)
+    if empty is not None:
+        return empty
+    numbers = [int(c) for c in ds["cylinder"].values]
+    if cylinder not in numbers:
+        raise InputError(f"cylinder {cylinder}: expected one of 1 to {len(numbers)}")
+    i = numbers.index(cylinder)
+    theta = np.asarray(ds["crank_angle"].values)
+    span = float(theta[1] - theta[0]) * theta.size
+    tdc = float(ds["firing_tdc"].values[i])
+    order = np.argsort(np.mod(theta - tdc, span))
+    alpha = np.mod(theta - tdc, span)[order]
+    with _styled():
+        fig, (top, bottom), owned = _new_figure(ax, 2, (10.0, 7.0), nrows=2, ncols=1, kind="forces")
+        for name, label, colour in (
+            ("gas_force", "gas (p - p0) A", "C3"),
+            ("inertia_force", "inertia", "C0"),
+            ("piston_force", "P = gas + inertia", TOTAL_COLOUR),
+        ):
+            values = np.asarray(ds[name].values[i])[order] / 1e3
+            top.plot(
+                alpha, values, color=colour, lw=2.0 if name == "piston_force" else 1.1, label=label
+            )
+        top.set_ylabel("force [kN]")
+        top.set_title("force on the piston pin along the bore (+ towards the crank)")
+        top.legend(loc="upper right")
+        for (name, label), colour in zip(FORCE_NAMES[1:], ("C2", "C1", "C4", "C5"), strict=True):
+            values = np.asarray(ds[name].values[i])[order] / 1e3
+            bottom.plot(alpha, values, color=colour, label=label)
+        bottom.set_ylabel("force [kN]")
+        bottom.set_title("side thrust, rod, tangential and radial force")
+        bottom.legend(loc="upper right", ncols=2)
+        for axes in (top, bottom):
+            _degree_axis(axes, span)
+            axes.set_xlabel("crank angle from firing TDC [deg]")
+        return _finish(fig, owned, title, f"{_layout_name(ds)}: forces on cylinder {cylinder}")
+
+
 #: Every figure kind and the function that draws it.
 PLOT_KINDS: dict[str, Callable[..., Figure]] = {
     "crank_star": plot_crank_star,
@@ -1021,6 +1164,8 @@ PLOT_KINDS: dict[str, Callable[..., Figure]] = {
     "spectrum": plot_spectrum,
     "roll": plot_roll,
     "balance": plot_balance,
+    "torque": plot_torque,
+    "forces": plot_forces,
 }
 
 

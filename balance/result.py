@@ -30,14 +30,18 @@ crank angle 0; a phasor of zero magnitude has phase 0.  Normalised values are pe
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
+from . import phasors as _phasors
 from .analysis import Balanced, Phasors
 from .layout import Layout
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .torque import TorqueResult
 
 __all__ = ["SCHEMA", "build_dataset", "phase_deg"]
 
@@ -56,8 +60,16 @@ def phase_deg(phasor: ArrayLike) -> NDArray[np.float64]:
 
 
 def _var(dims: tuple[str, ...], data: Any, units: str, long_name: str, **attrs: Any) -> xr.Variable:
+    """A variable with units and long_name.
+
+    The data are always numpy arrays here, so xarray's fast path is safe; it also spares a
+    probe for duck-array libraries that would import dask or pint on a cold start.
+    """
     return xr.Variable(
-        dims, np.asarray(data), attrs={"units": units, "long_name": long_name, **attrs}
+        dims,
+        np.asarray(data),
+        attrs={"units": units, "long_name": long_name, **attrs},
+        fastpath=True,
     )
 
 
@@ -80,7 +92,12 @@ def _safe_ratio(values: Any, scale: float) -> Any:
     return np.asarray(values) / scale
 
 
-def build_dataset(layout: Layout, result: Phasors, balanced: Balanced | None = None) -> xr.Dataset:
+def build_dataset(
+    layout: Layout,
+    result: Phasors,
+    balanced: Balanced | None = None,
+    torque: TorqueResult | None = None,
+) -> xr.Dataset:
     """Assemble the result Dataset of an analysis.
 
     Parameters
@@ -91,6 +108,9 @@ def build_dataset(layout: Layout, result: Phasors, balanced: Balanced | None = N
         The phasors from :func:`balance.analysis.compute`.
     balanced : Balanced, optional
         A balancing proposal and its residual (:func:`balance.analysis.balance_engine`).
+    torque : TorqueResult, optional
+        Gas and inertia forces over the cycle (:func:`balance.torque.compute_torque`); its
+        roll (with half orders for a four-stroke) replaces the inertia-only roll.
 
     Returns
     -------
@@ -316,6 +336,16 @@ def build_dataset(layout: Layout, result: Phasors, balanced: Balanced | None = N
             for k, v in data.items()
             if not k.startswith(("reciprocating_moment", "rotating_moment"))
         }
+    if torque is not None:
+        data.update(_torque_variables(torque))
+        coords["crank_angle"] = xr.IndexVariable(
+            ("crank_angle",),
+            torque.crank_angle,
+            attrs={"units": "deg", "long_name": "crank angle theta over the working cycle"},
+        )
+        attrs["gas_pressure_source"] = layout.gas.source if layout.gas is not None else ""
+        if not np.isnan(result.roll).all():
+            _gas_roll(data, coords, torque, result, balanced, rec_r2w2)
     if np.isnan(result.roll).all():  # roll not asked for
         data = {k: v for k, v in data.items() if not k.startswith("roll")}
         coords = {k: v for k, v in coords.items() if k != "roll_order"}
@@ -450,3 +480,125 @@ def _proposal_variables(balanced: Balanced, f1: float, m1: float) -> dict[str, x
             "roll torque phase with the proposed shafts",
         ),
     }
+
+
+def _gas_roll(
+    data: dict[str, xr.Variable],
+    coords: dict[str, Any],
+    torque: TorqueResult,
+    result: Phasors,
+    balanced: Balanced | None,
+    rec_r2w2: float,
+) -> None:
+    """Replace the inertia-only roll by the roll with gas forces (half orders included)."""
+    ks = torque.roll_orders
+    roll = torque.roll
+    data["roll_amplitude"] = _var(
+        ("roll_order",),
+        np.abs(roll),
+        "N m",
+        "amplitude of the roll torque on the block with gas forces "
+        "(sum of a_k cos(k theta + phase_k))",
+    )
+    data["roll_phase"] = _var(
+        ("roll_order",),
+        phase_deg(roll),
+        "deg",
+        "phase of the roll torque, positive in the direction of rotation",
+    )
+    data["roll_amplitude_normalised"] = _var(
+        ("roll_order",),
+        _safe_ratio(np.abs(roll), rec_r2w2),
+        "1",
+        "roll torque amplitude per m_rec r^2 omega^2",
+    )
+    coords["roll_order"] = _coord("roll_order", ks, "harmonic order of the roll torque")
+    if balanced is not None:
+        residual = roll.copy()
+        shafts = balanced.roll - result.roll  # the shafts' roll, integer orders only
+        for j, k in enumerate(result.orders):
+            at = np.flatnonzero(np.isclose(ks, float(k)))
+            if at.size:
+                residual[at[0]] += shafts[j]
+        scale = float(np.sum(np.abs(roll)) + np.sum(np.abs(shafts)))
+        residual = _phasors.cancel_to_zero(residual, scale, 64)
+        data["residual_roll_amplitude"] = _var(
+            ("roll_order",),
+            np.abs(residual),
+            "N m",
+            "roll torque amplitude with gas forces and the proposed shafts",
+        )
+        data["residual_roll_phase"] = _var(
+            ("roll_order",),
+            phase_deg(residual),
+            "deg",
+            "roll torque phase with gas forces and the proposed shafts",
+        )
+
+
+def _torque_variables(t: TorqueResult) -> dict[str, xr.Variable]:
+    """Forces over the cycle and the torque summary of a layout with gas forces."""
+    per = ("cylinder", "crank_angle")
+    out = {
+        "gas_pressure": _var(per, t.pressure, "Pa", "absolute cylinder pressure"),
+        "gas_force": _var(
+            per, t.gas_force, "N", "gas force (p - p0) A on the piston, to the crank"
+        ),
+        "inertia_force": _var(
+            per, t.inertia_force, "N", "reciprocating inertia force on the piston pin, to the crank"
+        ),
+        "piston_force": _var(
+            per, t.piston_force, "N", "total force P along the bore on the piston pin, to the crank"
+        ),
+        "side_thrust": _var(
+            per, t.side_thrust, "N", "side thrust N = P tan psi of the piston on the wall"
+        ),
+        "rod_force": _var(per, t.rod_force, "N", "rod force S = P / cos psi (compression +)"),
+        "tangential_force": _var(
+            per,
+            t.tangential_force,
+            "N",
+            "tangential force T = P sin(beta + psi) / cos psi on the crank pin (with rotation +)",
+        ),
+        "radial_force": _var(
+            per,
+            t.radial_force,
+            "N",
+            "radial force K = P cos(beta + psi) / cos psi on the crank pin (to the axis +)",
+        ),
+        "cylinder_torque": _var(per, t.cylinder_torque, "N m", "torque T r of one cylinder"),
+        "engine_torque": _var(
+            ("crank_angle",), t.engine_torque, "N m", "engine torque on the crankshaft (sum)"
+        ),
+        "roll_torque": _var(
+            ("crank_angle",),
+            t.roll_torque,
+            "N m",
+            "roll torque on the block with gas forces, positive in the direction of rotation",
+        ),
+        "firing_tdc": _var(
+            ("cylinder",), t.firing_tdc, "deg", "crank angle of the cylinder's firing TDC"
+        ),
+        "torque_mean": _var((), t.mean, "N m", "mean engine torque over the cycle"),
+        "torque_max": _var((), t.maximum, "N m", "largest engine torque over the cycle"),
+        "torque_min": _var((), t.minimum, "N m", "smallest engine torque over the cycle"),
+        "torque_nonuniformity": _var(
+            (), t.nonuniformity, "1", "torque non-uniformity (M_max - M_min) / M_mean"
+        ),
+        "excess_work": _var(
+            (), t.excess_work, "J", "largest excess work: max - min of the integral of M - M_mean"
+        ),
+        "speed_fluctuation": _var(
+            (), t.speed_fluctuation, "1", "speed fluctuation (w_max - w_min) / w_mean"
+        ),
+        "flywheel_inertia": _var(
+            (), t.flywheel_inertia, "kg m2", "moment of inertia of the rotating assembly"
+        ),
+        "indicated_work": _var(
+            (),
+            t.mean * 2.0 * math.pi * t.cycle_deg / 360.0,
+            "J",
+            "indicated work of the engine per cycle (mean torque times cycle angle)",
+        ),
+    }
+    return out

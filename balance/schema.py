@@ -18,6 +18,9 @@ __all__ = [
     "CrankSpec",
     "CylinderSpec",
     "FieldProblem",
+    "FlywheelSpec",
+    "GasModelSpec",
+    "GasSpec",
     "GeometrySpec",
     "LayoutSpec",
     "MassesSpec",
@@ -46,6 +49,33 @@ OptLength = Annotated[float | None, _q("length")]
 OptMass = Annotated[float | None, _q("mass")]
 OptInertia = Annotated[float | None, _q("inertia")]
 OptAngle = Annotated[float | None, _q("angle")]
+Pressure = Annotated[float, _q("pressure")]
+OptPressure = Annotated[float | None, _q("pressure")]
+OptFraction = Annotated[float | None, _q("fraction")]
+
+
+def _energy(value: Any) -> float | None:
+    """An energy [J] from a plain number (joules) or text with a unit ('1.2 kJ')."""
+    if value is None:
+        return None
+    from .units import UnitProblem, registry
+
+    valid = "give the heat released per cylinder and cycle, e.g. '1.6 kJ', or a number in J"
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        raise UnitProblem(f"expected an energy, got {value!r}", valid)
+    if isinstance(value, str):
+        try:
+            number = float(registry().Quantity(value).to("J").magnitude)
+        except Exception:
+            raise UnitProblem(f"cannot read {value!r} as an energy", valid) from None
+    else:
+        number = float(value)
+    if not (number == number and abs(number) < 1e9):
+        raise UnitProblem(f"{value!r} is not a finite energy", valid)
+    return number
+
+
+OptEnergy = Annotated[float | None, BeforeValidator(_energy)]
 
 
 class _Strict(BaseModel):
@@ -271,6 +301,127 @@ class BalanceSettings(_Strict):
         return self
 
 
+class GasModelSpec(_Strict):
+    """``gas: model:``: a parametric cylinder pressure (polytropes and a Wiebe heat release).
+
+    See :mod:`balance.gas` for the equations.  Angles are crank angles from firing TDC.
+    """
+
+    compression_ratio: float
+    intake_pressure: Pressure = 1.0e5
+    exhaust_pressure: Pressure = 1.1e5
+    polytropic_compression: float = 1.35
+    polytropic_expansion: float = 1.28
+    combustion_start: Angle = -15.0
+    combustion_duration: Angle = 55.0
+    wiebe_a: float = 5.0
+    wiebe_m: float = 2.0
+    heat_released: OptEnergy = None
+    peak_pressure: OptPressure = None
+
+    @model_validator(mode="after")
+    def _check(self) -> GasModelSpec:
+        if (self.heat_released is None) == (self.peak_pressure is None):
+            raise FieldProblem(
+                "give exactly one of heat_released and peak_pressure",
+                "for example 'peak_pressure: 75 bar' or 'heat_released: 1.6 kJ' (per cylinder "
+                "and cycle)",
+                ("peak_pressure",) if self.peak_pressure is not None else (),
+            )
+        if not 1.0 < self.compression_ratio <= 50.0:
+            raise FieldProblem(
+                f"compression_ratio is {self.compression_ratio:g}",
+                "a compression ratio above 1 and at most 50, e.g. 10.5",
+                ("compression_ratio",),
+            )
+        for key in ("polytropic_compression", "polytropic_expansion"):
+            value = getattr(self, key)
+            if not 1.0 < value < 2.0:
+                raise FieldProblem(
+                    f"{key} is {value:g}", "a polytropic exponent above 1 and below 2", (key,)
+                )
+        for key in ("intake_pressure", "exhaust_pressure"):
+            _positive(getattr(self, key), key)
+        if not 0.0 < self.combustion_duration <= 180.0:
+            raise FieldProblem(
+                f"combustion_duration is {self.combustion_duration:g} deg",
+                "more than 0 and at most 180 deg",
+                ("combustion_duration",),
+            )
+        if not -180.0 < self.combustion_start < 90.0:
+            raise FieldProblem(
+                f"combustion_start is {self.combustion_start:g} deg",
+                "a crank angle from firing TDC between -180 and 90 deg (negative: before TDC)",
+                ("combustion_start",),
+            )
+        if self.combustion_start + self.combustion_duration >= 180.0:
+            raise FieldProblem(
+                "combustion ends at or after bottom dead centre",
+                "combustion_start + combustion_duration must be below 180 deg",
+                ("combustion_duration",),
+            )
+        if not self.wiebe_a > 0:
+            raise FieldProblem(
+                f"wiebe_a is {self.wiebe_a:g}", "more than zero, e.g. 5", ("wiebe_a",)
+            )
+        if not self.wiebe_m > -1:
+            raise FieldProblem(f"wiebe_m is {self.wiebe_m:g}", "more than -1, e.g. 2", ("wiebe_m",))
+        _positive(self.heat_released, "heat_released")
+        if self.peak_pressure is not None and not self.peak_pressure > self.intake_pressure:
+            raise FieldProblem(
+                f"peak_pressure {self.peak_pressure / 1e5:g} bar is not above the intake pressure",
+                "a peak pressure above intake_pressure, e.g. '75 bar'",
+                ("peak_pressure",),
+            )
+        return self
+
+
+class GasSpec(_Strict):
+    """The ``gas:`` section: cylinder pressure for the gas forces and the torque."""
+
+    pressure_trace: str | None = Field(default=None, min_length=1, max_length=1000)
+    model: GasModelSpec | None = None
+    crankcase_pressure: Pressure = 1.0e5
+    bore: OptLength = None
+
+    @model_validator(mode="after")
+    def _check(self) -> GasSpec:
+        if (self.pressure_trace is None) == (self.model is None):
+            raise FieldProblem(
+                "give exactly one of pressure_trace and model",
+                "pressure_trace: a CSV file of crank angle [deg from firing TDC] and absolute "
+                "pressure; or model: {compression_ratio: ..., peak_pressure: ...}",
+                ("model",) if self.model is not None else (),
+            )
+        _positive(self.crankcase_pressure, "crankcase_pressure", allow_zero=True)
+        _positive(self.bore, "bore")
+        return self
+
+
+class FlywheelSpec(_Strict):
+    """The ``flywheel:`` section: an inertia to check, or a speed fluctuation to size one."""
+
+    inertia: OptInertia = None
+    speed_fluctuation: OptFraction = None
+
+    @model_validator(mode="after")
+    def _check(self) -> FlywheelSpec:
+        if (self.inertia is None) == (self.speed_fluctuation is None):
+            raise FieldProblem(
+                "give exactly one of inertia and speed_fluctuation",
+                "for example '{inertia: 0.12 kg m^2}' or '{speed_fluctuation: 1 %}'",
+                ("speed_fluctuation",) if self.speed_fluctuation is not None else (),
+            )
+        _positive(self.inertia, "inertia")
+        if self.speed_fluctuation is not None and not 0.0 < self.speed_fluctuation < 1.0:
+            raise FieldProblem(
+                f"speed_fluctuation is {self.speed_fluctuation:.4g}",
+                "a fraction above 0 and below 100 %, e.g. '1 %'",
+                ("speed_fluctuation",),
+            )
+        return self
+
+
 class LayoutSpec(_Strict):
     """A whole layout file."""
 
@@ -287,19 +438,8 @@ class LayoutSpec(_Strict):
     pitch: OptLength = None
     firing_order: list[int] | None = None
     balance: BalanceSettings | None = None
-
-    @model_validator(mode="before")
-    @classmethod
-    def _not_yet(cls, data: Any) -> Any:
-        if isinstance(data, dict):
-            for key in ("gas", "flywheel"):
-                if key in data:
-                    raise FieldProblem(
-                        f"'{key}' is not supported by this version of balance",
-                        "the analysis is inertia-only; remove the section",
-                        (key,),
-                    )
-        return data
+    gas: GasSpec | None = None
+    flywheel: FlywheelSpec | None = None
 
     @model_validator(mode="after")
     def _check(self) -> LayoutSpec:
@@ -314,4 +454,16 @@ class LayoutSpec(_Strict):
                 f"speed is {self.speed:g} rad/s", "speed must be more than zero", ("speed",)
             )
         _positive(self.pitch, "pitch")
+        if self.flywheel is not None and self.gas is None:
+            raise FieldProblem(
+                "'flywheel' needs a 'gas' section",
+                "the speed fluctuation comes from the gas torque; add gas: {pressure_trace: ...}",
+                ("flywheel",),
+            )
+        if self.gas is not None and self.gas.bore is None and self.geometry.bore is None:
+            raise FieldProblem(
+                "missing 'bore'",
+                "the gas force needs the bore: give gas.bore or geometry.bore, e.g. '86 mm'",
+                ("gas",),
+            )
         return self

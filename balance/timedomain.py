@@ -23,6 +23,7 @@ from .layout import Layout
 
 __all__ = [
     "crank_angles",
+    "crank_torque_newton_euler",
     "phasors_from_samples",
     "proposal_force_samples",
     "proposal_roll_samples",
@@ -110,6 +111,7 @@ def roll_newton_euler(
     theta: ArrayLike,
     small_end_share: float = 1.0 / 3.0,
     cg_fraction: float = 0.3,
+    gas_force: ArrayLike | None = None,
 ) -> FloatArray:
     r"""Roll torque on the block from the Newton–Euler equations of piston and rigid rod.
 
@@ -127,6 +129,9 @@ def roll_newton_euler(
         choice (static equivalence).
     cg_fraction : float
         Centre of gravity of the rod from the big end, as a fraction of its length.
+    gas_force : array_like, optional
+        Gas force :math:`G` on each piston towards the crank [N], shape (angles, cylinders);
+        the same force pushes the head away from the crank along the bore axis.
 
     Returns
     -------
@@ -148,8 +153,52 @@ def roll_newton_euler(
 
     which give :math:`N = [I_G\ddot\vartheta - d\times m_p a_P - (C-G)\times m_c a_G]/d_Y`
     with :math:`d = C - P`.  The wall pushes the block with :math:`(-N, 0)` at P, whose
-    moment about the crank axis in the direction of rotation is :math:`-s N`.
+    moment about the crank axis in the direction of rotation is :math:`-s N`.  A gas force
+    :math:`G` adds :math:`(0, -G)` on the piston (:math:`m_p a_P` becomes
+    :math:`m_p a_P + (0, G)` above) and :math:`(0, G)` on the head at :math:`x = e`, whose
+    moment is :math:`-eG`.
     """
+    wall, _, _, s, e, gas = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
+    torque = -s * wall - e * gas
+    return np.asarray(torque.sum(axis=1), dtype=np.float64)
+
+
+def crank_torque_newton_euler(
+    layout: Layout,
+    theta: ArrayLike,
+    gas_force: ArrayLike | None = None,
+    small_end_share: float = 1.0 / 3.0,
+    cg_fraction: float = 0.3,
+) -> FloatArray:
+    r"""Torque the conrods put on the crankshaft [N m], from the same Newton–Euler solution.
+
+    Parameters are those of :func:`roll_newton_euler`.
+
+    Returns
+    -------
+    ndarray
+        Torque about the crank axis on the crankshaft, positive in the direction of rotation,
+        one value per crank angle (the engine torque at constant speed).
+
+    Notes
+    -----
+    The rod pushes the crank pin :math:`C` with :math:`-F_{CR} = -(m_c a_G + F_{RP})`,
+    :math:`F_{RP} = m_p a_P + (0, G) - (N, 0)`; its moment in the direction of rotation is
+    :math:`C_Y F_X - C_X F_Y`.
+    """
+    _, pin_force, C, _, _, _ = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
+    torque = C.imag * pin_force.real - C.real * pin_force.imag
+    return np.asarray(torque.sum(axis=1), dtype=np.float64)
+
+
+def _newton_euler(
+    layout: Layout,
+    theta: ArrayLike,
+    small_end_share: float,
+    cg_fraction: float,
+    gas_force: ArrayLike | None,
+) -> tuple[FloatArray, ComplexArray, ComplexArray, FloatArray, FloatArray, FloatArray]:
+    """Wall force N, force of the rod on the crank pin, pin position, s, e and G per cylinder."""
     th = np.asarray(theta, dtype=np.float64)[:, None]
     beta = th + layout.throw - layout.bank
     r = layout.crank_radius
@@ -174,9 +223,16 @@ def roll_newton_euler(
     a_G = a_C + (cg / length) * (a_P - a_C)
     alpha = w2 * d2g
     d = C - P
-    N = (i_g * alpha - _cross(d, m_p * a_P) - _cross(C - G, m_c * a_G)) / d.imag
-    torque = -s * N
-    return np.asarray(torque.sum(axis=1), dtype=np.float64)
+    gas = (
+        np.zeros(np.broadcast_shapes(th.shape, r.shape))
+        if gas_force is None
+        else np.broadcast_to(np.asarray(gas_force, dtype=np.float64), (th.shape[0], r.size))
+    )
+    Q = m_p * a_P + 1j * gas
+    N = (i_g * alpha - _cross(d, Q) - _cross(C - G, m_c * a_G)) / d.imag
+    on_pin = -(m_c * a_G + Q - N)
+    offset = np.broadcast_to(e, N.shape)
+    return N, on_pin, C, s, offset, gas
 
 
 def proposal_force_samples(

@@ -387,9 +387,9 @@ def test_billion_laughs_is_refused_fast(tmp_path):
     assert "alias expansion bomb" in str(err)
 
 
-def test_gas_section_is_refused_plainly(tmp_path):
+def test_gas_section_without_pressure_is_refused_plainly(tmp_path):
     err = error_of(tmp_path, BASE + "gas:\n  bore: 86 mm\n")
-    assert "gas: 'gas' is not supported by this version of balance" in str(err)
+    assert "gas: give exactly one of pressure_trace and model" in str(err)
 
 
 def test_bad_firing_order(tmp_path):

@@ -91,6 +91,20 @@ def to_dict(ds: xr.Dataset) -> dict[str, Any]:
     }
     if "roll_amplitude" in ds:
         out["roll"] = _roll(ds, "roll")
+    if "torque_mean" in ds:
+        out["torque"] = {
+            "mean_Nm": _num(ds["torque_mean"]),
+            "max_Nm": _num(ds["torque_max"]),
+            "min_Nm": _num(ds["torque_min"]),
+            "speed_fluctuation": _num(ds["speed_fluctuation"]),
+            "flywheel_inertia_kgm2": _num(ds["flywheel_inertia"]),
+        }
+        out["gas"] = {
+            "indicated_work_J": _num(ds["indicated_work"]),
+            "torque_nonuniformity": _num(ds["torque_nonuniformity"]),
+            "excess_work_J": _num(ds["excess_work"]),
+            "firing_tdc_deg": [_num(v) for v in ds["firing_tdc"].values],
+        }
     if "counterweight_mass" in ds:
         out["proposal"] = _proposal(ds)
     if "study_factor" in ds:

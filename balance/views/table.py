@@ -10,7 +10,7 @@ import xarray as xr
 if TYPE_CHECKING:  # pragma: no cover
     from rich.console import RenderableType
 
-__all__ = ["format_number", "render", "render_factor_study", "render_proposal"]
+__all__ = ["format_number", "render", "render_factor_study", "render_proposal", "render_torque"]
 
 
 def format_number(value: float, digits: int = 4) -> str:
@@ -85,6 +85,8 @@ def render(ds: xr.Dataset) -> RenderableType:
     parts: list[RenderableType] = [Text(title, style="bold"), norm, *tables, Text(rotating_text)]
     if "roll_amplitude" in ds:
         parts.append(_roll_table(ds))
+    if "torque_mean" in ds:
+        parts.append(render_torque(ds))
     if "counterweight_mass" in ds:
         parts.extend(render_proposal(ds))
     return Group(*parts)
@@ -106,6 +108,30 @@ def _roll_table(ds: xr.Dataset) -> RenderableType:
             format_number(float(ds["roll_amplitude_normalised"].sel(roll_order=k))),
         )
     return roll
+
+
+def render_torque(ds: xr.Dataset) -> RenderableType:
+    """Rich renderable of the torque summary of an analysis with gas forces."""
+    from rich.table import Table
+
+    table = Table(title="Engine torque with gas forces (over the cycle)", title_justify="left")
+    table.add_column("quantity")
+    table.add_column("value", justify="right")
+    rows = [
+        ("mean torque [N m]", float(ds["torque_mean"])),
+        ("largest torque [N m]", float(ds["torque_max"])),
+        ("smallest torque [N m]", float(ds["torque_min"])),
+        ("non-uniformity (M_max - M_min)/M_mean", float(ds["torque_nonuniformity"])),
+        ("indicated work per cycle [J]", float(ds["indicated_work"])),
+        ("largest excess work [J]", float(ds["excess_work"])),
+        ("speed fluctuation (w_max - w_min)/w_mean", float(ds["speed_fluctuation"])),
+        ("flywheel inertia [kg m^2]", float(ds["flywheel_inertia"])),
+    ]
+    from rich.markup import escape
+
+    for label, value in rows:
+        table.add_row(escape(label), format_number(value))
+    return table
 
 
 def render_proposal(ds: xr.Dataset) -> list[RenderableType]:

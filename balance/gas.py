@@ -1,0 +1,451 @@
+r"""Cylinder pressure: a measured trace (CSV) or a parametric model, and firing TDCs.
+
+The pressure of a cylinder is a function of its *cycle angle* :math:`\alpha` [deg], the crank
+angle since its firing top dead centre, periodic over the cycle (720 deg four-stroke, 360 deg
+two-stroke).  It comes either from a CSV file (``gas: pressure_trace:``) read here, with
+every problem reported as ``file:line: gas.pressure_trace: ...``, or from the parametric
+model of :func:`model_pressure` (``gas: model:``).
+
+The parametric model
+--------------------
+Cylinder volume :math:`V(\alpha) = V_c + A\,(s_{max} - s(\alpha))` with :math:`s` the piston
+pin's distance from the crank axis (offset included), :math:`s_{max} = \sqrt{(l+r)^2-e^2}`,
+swept volume :math:`V_s = A(s_{max}-s_{min})` and clearance :math:`V_c = V_s/(\varepsilon-1)`.
+
+* intake stroke (four-stroke only, :math:`-360 \le \alpha < -180`): :math:`p = p_{in}`;
+* compression from bottom dead centre, polytropic: :math:`p = p_{in}(V_{BDC}/V)^{n_1}`;
+* from the start of combustion :math:`\alpha_s` the first law with a polytropic exponent
+  :math:`n_2` (heat loss lumped into it), :math:`\mathrm{d}(pV^{n_2}) =
+  (n_2-1)V^{n_2-1}\,\mathrm{d}Q`, with the Wiebe burnt fraction
+  :math:`x_b = 1 - \exp(-a\,((\alpha-\alpha_s)/\Delta\alpha)^{m+1})`, :math:`Q = Q_{tot} x_b`;
+* at bottom dead centre (exhaust opens) the pressure falls to :math:`p_{ex}` for the exhaust
+  stroke (four-stroke); a two-stroke's cycle closes at bottom dead centre.
+
+:math:`Q_{tot}` is given (``heat_released``) or found by bisection so that the largest
+pressure equals ``peak_pressure``.
+
+References
+----------
+Heywood, *Internal Combustion Engine Fundamentals*, McGraw-Hill 1988, sec. 9.2 (Wiebe
+function, single-zone heat release) and 5.7; Wiebe, *Brennverlauf und Kreisprozess von
+Verbrennungsmotoren*, VEB Verlag Technik 1970; seed 001 (indicator diagram, gas force
+:math:`P_g = (p - p_0)F_p`).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .errors import LayoutError, Location
+from .kinematics import normalised_slider
+from .schema import GasModelSpec
+
+__all__ = [
+    "MAX_TRACE_ROWS",
+    "MAX_TRACE_STEP_DEG",
+    "GasInput",
+    "cycle_degrees",
+    "cylinder_volume",
+    "firing_tdc",
+    "model_pressure",
+    "pressure_at",
+    "read_pressure_trace",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Largest gap between two points of a pressure trace, wrap-around included [deg].
+MAX_TRACE_STEP_DEG = 10.0
+#: Most rows read from a pressure trace.
+MAX_TRACE_ROWS = 200_000
+#: Step of the model's pressure table [deg].
+MODEL_STEP_DEG = 0.05
+
+
+def cycle_degrees(cycle: str) -> float:
+    """Crank angle of one working cycle [deg]: 720 four-stroke, 360 two-stroke."""
+    return 720.0 if cycle == "four-stroke" else 360.0
+
+
+@dataclass(frozen=True, eq=False)
+class GasInput:
+    """The ``gas:`` and ``flywheel:`` sections, resolved (SI units, angles in degrees).
+
+    Attributes
+    ----------
+    angle, pressure : ndarray or None
+        The pressure trace: cycle angle from firing TDC [deg], strictly increasing over less
+        than one cycle, and absolute pressure [Pa]; None with the parametric model.
+    model : GasModelSpec or None
+        The parametric model's parameters.
+    crankcase_pressure : float
+        Pressure under the piston, :math:`p_0` [Pa].
+    bore : float
+        Bore [m].
+    firing_tdc : ndarray
+        Crank angle :math:`\\theta` at which each cylinder is at its firing TDC [deg], in
+        [0, cycle).
+    cycle_deg : float
+        720 (four-stroke) or 360 (two-stroke) [deg].
+    flywheel_inertia, speed_fluctuation : float or None
+        The ``flywheel:`` section: inertia of the rotating assembly [kg m^2] or the allowed
+        speed fluctuation :math:`\\delta` [1].
+    source : str
+        The trace file, or ``"model"``.
+    """
+
+    angle: FloatArray | None
+    pressure: FloatArray | None
+    model: GasModelSpec | None
+    crankcase_pressure: float
+    bore: float
+    firing_tdc: FloatArray
+    cycle_deg: float
+    flywheel_inertia: float | None = None
+    speed_fluctuation: float | None = None
+    source: str = "model"
+
+    @property
+    def piston_area(self) -> float:
+        """Piston area :math:`\\pi B^2/4` [m^2]."""
+        return math.pi / 4.0 * self.bore**2
+
+    def reordered(self, idx: NDArray[np.intp]) -> GasInput:
+        """The same input with the cylinders renumbered."""
+        return replace(self, firing_tdc=self.firing_tdc[idx])
+
+
+# --------------------------------------------------------------------------- CSV trace
+
+
+def _unit_factor(header: str, where: Location, field: str) -> float:
+    """Pascals per unit of a pressure column header such as ``pressure [bar]``."""
+    from .units import UnitProblem, parse_quantity
+
+    match = re.search(r"\[(.+?)\]", header)
+    if not match:
+        return 1.0
+    try:
+        return parse_quantity(f"1 {match.group(1).strip()}", "pressure")
+    except UnitProblem as exc:
+        raise LayoutError(str(exc), where, field=field, valid=exc.valid) from None
+
+
+def read_pressure_trace(
+    path: Path, cycle_deg: float, field: str = "gas.pressure_trace"
+) -> tuple[FloatArray, FloatArray]:
+    """Read a cylinder pressure trace.
+
+    Parameters
+    ----------
+    path : Path
+        CSV file: two columns, crank angle from firing TDC [deg] and absolute pressure (Pa,
+        or the unit in brackets of an optional header line, e.g. ``pressure [bar]``).
+        Lines starting with ``#`` and blank lines are skipped.
+    cycle_deg : float
+        Length of the cycle [deg] the trace must cover.
+    field : str
+        Field name used in error messages.
+
+    Returns
+    -------
+    angle, pressure : ndarray
+        Angles [deg] (strictly increasing, spanning less than one cycle) and pressures [Pa].
+
+    Raises
+    ------
+    LayoutError
+        Naming the file, the line and the problem: a missing or unreadable file, a row that
+        is not two numbers, angles that do not increase, a negative pressure, or a trace
+        that does not cover the cycle (a gap over :data:`MAX_TRACE_STEP_DEG`).
+    """
+    name = str(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8 text"
+        raise LayoutError(
+            f"cannot read the trace ({reason})", Location(name), field=field
+        ) from None
+    angles: list[float] = []
+    pressures: list[float] = []
+    lines: list[int] = []
+    factor = 1.0
+    seen_data = False
+    for number, row in enumerate(csv.reader(text.splitlines()), start=1):
+        where = Location(name, number)
+        cells = [c.strip() for c in row]
+        if not cells or all(not c for c in cells) or cells[0].startswith("#"):
+            continue
+        if len(cells) != 2:
+            raise LayoutError(
+                f"{len(cells)} columns",
+                where,
+                field=field,
+                valid="two columns: crank angle [deg from firing TDC], absolute pressure",
+            )
+        try:
+            angle, pressure = float(cells[0]), float(cells[1])
+        except ValueError:
+            if not seen_data and not angles:
+                factor = _unit_factor(cells[1], where, field)
+                seen_data = True
+                continue
+            raise LayoutError(
+                f"cannot read {','.join(cells)!r} as two numbers",
+                where,
+                field=field,
+                valid="crank angle in deg and absolute pressure, e.g. '-180,1.0e5'",
+            ) from None
+        seen_data = True
+        if not (math.isfinite(angle) and math.isfinite(pressure)):
+            raise LayoutError("not a finite number", where, field=field)
+        pressure *= factor
+        if pressure < 0:
+            raise LayoutError(
+                f"pressure {pressure:g} Pa is negative",
+                where,
+                field=field,
+                valid="absolute pressure, zero or more",
+            )
+        if angles and angle <= angles[-1]:
+            raise LayoutError(
+                f"crank angle {angle:g} deg does not increase (previous {angles[-1]:g} deg)",
+                where,
+                field=field,
+                valid="angles in strictly increasing order over one cycle",
+            )
+        angles.append(angle)
+        pressures.append(pressure)
+        lines.append(number)
+        if len(angles) > MAX_TRACE_ROWS:
+            raise LayoutError(f"more than {MAX_TRACE_ROWS} rows", where, field=field)
+    if len(angles) < 8:
+        raise LayoutError(
+            f"{len(angles)} data rows",
+            Location(name, lines[-1] if lines else None),
+            field=field,
+            valid=f"a trace over the whole {cycle_deg:g} deg cycle, every {MAX_TRACE_STEP_DEG:g} "
+            "deg or closer",
+        )
+    span = angles[-1] - angles[0]
+    if span > cycle_deg + 1e-9:
+        raise LayoutError(
+            f"the trace spans {span:g} deg, more than the {cycle_deg:g} deg cycle",
+            Location(name, lines[-1]),
+            field=field,
+            valid=f"one cycle, e.g. -{cycle_deg / 2:g} to {cycle_deg / 2:g} deg",
+        )
+    if abs(span - cycle_deg) <= 1e-9:  # both ends given: keep one
+        angles.pop()
+        pressures.pop()
+        lines.pop()
+    a = np.asarray(angles)
+    gaps = np.diff(np.append(a, a[0] + cycle_deg))
+    worst = int(np.argmax(gaps))
+    if gaps[worst] > MAX_TRACE_STEP_DEG:
+        line = lines[worst]
+        raise LayoutError(
+            f"the trace does not cover the {cycle_deg:g} deg cycle: a gap of {gaps[worst]:g} deg "
+            f"after {a[worst]:g} deg",
+            Location(name, line),
+            field=field,
+            valid=f"points every {MAX_TRACE_STEP_DEG:g} deg or closer over the whole cycle",
+        )
+    return a, np.asarray(pressures)
+
+
+# --------------------------------------------------------------------------- firing TDC
+
+
+def firing_tdc(
+    throw_deg: FloatArray,
+    bank_deg: FloatArray,
+    cycle: str,
+    firing_order: tuple[int, ...] | None,
+    tdc_given: list[float | None] | None,
+) -> FloatArray | str:
+    r"""Crank angle of each cylinder's firing TDC [deg], or a message saying what is missing.
+
+    A cylinder is at TDC when :math:`\theta = \psi_i - \varphi_i` (mod 360).  A two-stroke
+    fires at every TDC.  A four-stroke fires at one of two TDCs 360 deg apart: the first
+    cylinder of ``firing_order`` at its TDC in [0, 360), each next one at its first TDC after
+    the one before; without a firing order, each cylinder's ``tdc`` angle (mod 720) when
+    every cylinder gives one.
+
+    Returns
+    -------
+    ndarray or str
+        Angles in [0, cycle) [deg]; a string (the problem) when they cannot be placed.
+    """
+    base = np.mod(np.asarray(bank_deg) - np.asarray(throw_deg), 360.0)
+    base = np.where(np.isclose(base, 360.0, rtol=0, atol=1e-9), 0.0, base)
+    if cycle == "two-stroke":
+        return np.asarray(base, dtype=np.float64)
+    n = base.size
+    if firing_order is not None:
+        out = np.zeros(n)
+        first = firing_order[0] - 1
+        previous = float(base[first])
+        out[first] = previous
+        for cyl in firing_order[1:]:
+            i = cyl - 1
+            candidate = previous + np.mod(base[i] - previous, 360.0)
+            if candidate <= previous + 1e-9:
+                candidate += 360.0
+            out[i] = candidate
+            previous = candidate
+        if previous >= out[first] + 720.0 - 1e-9:
+            order = "-".join(map(str, firing_order))
+            return (
+                f"firing order {order} does not fit in one 720 deg cycle with these throws "
+                f"(cylinder {firing_order[-1]} would fire {previous - out[first]:g} deg after "
+                f"cylinder {firing_order[0]})"
+            )
+        return np.asarray(np.mod(out, 720.0), dtype=np.float64)
+    if tdc_given is not None and all(t is not None for t in tdc_given):
+        return np.asarray(np.mod(np.asarray(tdc_given, dtype=np.float64), 720.0))
+    return (
+        "a four-stroke with gas forces needs the firing order, to tell the firing TDC from "
+        "the TDC 360 deg away"
+    )
+
+
+# --------------------------------------------------------------------------- model
+
+
+def cylinder_volume(
+    alpha_deg: FloatArray, bore: float, radius: float, length: float, offset: float, ratio: float
+) -> FloatArray:
+    r"""Cylinder volume [m^3] at cycle angle ``alpha_deg`` for compression ratio ``ratio``.
+
+    :math:`V = V_s/(\varepsilon - 1) + A(s_{max} - s)`, :math:`V_s = A(s_{max} - s_{min})`.
+    """
+    area = math.pi / 4.0 * bore**2
+    s_max = math.sqrt((length + radius) ** 2 - offset**2)
+    s_min = math.sqrt((length - radius) ** 2 - offset**2)
+    s, _, _ = normalised_slider(np.radians(alpha_deg), radius / length, offset / radius)
+    swept = area * (s_max - s_min)
+    return np.asarray(swept / (ratio - 1.0) + area * (s_max - radius * s))
+
+
+def _model_table(
+    spec: GasModelSpec,
+    bore: float,
+    radius: float,
+    length: float,
+    offset: float,
+    cycle_deg: float,
+    heat: float,
+) -> tuple[FloatArray, FloatArray]:
+    """Pressure of the model on a fine grid of cycle angles, for a heat release [J]."""
+    half = cycle_deg / 2.0
+    alpha = np.arange(-half, half, MODEL_STEP_DEG)
+    volume = cylinder_volume(alpha, bore, radius, length, offset, spec.compression_ratio)
+    p = np.full(alpha.shape, spec.exhaust_pressure)
+    closed = (alpha >= -180.0) & (alpha <= 180.0)
+    v_bdc = float(
+        cylinder_volume(np.array([-180.0]), bore, radius, length, offset, spec.compression_ratio)[0]
+    )
+    start = spec.combustion_start
+    before = closed & (alpha < start)
+    p[before] = spec.intake_pressure * (v_bdc / volume[before]) ** spec.polytropic_compression
+    if cycle_deg > 360.0:
+        p[alpha < -180.0] = spec.intake_pressure
+    after = closed & (alpha >= start)
+    a_after = alpha[after]
+    v_after = volume[after]
+    n2 = spec.polytropic_expansion
+    v_start = float(
+        cylinder_volume(np.array([start]), bore, radius, length, offset, spec.compression_ratio)[0]
+    )
+    p_start = spec.intake_pressure * (v_bdc / v_start) ** spec.polytropic_compression
+    fraction = np.clip((a_after - start) / spec.combustion_duration, 0.0, 1.0)
+    burnt = 1.0 - np.exp(-spec.wiebe_a * fraction ** (spec.wiebe_m + 1.0))
+    q = heat * burnt
+    # d(p V^n) = (n - 1) V^(n-1) dQ, integrated by the trapezoidal rule from the start
+    integrand = (n2 - 1.0) * v_after ** (n2 - 1.0)
+    dq = np.diff(q, prepend=0.0)
+    mid = 0.5 * (integrand + np.concatenate([[integrand[0]], integrand[:-1]]))
+    pvn = p_start * v_start**n2 + np.cumsum(mid * dq)
+    p[after] = pvn / v_after**n2
+    return alpha, p
+
+
+def model_pressure(
+    spec: GasModelSpec, bore: float, radius: float, length: float, offset: float, cycle: str
+) -> tuple[FloatArray, FloatArray]:
+    """The parametric model's pressure trace (see the module notes).
+
+    Parameters
+    ----------
+    spec : GasModelSpec
+        The ``gas: model:`` parameters.
+    bore, radius, length, offset : float
+        Bore, crank radius, conrod length and offset of the cylinder [m].
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+
+    Returns
+    -------
+    angle, pressure : ndarray
+        Cycle angle from firing TDC [deg], every 0.05 deg over one cycle, and absolute
+        pressure [Pa].
+    """
+    cycle_deg = cycle_degrees(cycle)
+    if spec.heat_released is not None:
+        return _model_table(spec, bore, radius, length, offset, cycle_deg, spec.heat_released)
+    target = float(spec.peak_pressure)  # type: ignore[arg-type]
+
+    def peak(heat: float) -> float:
+        return float(_model_table(spec, bore, radius, length, offset, cycle_deg, heat)[1].max())
+
+    low, high = 0.0, 100.0
+    if peak(low) >= target:
+        return _model_table(spec, bore, radius, length, offset, cycle_deg, 0.0)
+    while peak(high) < target:
+        high *= 2.0
+    for _ in range(60):
+        mid = 0.5 * (low + high)
+        if peak(mid) < target:
+            low = mid
+        else:
+            high = mid
+        if high - low <= 1e-10 * high:
+            break
+    return _model_table(spec, bore, radius, length, offset, cycle_deg, 0.5 * (low + high))
+
+
+def pressure_at(
+    gas: GasInput,
+    alpha_deg: FloatArray,
+    radius: FloatArray,
+    length: FloatArray,
+    offset: FloatArray,
+    cycle: str,
+) -> FloatArray:
+    """Absolute pressure [Pa] of each cylinder at cycle angles ``alpha_deg`` (cylinders, N).
+
+    Linear interpolation, periodic over the cycle, in the trace or the model's table.
+    """
+    alpha = np.asarray(alpha_deg, dtype=np.float64)
+    out = np.empty(alpha.shape)
+    tables: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
+    for i in range(alpha.shape[0]):
+        if gas.angle is not None and gas.pressure is not None:
+            angle, pressure = gas.angle, gas.pressure
+        else:
+            assert gas.model is not None
+            key = (float(radius[i]), float(length[i]), float(offset[i]))
+            if key not in tables:
+                tables[key] = model_pressure(gas.model, gas.bore, *key, cycle)
+            angle, pressure = tables[key]
+        out[i] = np.interp(alpha[i], angle, pressure, period=gas.cycle_deg)
+    return out

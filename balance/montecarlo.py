@@ -1,0 +1,275 @@
+r"""Tolerance studies: Monte Carlo over part-mass and geometry scatter, per cylinder.
+
+Each sample draws every scattered field independently for every cylinder (or for the one
+cylinder named, ``cylinders[3].reciprocating``) around the layout's value, and computes the
+free forces and moments of order k (vectorised over the samples, in chunks).  The balancing
+proposal is designed once, for the nominal layout (:func:`balance.analysis.balance_engine`),
+and stays as built: the residual *with balancing* is each sample's reciprocating and rotating
+phasors plus the nominal proposal's counterweights and shafts; *without* it, the engine's
+own free force and moment (reciprocating + rotating).
+
+Scatter is written ``FIELD=±TOL`` (``+-`` also accepted), with the fields of
+:mod:`balance.sweep` that belong to a cylinder: ``reciprocating``, ``rotating``,
+``stroke``, ``crank_radius``, ``conrod_length``, ``offset``, ``z``, ``throw``, ``bank``.
+By default a value is uniform in ``[nominal - TOL, nominal + TOL]``; with
+``distribution="normal"`` it is normal with standard deviation ``TOL/3``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import kinematics, phasors
+from .analysis import balance_engine, compute, parse_orders
+from .balancing import proposal_phasors
+from .errors import AnalysisError, InputError
+from .layout import Layout
+from .sweep import Field, parse_field
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+__all__ = ["PERCENTILES", "Scatter", "ToleranceResult", "histogram", "parse_scatter", "tolerance"]
+
+FloatArray = NDArray[np.float64]
+PERCENTILES = (50.0, 90.0, 99.0, 99.9, 100.0)
+
+
+@dataclass(frozen=True)
+class Scatter:
+    """A scattered field and its tolerance (SI, degrees for angles)."""
+
+    field: Field
+    tolerance: float
+
+
+def parse_scatter(text: str, layout: Layout) -> Scatter:
+    """Read ``FIELD=±TOL`` (e.g. ``masses.reciprocating=±3g``).
+
+    Raises
+    ------
+    InputError
+        If the field is not a numeric per-cylinder field or the tolerance is malformed.
+    """
+    from .units import UnitProblem, parse_quantity
+
+    if "=" not in text:
+        raise InputError(
+            f"--scatter: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
+        )
+    name, _, spec = text.partition("=")
+    from .sweep import _CYLINDER_FIELDS
+
+    key = name.strip()
+    if key in _CYLINDER_FIELDS and key in {"throw", "bank", "z"}:
+        attribute, kind = _CYLINDER_FIELDS[key]
+        field = Field(key, key, attribute, kind, key, None)
+    else:
+        field = parse_field(name, layout, option="--scatter")
+    if field.attribute in {"speed", "reference_z"}:
+        raise InputError(
+            f"--scatter: '{name.strip()}' is not a part or geometry field of a cylinder; "
+            "scatter masses, stroke, conrod_length, offset, z, throw or bank"
+        )
+    spec = spec.strip()
+    for prefix in ("±", "+-", "+/-"):
+        if spec.startswith(prefix):
+            spec = spec[len(prefix) :]
+            break
+    else:
+        raise InputError(f"--scatter: {field.text}: write the tolerance as ±TOL, e.g. ±3g")
+    try:
+        tol = parse_quantity(spec.strip(), field.kind)
+    except UnitProblem as exc:
+        raise InputError(f"--scatter: {field.text}: {exc}; {exc.valid}") from None
+    if not tol >= 0:
+        raise InputError(f"--scatter: {field.text}: the tolerance must not be negative")
+    return Scatter(field, tol)
+
+
+@dataclass(frozen=True)
+class ToleranceResult:
+    """Distributions of the residual free forces and moments.
+
+    Attributes
+    ----------
+    orders : ndarray of int
+    samples : int
+    force, moment : dict of str to ndarray
+        ``"free"`` and ``"balanced"``: peaks per sample and order, shape
+        ``(samples, orders)`` [N] and [N m].
+    seconds : float
+        Time of the computation [s].
+    """
+
+    orders: NDArray[np.intp]
+    samples: int
+    force: dict[str, FloatArray]
+    moment: dict[str, FloatArray]
+    seconds: float
+
+    def percentiles(self, q: Sequence[float] = PERCENTILES) -> dict[str, FloatArray]:
+        """Percentiles [N, N m], keyed ``force_free``, ``force_balanced``, ``moment_free``,
+        ``moment_balanced``, each of shape ``(len(q), orders)``."""
+        out = {}
+        for what, table in (("force", self.force), ("moment", self.moment)):
+            for key, values in table.items():
+                out[f"{what}_{key}"] = np.percentile(values, q, axis=0)
+        return out
+
+
+def tolerance(
+    layout: Layout,
+    scatter: Sequence[Scatter | str],
+    *,
+    samples: int = 100_000,
+    orders: int | str | Sequence[int] | None = "1-2",
+    distribution: str = "uniform",
+    seed: int | None = 0,
+    model: str = "exact",
+    chunk_size: int = 100_000,
+) -> ToleranceResult:
+    """Monte Carlo tolerance study (see the module notes).
+
+    Parameters
+    ----------
+    layout : Layout
+        The nominal engine.
+    scatter : sequence of Scatter or str
+        Scattered fields (``"reciprocating=±3g"``...).
+    samples : int
+        Number of engines drawn.
+    orders : int, str or sequence of int
+        Orders reported (default 1 and 2).
+    distribution : {'uniform', 'normal'}
+        Uniform over ±TOL, or normal with sigma TOL/3.
+    seed : int, optional
+        Random seed (the same seed gives the same samples).
+    model : {'exact', 'series', 'textbook'}
+        Piston acceleration model.
+    chunk_size : int
+        Samples per chunk (memory).
+
+    Returns
+    -------
+    ToleranceResult
+    """
+    import time
+
+    t0 = time.perf_counter()
+    items = [s if isinstance(s, Scatter) else parse_scatter(s, layout) for s in scatter]
+    if not items:
+        raise InputError("--scatter: give at least one field to scatter")
+    if distribution not in {"uniform", "normal"}:
+        raise InputError(f"--distribution: {distribution!r}; valid: uniform, normal")
+    if samples < 1:
+        raise InputError("--samples: must be at least 1")
+    ks = parse_orders(orders)
+    nominal = compute(layout, ks, model=model, roll=False)
+    balanced = balance_engine(layout, nominal)
+    added = proposal_phasors(balanced.proposal, layout, ks)
+    rng = np.random.default_rng(seed)
+    n = layout.n_cylinders
+    first = ks == 1
+    w2 = layout.speed**2
+    out = {
+        f"{w}_{k}": np.empty((samples, ks.size))
+        for w in ("force", "moment")
+        for k in ("free", "balanced")
+    }
+    for lo in range(0, samples, chunk_size):
+        m = min(chunk_size, samples - lo)
+        p = {
+            name: np.broadcast_to(getattr(layout, name), (m, n)).copy()
+            for name in (
+                "throw",
+                "bank",
+                "z",
+                "crank_radius",
+                "conrod_length",
+                "offset",
+                "reciprocating_mass",
+                "rotating_mass",
+            )
+        }
+        for s in items:
+            shape = (m, n) if s.field.cylinder is None else (m,)
+            if distribution == "uniform":
+                draw = rng.uniform(-1.0, 1.0, shape) * s.tolerance
+            else:
+                draw = rng.normal(0.0, s.tolerance / 3.0, shape)
+            delta = s.field.to_layout_units(draw)
+            if s.field.cylinder is None:
+                p[s.field.attribute] += delta
+            else:
+                p[s.field.attribute][:, s.field.cylinder] += delta
+        r = p["crank_radius"]
+        try:
+            coeffs = kinematics.acceleration_coefficients(
+                r / p["conrod_length"], p["offset"] / r, ks, model=model
+            )
+        except AnalysisError as exc:
+            raise InputError(
+                f"--scatter: some samples have an impossible geometry: {exc}"
+            ) from None
+        if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
+            raise InputError("--scatter: the scatter makes some masses negative; reduce it")
+        amp = p["reciprocating_mass"] * r * w2
+        lever = p["z"] - layout.reference_z
+        f_fwd, f_bwd = phasors.reciprocating_phasors(amp, coeffs, p["throw"], p["bank"], ks)
+        m_fwd, m_bwd = phasors.reciprocating_phasors(
+            amp, coeffs, p["throw"], p["bank"], ks, lever=lever
+        )
+        rot_amp = p["rotating_mass"] * r * w2
+        rot_f = phasors.rotating_phasor(rot_amp, p["throw"])[:, None]
+        rot_m = phasors.rotating_phasor(rot_amp, p["throw"], lever)[:, None]
+        f_fwd = f_fwd + first * rot_f
+        m_fwd = m_fwd + first * rot_m
+        sl = slice(lo, lo + m)
+        out["force_free"][sl] = np.abs(f_fwd) + np.abs(f_bwd)
+        out["moment_free"][sl] = np.abs(m_fwd) + np.abs(m_bwd)
+        out["force_balanced"][sl] = np.abs(f_fwd + added.force_forward) + np.abs(
+            f_bwd + added.force_backward
+        )
+        out["moment_balanced"][sl] = np.abs(m_fwd + added.moment_forward) + np.abs(
+            m_bwd + added.moment_backward
+        )
+    return ToleranceResult(
+        orders=ks,
+        samples=samples,
+        force={"free": out["force_free"], "balanced": out["force_balanced"]},
+        moment={"free": out["moment_free"], "balanced": out["moment_balanced"]},
+        seconds=time.perf_counter() - t0,
+    )
+
+
+def histogram(result: ToleranceResult, *, bins: int = 60) -> Figure:
+    """Histograms of the residual peaks with balancing, one panel per quantity and order.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Built with the object-oriented API (no pyplot).
+    """
+    from matplotlib.figure import Figure
+
+    K = result.orders.size
+    fig = Figure(figsize=(4.0 * K, 6.0), layout="constrained")
+    axes = fig.subplots(2, K, squeeze=False)
+    for row, (what, table, unit) in enumerate(
+        (("force", result.force, "N"), ("moment", result.moment, "N m"))
+    ):
+        for col, k in enumerate(result.orders):
+            ax = axes[row][col]
+            values = table["balanced"][:, col]
+            ax.hist(values, bins=bins, color="tab:blue")
+            ax.set_title(f"order {int(k)}: residual {what} with balancing")
+            ax.set_xlabel(f"peak {what} [{unit}]")
+            ax.set_ylabel("samples")
+    fig.suptitle(f"tolerance study, {result.samples} samples")
+    return fig

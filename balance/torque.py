@@ -1,0 +1,219 @@
+r"""Gas and inertia forces on the crank train, engine torque, roll with half orders, flywheel.
+
+Computed over one working cycle (720 deg four-stroke, 360 deg two-stroke) at constant crank
+speed, for a layout with a ``gas:`` section.  Per cylinder, with :math:`\beta` the crank
+angle from its TDC direction, :math:`\psi` the conrod angle
+(:math:`\sin\psi = (r\sin\beta - e)/l`) and :math:`s` the piston pin's distance from the
+crank axis:
+
+.. math::
+
+    P_g &= (p - p_0)A, \qquad P_j = m_\mathrm{rec}\,\omega^2 s''(\beta), \qquad
+    P = P_g + P_j \\
+    N &= P\tan\psi, \quad S = P/\cos\psi, \quad
+    T = P\,\frac{\sin(\beta+\psi)}{\cos\psi} = -P\,\frac{s'(\beta)}{r}, \quad
+    K = P\,\frac{\cos(\beta+\psi)}{\cos\psi} \\
+    M &= T\,r = -P\,s'(\beta)
+
+:math:`P` is positive towards the crank (pushing the rod), :math:`T` in the direction of
+rotation, :math:`K` towards the crank axis, :math:`N` (the piston on the wall) towards
+:math:`-X` (away from the side the pin moves to after TDC).  :math:`M = -P s'` is the virtual
+work of the pin force, exact with an offset.  The engine torque is the sum over cylinders,
+each at its own firing phase; the block receives the roll torque
+
+.. math::
+
+    R(\theta) = \sum_i \left[\omega^2\left(m_\mathrm{rec} r^2 g_\mathrm{rec}(\beta_i) +
+    \Delta I\,g_\mathrm{rod}(\beta_i)\right) - P_{g,i}\,(-s_i')\right]
+
+(the core's inertia roll, :func:`balance.kinematics.roll_coefficients`, plus the reaction to
+the gas torque), analysed into orders :math:`k = 1/2, 1, 3/2, \dots` (four-stroke) over the
+cycle.
+
+References
+----------
+Seed 001 (forces on the pin, rod and crank, torque summation, speed fluctuation and
+flywheel); Kolchin and Demidov, *Design of Automotive Engines*, Mir 1984, ch. 8–9; Taylor,
+*The Internal Combustion Engine in Theory and Practice*, vol. 2, MIT Press 1985, ch. 8.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import phasors
+from .errors import InputError
+from .gas import pressure_at
+from .kinematics import conrod_angle_derivatives, normalised_slider
+from .layout import Layout
+
+__all__ = ["CYCLE_SAMPLES_PER_DEGREE", "TorqueResult", "compute_torque", "roll_orders"]
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+#: Crank angles per degree of the cycle grid (0.25 deg).
+CYCLE_SAMPLES_PER_DEGREE = 4
+
+
+@dataclass(frozen=True)
+class TorqueResult:
+    """Forces, torque and roll over one cycle (SI; angles in degrees).
+
+    Per-cylinder arrays have shape ``(cylinders, angles)``; ``crank_angle`` is the engine's
+    crank angle :math:`\\theta` [deg] over the cycle.
+    """
+
+    crank_angle: FloatArray
+    pressure: FloatArray
+    gas_force: FloatArray
+    inertia_force: FloatArray
+    piston_force: FloatArray
+    side_thrust: FloatArray
+    rod_force: FloatArray
+    tangential_force: FloatArray
+    radial_force: FloatArray
+    cylinder_torque: FloatArray
+    engine_torque: FloatArray
+    roll_torque: FloatArray
+    roll_orders: FloatArray
+    roll: ComplexArray
+    firing_tdc: FloatArray
+    mean: float
+    maximum: float
+    minimum: float
+    nonuniformity: float
+    excess_work: float
+    speed_fluctuation: float
+    flywheel_inertia: float
+    cycle_deg: float
+
+
+def roll_orders(orders: NDArray[np.intp], cycle: str) -> FloatArray:
+    """Roll orders reported with gas: halves up to the highest order for a four-stroke."""
+    top = int(np.max(orders))
+    if cycle == "four-stroke":
+        return np.arange(1, 2 * top + 1) / 2.0
+    return np.asarray(orders, dtype=np.float64)
+
+
+def compute_torque(layout: Layout, orders: NDArray[np.intp]) -> TorqueResult:
+    r"""Forces, torque, roll and flywheel of a layout with gas forces.
+
+    Parameters
+    ----------
+    layout : Layout
+        The engine, with a ``gas:`` section (:attr:`Layout.gas`).
+    orders : ndarray of int
+        The analysis orders; the roll is reported for :func:`roll_orders`.
+
+    Returns
+    -------
+    TorqueResult
+
+    Raises
+    ------
+    InputError
+        If the layout has no ``gas:`` section.
+
+    Notes
+    -----
+    The cycle is sampled every 0.25 deg; means are taken by the trapezoidal rule over the
+    periodic grid.  Speed fluctuation and flywheel, with :math:`\bar M` the mean torque and
+    :math:`E(\theta) = \int_0^\theta (M - \bar M)\,\mathrm{d}\theta` the excess work:
+
+    .. math::
+
+        A = \max E - \min E, \qquad \delta = \frac{\omega_{max}-\omega_{min}}{\omega} =
+        \frac{A}{J\omega^2}, \qquad J = \frac{A}{\delta\,\omega^2}
+
+    (from :math:`\tfrac12 J(\omega_{max}^2 - \omega_{min}^2) = A`).
+    """
+    gas = layout.gas
+    if gas is None:
+        raise InputError(f"{layout.name}: no gas section; the torque needs a pressure trace")
+    cycle_deg = gas.cycle_deg
+    samples = round(cycle_deg * CYCLE_SAMPLES_PER_DEGREE)
+    theta = cycle_deg * np.arange(samples) / samples
+    throw_deg = np.degrees(layout.throw)[:, None]
+    bank_deg = np.degrees(layout.bank)[:, None]
+    beta = np.radians(np.mod(theta[None, :] + throw_deg - bank_deg, 360.0))
+    alpha = np.mod(theta[None, :] - gas.firing_tdc[:, None], cycle_deg)
+    r = layout.crank_radius[:, None]
+    length = layout.conrod_length[:, None]
+    e = layout.offset[:, None]
+    lam = r / length
+    eps = e / r
+    w2 = layout.speed**2
+    pressure = pressure_at(
+        gas, alpha, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle
+    )
+    _, ds, d2s = normalised_slider(beta, lam, eps)
+    sin_psi = lam * (np.sin(beta) - eps)
+    cos_psi = np.sqrt(1.0 - sin_psi**2)
+    psi = np.arcsin(sin_psi)
+    gas_force = (pressure - gas.crankcase_pressure) * gas.piston_area
+    inertia_force = layout.reciprocating_mass[:, None] * w2 * r * d2s
+    piston = gas_force + inertia_force
+    side = piston * sin_psi / cos_psi
+    rod = piston / cos_psi
+    tangential = -piston * ds
+    radial = piston * np.cos(beta + psi) / cos_psi
+    cylinder_torque = tangential * r
+    engine = cylinder_torque.sum(axis=0)
+    dg, d2g = conrod_angle_derivatives(beta, lam, eps)
+    inertia_roll = w2 * (
+        layout.reciprocating_mass[:, None] * r**2 * d2s * (ds + eps)
+        + layout.conrod_inertia_correction[:, None] * d2g * (1.0 + dg)
+    )
+    gas_torque = -gas_force * ds * r
+    per_cylinder_roll = inertia_roll - gas_torque
+    roll_t = per_cylinder_roll.sum(axis=0)
+    ks = roll_orders(orders, layout.cycle)
+    revolutions = cycle_deg / 360.0
+    bins = np.round(ks * revolutions).astype(np.intp)
+    spectrum = np.fft.fft(roll_t) / samples
+    roll = 2.0 * spectrum[bins % samples]
+    scale = float(np.sum(np.max(np.abs(per_cylinder_roll), axis=1)))
+    roll = phasors.cancel_to_zero(roll, scale, 8 * layout.n_cylinders * int(math.log2(samples)))
+    mean = float(np.mean(engine))
+    step = math.radians(cycle_deg / samples)
+    excess = np.concatenate([[0.0], np.cumsum(0.5 * (engine + np.roll(engine, -1)) - mean) * step])
+    excess_work = float(excess.max() - excess.min())
+    if gas.flywheel_inertia is not None:
+        inertia = gas.flywheel_inertia
+        delta = excess_work / (inertia * w2)
+    elif gas.speed_fluctuation is not None:
+        delta = gas.speed_fluctuation
+        inertia = excess_work / (delta * w2)
+    else:
+        inertia = delta = math.nan
+    return TorqueResult(
+        crank_angle=theta,
+        pressure=pressure,
+        gas_force=gas_force,
+        inertia_force=inertia_force,
+        piston_force=piston,
+        side_thrust=side,
+        rod_force=rod,
+        tangential_force=tangential,
+        radial_force=radial,
+        cylinder_torque=cylinder_torque,
+        engine_torque=engine,
+        roll_torque=roll_t,
+        roll_orders=ks,
+        roll=roll,
+        firing_tdc=gas.firing_tdc,
+        mean=mean,
+        maximum=float(engine.max()),
+        minimum=float(engine.min()),
+        nonuniformity=float((engine.max() - engine.min()) / mean) if mean != 0 else math.nan,
+        excess_work=excess_work,
+        speed_fluctuation=float(delta),
+        flywheel_inertia=float(inertia),
+        cycle_deg=cycle_deg,
+    )
