@@ -36,6 +36,7 @@ from .units import UnitProblem
 from .yamlsource import SourceDocument, decode_text, dotted_path, parse_yaml
 
 __all__ = [
+    "CYLINDER_FIELDS",
     "Layout",
     "builtin_layout_names",
     "builtin_layout_path",
@@ -46,6 +47,19 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+
+#: The per-cylinder arrays of a :class:`Layout`, in order.
+CYLINDER_FIELDS = (
+    "throw",
+    "bank",
+    "z",
+    "crank_radius",
+    "conrod_length",
+    "offset",
+    "reciprocating_mass",
+    "rotating_mass",
+    "conrod_inertia_correction",
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -131,26 +145,14 @@ class Layout:
     def reordered(self, order: NDArray[np.intp] | list[int]) -> Layout:
         """The same engine with its cylinders renumbered (``order`` is a permutation).
 
-        Throw angles are re-referenced so that the new first cylinder's throw is unchanged
-        relative to the others; the crank angle origin therefore moves with it.
+        Only the numbering changes: every cylinder keeps its throw, bank and position, so
+        the crank angle origin stays where it was.  The firing order is dropped (its
+        numbers would no longer match).
         """
         idx = np.asarray(order, dtype=np.intp)
         if sorted(idx.tolist()) != list(range(self.n_cylinders)):
             raise InputError("order must be a permutation of the cylinder indices")
-        arrays = {
-            name: getattr(self, name)[idx]
-            for name in (
-                "throw",
-                "bank",
-                "z",
-                "crank_radius",
-                "conrod_length",
-                "offset",
-                "reciprocating_mass",
-                "rotating_mass",
-                "conrod_inertia_correction",
-            )
-        }
+        arrays = {name: getattr(self, name)[idx] for name in CYLINDER_FIELDS}
         gas = self.gas.reordered(idx) if self.gas is not None else None
         return replace(self, firing_order=None, spec=None, gas=gas, **arrays)
 
@@ -449,17 +451,7 @@ def _build(doc: SourceDocument) -> Layout:
     geometry = spec.geometry
     values: dict[str, list[float]] = {
         k: []
-        for k in (
-            "throw",
-            "bank",
-            "z",
-            "crank_radius",
-            "conrod_length",
-            "offset",
-            "reciprocating_mass",
-            "rotating_mass",
-            "conrod_inertia_correction",
-        )
+        for k in CYLINDER_FIELDS
     }
     for i, cyl in enumerate(cylinders):
         g = cyl.overrides(GEOMETRY_KEYS)

@@ -55,7 +55,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import kinematics, phasors
 from .analysis import parse_orders
 from .errors import AnalysisError, InputError
-from .layout import Layout
+from .layout import CYLINDER_FIELDS, Layout
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -412,20 +412,7 @@ def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
     """Layout arrays for one chunk: grid dims leading, cylinders last; broadcastable."""
     layout = plan.layout
     ndim = len(plan.varies)
-    params: dict[str, Any] = {
-        name: getattr(layout, name)
-        for name in (
-            "throw",
-            "bank",
-            "z",
-            "crank_radius",
-            "conrod_length",
-            "offset",
-            "reciprocating_mass",
-            "rotating_mass",
-            "conrod_inertia_correction",
-        )
-    }
+    params: dict[str, Any] = {name: getattr(layout, name) for name in CYLINDER_FIELDS}
     params["speed"] = np.float64(layout.speed)
     params["reference_z"] = np.float64(layout.reference_z)
     n = layout.n_cylinders
