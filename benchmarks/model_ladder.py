@@ -264,7 +264,11 @@ def main() -> None:
             "mpmath reference; times are the best of five repeats. See "
             "`benchmarks/model_ladder.py` for exactly what is timed.\n\n"
             + table
-            + "\n![error against time](_static/model_ladder.png)\n\n"
+            + "\n"
+            + "The start-up ratio is the noisiest figure here: on this shared 2-core machine "
+            "repeated runs of the same measurement gave 1.21–1.42 ×; what the command line "
+            "loads beyond xarray is mostly pydantic (about 80 ms, also needed by typer) and "
+            "typer (about 40 ms).\n\n" + "![error against time](_static/model_ladder.png)\n\n"
             "The documented bounds are those of {mod}`balance.accuracy`; the tolerance mode "
             "(`--tolerance`) picks the first model down the ladder textbook → series "
             "(up to 12 terms) → exact whose bound meets the tolerance.\n",
