@@ -28,7 +28,7 @@ from . import kinematics, phasors
 from .analysis import balance_engine, compute, parse_orders
 from .balancing import proposal_phasors
 from .errors import AnalysisError, InputError
-from .layout import Layout
+from .layout import CYLINDER_FIELDS, Layout
 from .sweep import Field, parse_field
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -186,16 +186,8 @@ def tolerance(
         m = min(chunk_size, samples - lo)
         p = {
             name: np.broadcast_to(getattr(layout, name), (m, n)).copy()
-            for name in (
-                "throw",
-                "bank",
-                "z",
-                "crank_radius",
-                "conrod_length",
-                "offset",
-                "reciprocating_mass",
-                "rotating_mass",
-            )
+            for name in CYLINDER_FIELDS
+            if name != "conrod_inertia_correction"  # roll is not part of the study
         }
         for s in items:
             shape = (m, n) if s.field.cylinder is None else (m,)
