@@ -170,13 +170,7 @@ def compute(
         )
     else:
         m_fwd, m_bwd = nan, nan
-    rot_amp = layout.rotating_mass * r * omega2
-    rot_force = complex(phasors.rotating_phasor(rot_amp, layout.throw))
-    rot_moment = (
-        complex(phasors.rotating_phasor(rot_amp, layout.throw, lever))
-        if moments
-        else (complex(np.nan, np.nan))
-    )
+    rot_force, rot_moment = _rotating(layout, moments)
     if roll:
         g_rec, g_rod = kinematics.roll_coefficients(ratio, offset_ratio, ks)
         roll_ph = phasors.roll_phasors(
@@ -190,7 +184,6 @@ def compute(
         )
     else:
         roll_ph = nan
-    reference_force = float(np.mean(layout.reciprocating_mass) * np.mean(r) * omega2)
     bound = accuracy.error_bound(model, ratio, offset_ratio, terms=terms, max_order=int(ks.max()))
     return Phasors(
         orders=ks,
@@ -204,10 +197,27 @@ def compute(
         acceleration_coefficients=coeffs,
         model=model,
         terms=terms,
-        reference_force=reference_force,
+        reference_force=_reference_force(layout),
         reference_z=layout.reference_z,
         error_bound=bound,
     )
+
+
+def _reference_force(layout: Layout) -> float:
+    """:math:`F_1 = m_{rec} r \\omega^2` with the engine means of mass and radius [N]."""
+    return float(
+        np.mean(layout.reciprocating_mass) * np.mean(layout.crank_radius) * layout.speed**2
+    )
+
+
+def _rotating(layout: Layout, moments: bool) -> tuple[complex, complex]:
+    """Rotating force and (if asked) moment phasors, order 1 forward [N, N m]."""
+    amplitude = layout.rotating_mass * layout.crank_radius * layout.speed**2
+    force = complex(phasors.rotating_phasor(amplitude, layout.throw))
+    if not moments:
+        return force, complex(np.nan, np.nan)
+    lever = layout.z - layout.reference_z
+    return force, complex(phasors.rotating_phasor(amplitude, layout.throw, lever))
 
 
 def _compute_time(
@@ -240,9 +250,7 @@ def _compute_time(
     lever = layout.z - layout.reference_z
     nan = np.full(ks.size, np.nan + 0j)
     m_fwd, m_bwd = nan, nan
-    rot_amp = layout.rotating_mass * r * omega2
-    rot_force = complex(phasors.rotating_phasor(rot_amp, layout.throw))
-    rot_moment = complex(np.nan, np.nan)
+    rot_force, rot_moment = _rotating(layout, moments)
     if moments:
         moment_scale = float(np.sum(amp * np.abs(lever)))
         m_fwd, m_bwd = timedomain.phasors_from_samples(
@@ -250,7 +258,6 @@ def _compute_time(
         )
         m_fwd = phasors.cancel_to_zero(m_fwd, moment_scale, n * 4)
         m_bwd = phasors.cancel_to_zero(m_bwd, moment_scale, n * 4)
-        rot_moment = complex(phasors.rotating_phasor(rot_amp, layout.throw, lever))
     roll_ph = nan
     if roll:
         roll_scale = float(
@@ -277,7 +284,7 @@ def _compute_time(
         acceleration_coefficients=coeffs,
         model="time",
         terms=0,
-        reference_force=float(np.mean(layout.reciprocating_mass) * np.mean(r) * omega2),
+        reference_force=_reference_force(layout),
         reference_z=layout.reference_z,
         samples=samples,
         error_bound=accuracy.error_bound(

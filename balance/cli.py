@@ -100,7 +100,10 @@ class Model(StrEnum):
     time = "time"
 
 
-def _parse_speed(text: str) -> float:
+def _parse_speed(text: str | None) -> float | None:
+    """The ``--speed`` option in rad/s (None when it is not given)."""
+    if text is None:
+        return None
     from .units import UnitProblem, parse_quantity
 
     try:
@@ -117,6 +120,23 @@ def _console() -> Any:
     if sys.stdout.isatty():
         return Console()
     return Console(width=240)
+
+
+def _check_output(output: Path | None, force: bool, binary: bool) -> None:
+    """Refuse an output that cannot be written before any work is done."""
+    if output is not None:
+        from .output import check_target
+
+        check_target(output, force)
+    elif binary:
+        raise InputError("--format netcdf writes a binary file; give -o PATH")
+
+
+def _write_netcdf(ds: Any, output: Path, force: bool) -> None:
+    from .output import write_atomic
+
+    write_atomic(output, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"), force=force)
+    sys.stderr.write(f"balance: wrote {output}\n")
 
 
 def _emit_text(text: str, output: Path | None, force: bool) -> None:
@@ -183,13 +203,8 @@ def analyse_command(
     from .layout import load_layout
 
     order_list = parse_orders(orders)
-    speed_value = _parse_speed(speed) if speed is not None else None
-    if output is not None:
-        from .output import check_target
-
-        check_target(output, force)
-    elif format is Format.netcdf:
-        raise InputError("--format netcdf writes a binary file; give -o PATH")
+    speed_value = _parse_speed(speed)
+    _check_output(output, force, binary=format is Format.netcdf)
     if tolerance is not None and model is not None:
         raise InputError("give --model or --tolerance, not both")
     if tolerance is not None and not (tolerance > 0 and tolerance < 1):
@@ -221,11 +236,8 @@ def _write(
 
         _emit_text(to_csv(ds), output, force)
     elif format is Format.netcdf:
-        from .output import write_atomic
-
         assert output is not None
-        write_atomic(output, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"), force=force)
-        sys.stderr.write(f"balance: wrote {output}\n")
+        _write_netcdf(ds, output, force)
     else:
         from rich.console import Console, Group
 
@@ -336,13 +348,8 @@ def propose_command(
         if counterweight_radius
         else None
     )
-    speed_value = _parse_speed(speed) if speed is not None else None
-    if output is not None:
-        from .output import check_target
-
-        check_target(output, force)
-    elif format is Format.netcdf:
-        raise InputError("--format netcdf writes a binary file; give -o PATH")
+    speed_value = _parse_speed(speed)
+    _check_output(output, force, binary=format is Format.netcdf)
     engine = load_layout(layout)
     ds = analyse(
         engine,
@@ -433,7 +440,7 @@ def compare_command(
 
     names = _expand_layout_args(layouts or [], all_builtin)
     order_list = parse_orders(orders)
-    speed_value = _parse_speed(speed) if speed is not None else None
+    speed_value = _parse_speed(speed)
     volume = None
     if displacement is not None:
         from .units import UnitProblem, parse_quantity
@@ -444,23 +451,15 @@ def compare_command(
             raise InputError(f"--displacement: {exc}; {exc.valid}") from None
         if volume <= 0:
             raise InputError("--displacement: must be more than zero")
-    if output is not None:
-        from .output import check_target
-
-        check_target(output, force)
-    elif format is CompareFormat.netcdf:
-        raise InputError("--format netcdf writes a binary file; give -o PATH")
+    _check_output(output, force, binary=format is CompareFormat.netcdf)
     engines = [load_layout(name) for name in names]
     labels = [Path(n).stem if n.endswith((".yaml", ".yml")) else n for n in names]
     ds = compare(
         engines, labels, order_list, speed=speed_value, displacement=volume, model=model.value
     )
     if format is CompareFormat.netcdf:
-        from .output import write_atomic
-
         assert output is not None
-        write_atomic(output, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"), force=force)
-        sys.stderr.write(f"balance: wrote {output}\n")
+        _write_netcdf(ds, output, force)
         return
     if format is CompareFormat.json:
         _emit_text(json.dumps(compare_json(ds), indent=2, allow_nan=False) + "\n", output, force)
@@ -530,7 +529,7 @@ def plot_command(
     from .layout import load_layout
 
     order_list = parse_orders(orders)
-    speed_value = _parse_speed(speed) if speed is not None else None
+    speed_value = _parse_speed(speed)
     if not output_dir.is_dir():
         raise InputError(f"{output_dir}: no such directory; create it first")
     engine = load_layout(layout)
@@ -561,7 +560,7 @@ def report_command(
     from .output import check_target
 
     order_list = parse_orders(orders)
-    speed_value = _parse_speed(speed) if speed is not None else None
+    speed_value = _parse_speed(speed)
     check_target(output, force)
     ds = analyse(load_layout(layout), order_list, speed=speed_value)
     from .report import write_report

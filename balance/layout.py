@@ -449,10 +449,7 @@ def _build(doc: SourceDocument) -> Layout:
         return doc.location((section, key)), f"{section}.{key}"
 
     geometry = spec.geometry
-    values: dict[str, list[float]] = {
-        k: []
-        for k in CYLINDER_FIELDS
-    }
+    values: dict[str, list[float]] = {k: [] for k in CYLINDER_FIELDS}
     for i, cyl in enumerate(cylinders):
         g = cyl.overrides(GEOMETRY_KEYS)
         if "stroke" in g:

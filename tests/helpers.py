@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+import pytest
+
 from balance.layout import Layout, layout_from_dict
 
 
@@ -33,3 +35,8 @@ def engine(
     }
     data.update(extra)
     return layout_from_dict(data)
+
+
+#: Image comparison against tests/baseline (pytest-mpl is a test dependency and ``--mpl`` is in
+#: the pytest options, so a missing plugin is an error, not a silent skip).
+image_compare = pytest.mark.mpl_image_compare(baseline_dir="baseline", tolerance=2, style="default")

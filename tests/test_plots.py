@@ -14,21 +14,12 @@ from functools import cache
 
 import numpy as np
 import pytest
-from helpers import engine
+from helpers import engine, image_compare
 
 import balance
 from balance import plots, synthesis, timedomain
 from balance.analysis import balance_engine, compute
 from balance.errors import InputError
-
-try:
-    import pytest_mpl  # noqa: F401
-except ImportError:  # pragma: no cover - the image tests need the plugin
-    image_compare = pytest.mark.skip(reason="pytest-mpl is not installed (pip install pytest-mpl)")
-else:
-    image_compare = pytest.mark.mpl_image_compare(
-        baseline_dir="baseline", tolerance=2, style="default"
-    )
 
 ORDERS = 40
 REL = 1e-9

@@ -85,7 +85,7 @@ def test_chunk_slices_cover_the_grid():
 
 
 def test_dask_cluster_gives_identical_result(tmp_path):
-    distributed = pytest.importorskip("distributed")
+    import distributed  # a test dependency
     layout = balance.load_layout("v6-90")
     local = sweep(layout, VARY, orders="1-4", chunk_size=7)
     with (

@@ -9,7 +9,7 @@ from functools import cache
 
 import numpy as np
 import pytest
-from helpers import engine
+from helpers import engine, image_compare
 
 import balance
 from balance import plots, timedomain
@@ -19,15 +19,6 @@ from balance.kinematics import piston_position
 from balance.layout import builtin_layout_path
 from balance.torque import compute_torque
 from balance.views.json import to_dict
-
-try:
-    import pytest_mpl  # noqa: F401
-except ImportError:  # pragma: no cover
-    image_compare = pytest.mark.skip(reason="pytest-mpl is not installed")
-else:
-    image_compare = pytest.mark.mpl_image_compare(
-        baseline_dir="baseline", tolerance=2, style="default"
-    )
 
 ORDERS = np.arange(1, 13)
 
