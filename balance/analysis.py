@@ -10,11 +10,11 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from . import accuracy, kinematics, phasors
 from .balancing import Proposal, proposal_phasors, propose
@@ -27,11 +27,14 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "DEFAULT_ORDERS",
     "Balanced",
+    "FreePhasors",
     "Phasors",
     "analyse",
     "balance_engine",
     "compute",
+    "free_phasors",
     "parse_orders",
+    "speed_squared",
 ]
 
 DEFAULT_ORDERS = 8
@@ -155,69 +158,234 @@ def compute(
     ks = parse_orders(orders)
     if model == "time":
         return _compute_time(layout, ks, samples, moments=moments, roll=roll)
-    omega2 = layout.speed**2
     r = layout.crank_radius
-    ratio = r / layout.conrod_length
-    offset_ratio = layout.offset / r
-    coeffs = kinematics.acceleration_coefficients(ratio, offset_ratio, ks, model=model, terms=terms)
-    amp = layout.reciprocating_mass * r * omega2
-    lever = layout.z - layout.reference_z
-    f_fwd, f_bwd = phasors.reciprocating_phasors(amp, coeffs, layout.throw, layout.bank, ks)
-    nan = np.full(ks.size, np.nan + 0j)
-    if moments:
-        m_fwd, m_bwd = phasors.reciprocating_phasors(
-            amp, coeffs, layout.throw, layout.bank, ks, lever=lever
-        )
-    else:
-        m_fwd, m_bwd = nan, nan
-    rot_force, rot_moment = _rotating(layout, moments)
-    if roll:
-        g_rec, g_rod = kinematics.roll_coefficients(ratio, offset_ratio, ks)
-        roll_ph = phasors.roll_phasors(
-            layout.reciprocating_mass * r**2 * omega2,
-            layout.conrod_inertia_correction * omega2,
-            g_rec,
-            g_rod,
-            layout.throw,
-            layout.bank,
-            ks,
-        )
-    else:
-        roll_ph = nan
-    bound = accuracy.error_bound(model, ratio, offset_ratio, terms=terms, max_order=int(ks.max()))
-    return Phasors(
-        orders=ks,
-        force_forward=f_fwd,
-        force_backward=f_bwd,
-        moment_forward=m_fwd,
-        moment_backward=m_bwd,
-        rotating_force=rot_force,
-        rotating_moment=rot_moment,
-        roll=roll_ph,
-        acceleration_coefficients=coeffs,
+    unit = free_phasors(
+        layout.reciprocating_mass,
+        layout.rotating_mass,
+        r,
+        layout.conrod_length,
+        layout.offset,
+        layout.throw,
+        layout.bank,
+        layout.z - layout.reference_z,
+        layout.conrod_inertia_correction,
+        ks,
         model=model,
         terms=terms,
-        reference_force=_reference_force(layout),
-        reference_z=layout.reference_z,
+        moments=moments,
+        roll=roll,
+    )
+    w2 = speed_squared(layout.speed)
+    bound = accuracy.error_bound(
+        model, r / layout.conrod_length, layout.offset / r, terms=terms, max_order=int(ks.max())
+    )
+    return _assemble(
+        layout,
+        ks,
+        unit.scaled(w2),
+        unit.coefficients,
+        model=model,
+        terms=terms,
         error_bound=bound,
     )
 
 
+def speed_squared(speed: ArrayLike) -> NDArray[np.float64]:
+    r""":math:`\omega^2` as ``speed * speed`` [rad²/s²].
+
+    Written as a product, not a power: ``x ** 2`` on a Python float calls the C library's
+    ``pow``, which need not round like the product that numpy computes for an array, and
+    a sweep and a single analysis must scale by the same number.
+    """
+    w = np.asarray(speed, dtype=np.float64)
+    return np.asarray(w * w)
+
+
+@dataclass(frozen=True)
+class FreePhasors:
+    r"""Phasor sums of one engine (or a grid of engines) at unit crank speed.
+
+    Every inertia force is proportional to :math:`\omega^2`; these are the sums with
+    :math:`\omega = 1` rad/s [kg m, kg m², kg m²]; :meth:`scaled` multiplies them by
+    :math:`\omega^2`.  Shapes: leading grid axes, then the orders (the rotating phasors
+    have no order axis).  Phasors not asked for are None.
+    """
+
+    force_forward: ComplexArray
+    force_backward: ComplexArray
+    rotating_force: ComplexArray
+    coefficients: ComplexArray
+    moment_forward: ComplexArray | None = None
+    moment_backward: ComplexArray | None = None
+    rotating_moment: ComplexArray | None = None
+    roll: ComplexArray | None = None
+
+    def scaled(self, omega_squared: ArrayLike) -> dict[str, ComplexArray | None]:
+        r"""The phasors at :math:`\omega^2` [N, N m]; ``omega_squared`` broadcasts against
+        the grid axes (give it a trailing axis of size one for the order axis)."""
+        w2 = np.asarray(omega_squared, dtype=np.float64)
+        w2_scalar = w2[..., 0] if w2.ndim else w2
+        out: dict[str, ComplexArray | None] = {}
+        for name in (
+            "force_forward",
+            "force_backward",
+            "moment_forward",
+            "moment_backward",
+            "roll",
+        ):
+            value = getattr(self, name)
+            out[name] = None if value is None else value * w2
+        out["rotating_force"] = self.rotating_force * w2_scalar
+        out["rotating_moment"] = (
+            None if self.rotating_moment is None else self.rotating_moment * w2_scalar
+        )
+        return out
+
+
+def free_phasors(
+    reciprocating_mass: ArrayLike,
+    rotating_mass: ArrayLike,
+    crank_radius: ArrayLike,
+    conrod_length: ArrayLike,
+    offset: ArrayLike,
+    throw: ArrayLike,
+    bank: ArrayLike,
+    lever: ArrayLike,
+    conrod_inertia_correction: ArrayLike,
+    orders: NDArray[np.intp],
+    *,
+    model: str = "exact",
+    terms: int = 3,
+    moments: bool = True,
+    roll: bool = True,
+) -> FreePhasors:
+    r"""Free force, moment and roll phasors at unit crank speed, over any grid of engines.
+
+    Parameters
+    ----------
+    reciprocating_mass, rotating_mass : array_like
+        Per cylinder [kg], cylinders on the last axis; leading axes broadcast (a sweep's
+        grid).
+    crank_radius, conrod_length, offset : array_like
+        Per cylinder [m].
+    throw, bank : array_like
+        Per cylinder [rad].
+    lever : array_like
+        :math:`z_i - z_{ref}` per cylinder [m].
+    conrod_inertia_correction : array_like
+        :math:`\Delta I` per cylinder [kg m²] (roll only).
+    orders : ndarray of int
+        The K orders.
+    model, terms
+        Acceleration model (:func:`balance.kinematics.acceleration_coefficients`).
+    moments, roll : bool
+        Whether to form the moment and roll sums.
+
+    Returns
+    -------
+    FreePhasors
+
+    Notes
+    -----
+    :func:`compute` (one engine) and :func:`balance.sweep.sweep` (a grid) both call this
+    function and then multiply by :math:`\omega^2`; each value is formed by the same
+    operations in the same order, so the two agree bit for bit.
+    """
+    r = np.asarray(crank_radius, dtype=np.float64)
+    ratio = r / np.asarray(conrod_length, dtype=np.float64)
+    offset_ratio = np.asarray(offset, dtype=np.float64) / r
+    coeffs = kinematics.acceleration_coefficients(
+        ratio, offset_ratio, orders, model=model, terms=terms
+    )
+    m_rec = np.asarray(reciprocating_mass, dtype=np.float64)
+    amp = m_rec * r
+    f_fwd, f_bwd = phasors.reciprocating_phasors(amp, coeffs, throw, bank, orders)
+    rot_amp = np.asarray(rotating_mass, dtype=np.float64) * r
+    out = FreePhasors(
+        force_forward=f_fwd,
+        force_backward=f_bwd,
+        rotating_force=phasors.rotating_phasor(rot_amp, throw),
+        coefficients=coeffs,
+    )
+    if moments:
+        m_fwd, m_bwd = phasors.reciprocating_phasors(amp, coeffs, throw, bank, orders, lever=lever)
+        out = replace(
+            out,
+            moment_forward=m_fwd,
+            moment_backward=m_bwd,
+            rotating_moment=phasors.rotating_phasor(rot_amp, throw, lever),
+        )
+    if roll:
+        g_rec, g_rod = kinematics.roll_coefficients(ratio, offset_ratio, orders)
+        out = replace(
+            out,
+            roll=phasors.roll_phasors(
+                m_rec * r**2, conrod_inertia_correction, g_rec, g_rod, throw, bank, orders
+            ),
+        )
+    return out
+
+
+def _assemble(
+    layout: Layout,
+    ks: NDArray[np.intp],
+    values: dict[str, ComplexArray | None],
+    coefficients: ComplexArray,
+    *,
+    model: str,
+    terms: int,
+    error_bound: float,
+    samples: int = 0,
+) -> Phasors:
+    """A :class:`Phasors` from the scaled phasors (None → NaN, not computed)."""
+    nan = np.full(ks.size, np.nan + 0j)
+
+    def get(name: str) -> ComplexArray:
+        value = values.get(name)
+        return nan if value is None else np.asarray(value, dtype=np.complex128)
+
+    def get_scalar(name: str) -> complex:
+        value = values.get(name)
+        return complex(np.nan, np.nan) if value is None else complex(value)
+
+    return Phasors(
+        orders=ks,
+        force_forward=get("force_forward"),
+        force_backward=get("force_backward"),
+        moment_forward=get("moment_forward"),
+        moment_backward=get("moment_backward"),
+        rotating_force=get_scalar("rotating_force"),
+        rotating_moment=get_scalar("rotating_moment"),
+        roll=get("roll"),
+        acceleration_coefficients=coefficients,
+        model=model,
+        terms=terms,
+        reference_force=_reference_force(layout),
+        reference_z=layout.reference_z,
+        samples=samples,
+        error_bound=error_bound,
+    )
+
+
 def _reference_force(layout: Layout) -> float:
-    """:math:`F_1 = m_{rec} r \\omega^2` with the engine means of mass and radius [N]."""
+    r""":math:`F_1 = m_{rec} r \omega^2` with the engine means of mass and radius [N]."""
     return float(
         np.mean(layout.reciprocating_mass) * np.mean(layout.crank_radius) * layout.speed**2
     )
 
 
-def _rotating(layout: Layout, moments: bool) -> tuple[complex, complex]:
+def _rotating(layout: Layout, moments: bool) -> dict[str, ComplexArray | None]:
     """Rotating force and (if asked) moment phasors, order 1 forward [N, N m]."""
-    amplitude = layout.rotating_mass * layout.crank_radius * layout.speed**2
-    force = complex(phasors.rotating_phasor(amplitude, layout.throw))
+    w2 = speed_squared(layout.speed)
+    amplitude = layout.rotating_mass * layout.crank_radius
+    force = phasors.rotating_phasor(amplitude, layout.throw) * w2
     if not moments:
-        return force, complex(np.nan, np.nan)
+        return {"rotating_force": force}
     lever = layout.z - layout.reference_z
-    return force, complex(phasors.rotating_phasor(amplitude, layout.throw, lever))
+    return {
+        "rotating_force": force,
+        "rotating_moment": phasors.rotating_phasor(amplitude, layout.throw, lever) * w2,
+    }
 
 
 def _compute_time(
@@ -242,29 +410,26 @@ def _compute_time(
     amp = layout.reciprocating_mass * r * omega2
     n = layout.n_cylinders
     force_scale = float(np.sum(amp))
+    values = _rotating(layout, moments)
     f_fwd, f_bwd = timedomain.phasors_from_samples(
         timedomain.reciprocating_force_samples(layout, theta), ks
     )
-    f_fwd = phasors.cancel_to_zero(f_fwd, force_scale, n * 4)
-    f_bwd = phasors.cancel_to_zero(f_bwd, force_scale, n * 4)
-    lever = layout.z - layout.reference_z
-    nan = np.full(ks.size, np.nan + 0j)
-    m_fwd, m_bwd = nan, nan
-    rot_force, rot_moment = _rotating(layout, moments)
+    values["force_forward"] = phasors.cancel_to_zero(f_fwd, force_scale, n * 4)
+    values["force_backward"] = phasors.cancel_to_zero(f_bwd, force_scale, n * 4)
     if moments:
+        lever = layout.z - layout.reference_z
         moment_scale = float(np.sum(amp * np.abs(lever)))
         m_fwd, m_bwd = timedomain.phasors_from_samples(
             timedomain.reciprocating_force_samples(layout, theta, lever=True), ks
         )
-        m_fwd = phasors.cancel_to_zero(m_fwd, moment_scale, n * 4)
-        m_bwd = phasors.cancel_to_zero(m_bwd, moment_scale, n * 4)
-    roll_ph = nan
+        values["moment_forward"] = phasors.cancel_to_zero(m_fwd, moment_scale, n * 4)
+        values["moment_backward"] = phasors.cancel_to_zero(m_bwd, moment_scale, n * 4)
     if roll:
         roll_scale = float(
             np.sum(layout.reciprocating_mass * r**2 + np.abs(layout.conrod_inertia_correction))
             * omega2
         )
-        roll_ph = phasors.cancel_to_zero(
+        values["roll"] = phasors.cancel_to_zero(
             timedomain.roll_phasors_from_samples(timedomain.roll_newton_euler(layout, theta), ks),
             roll_scale,
             n * 8,
@@ -272,20 +437,13 @@ def _compute_time(
     beta = theta[None, :]
     per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], offset_ratio[:, None])
     coeffs = 2.0 * np.fft.rfft(per_cylinder, axis=-1)[:, ks] / samples
-    return Phasors(
-        orders=ks,
-        force_forward=f_fwd,
-        force_backward=f_bwd,
-        moment_forward=m_fwd,
-        moment_backward=m_bwd,
-        rotating_force=rot_force,
-        rotating_moment=rot_moment,
-        roll=roll_ph,
-        acceleration_coefficients=coeffs,
+    return _assemble(
+        layout,
+        ks,
+        values,
+        coeffs,
         model="time",
         terms=0,
-        reference_force=_reference_force(layout),
-        reference_z=layout.reference_z,
         samples=samples,
         error_bound=accuracy.error_bound(
             "time", ratio, offset_ratio, samples=samples, max_order=k_max

@@ -50,6 +50,7 @@ def scale_layout(layout: Layout, factor: float) -> Layout:
         pitch=layout.pitch * factor,
         bore=layout.bore * factor,
         balance=balance,
+        mass_parts=layout.mass_parts.scaled(factor) if layout.mass_parts is not None else None,
     )
 
 

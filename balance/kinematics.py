@@ -21,6 +21,7 @@ analysis; three models give them:
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from math import comb
 
@@ -260,7 +261,7 @@ def fourier_coefficients(
         :math:`G_k = a_k - i b_k` for :math:`f(\beta) = a_0 + \sum_k (a_k\cos k\beta +
         b_k\sin k\beta)`, shape ``batch_shape + (len(orders),)``.
     samples : int
-        Number of samples used.
+        The largest number of samples used.
 
     Notes
     -----
@@ -273,16 +274,30 @@ def fourier_coefficients(
     than eight times the floor from one doubling to the next.  Real and imaginary parts
     below :math:`16\epsilon` of that scale are returned as exactly 0: they cannot be told
     from rounding (an unoffset slider has no odd orders above 1 and no sine terms).
+
+    Each function of the batch is decided on by itself: its coefficients are those of the
+    first resolution at which it converges, whatever the other functions need.  A
+    function therefore gets the same coefficients, bit for bit, alone or in any batch;
+    this is what lets a sweep reproduce a single analysis exactly.
     """
     orders_arr = np.asarray(orders, dtype=np.intp)
     k_max = int(orders_arr.max()) if orders_arr.size else 1
     n = max(int(min_samples), 8)
     while n < 4 * (k_max + 1):
         n *= 2
-    previous = None
+    size = math.prod(batch_shape)
+    noise = np.broadcast_to(np.asarray(noise_floor, dtype=np.float64), batch_shape).ravel()
+    # each function is taken at the first resolution at which it converges on its own, so
+    # its coefficients do not depend on what else is in the batch (a sweep and a single
+    # analysis agree bit for bit)
+    wanted_out = np.zeros((size, orders_arr.size), dtype=np.complex128)
+    scale_out = np.zeros(size)
+    pending = np.ones(size, dtype=bool)
+    previous: ComplexArray | None = None
+    used = n
     while True:
         beta = 2.0 * np.pi * np.arange(n) / n
-        values = np.asarray(sample(beta), dtype=np.float64).reshape(*batch_shape, n)
+        values = np.asarray(sample(beta), dtype=np.float64).reshape(size, n)
         spectrum = np.fft.rfft(values, axis=-1) / n
         # the floor is set by rounding in the samples themselves: a sharp peak (lambda
         # near 1) makes its rms much larger than the coefficients
@@ -291,31 +306,35 @@ def fourier_coefficients(
             np.sqrt(np.mean(values**2, axis=-1)),
         )
         floor = 8.0 * _EPS * np.maximum(scale, np.finfo(float).tiny)
-        tail = np.max(np.abs(spectrum[..., n // 4 :]), axis=-1, initial=0.0)
-        converged = bool(np.all(tail <= floor))
-        wanted = spectrum[..., orders_arr]
-        if not converged and previous is not None:
+        tail = np.max(np.abs(spectrum[:, n // 4 :]), axis=-1, initial=0.0)
+        wanted = spectrum[:, orders_arr]
+        converged = tail <= floor
+        if previous is not None:
             # very near the geometric limit the tail sinks into the rounding of the samples
             # before it falls below the floor: accept once the wanted orders stop changing
             change = np.max(np.abs(wanted - previous), axis=-1, initial=0.0)
-            allowed = np.maximum(8.0 * floor, 2.0 * np.asarray(noise_floor, dtype=np.float64))
-            converged = bool(np.all(change <= allowed))
-        if converged or n >= max_samples:
+            converged |= change <= np.maximum(8.0 * floor, 2.0 * noise)
+        take = pending & converged
+        wanted_out[take] = wanted[take]
+        scale_out[take] = scale[take]
+        pending &= ~converged
+        used = n
+        if not pending.any() or n >= max_samples:
             break
         previous = wanted
         n *= 2
-    if not converged:
+    if pending.any():
         raise AnalysisError(
             f"the Fourier series did not converge with {n} samples per revolution; the "
             "geometry is too close to its limit (conrod_length = crank_radius + |offset|)"
         )
-    coefficients = 2.0 * spectrum[..., orders_arr]
+    coefficients = (2.0 * wanted_out).reshape(*batch_shape, orders_arr.size)
     # components below the rounding floor of the samples cannot be told from zero (an
     # unoffset slider's odd orders and sine terms, for example): report them as 0
-    floor = (16.0 * _EPS * scale)[..., None]
-    real = np.where(np.abs(coefficients.real) <= floor, 0.0, coefficients.real)
-    imag = np.where(np.abs(coefficients.imag) <= floor, 0.0, coefficients.imag)
-    return real + 1j * imag, n
+    floor_out = (16.0 * _EPS * scale_out).reshape(*batch_shape, 1)
+    real = np.where(np.abs(coefficients.real) <= floor_out, 0.0, coefficients.real)
+    imag = np.where(np.abs(coefficients.imag) <= floor_out, 0.0, coefficients.imag)
+    return real + 1j * imag, used
 
 
 def rounding_floor(ratio: ArrayLike, offset_ratio: ArrayLike) -> FloatArray:

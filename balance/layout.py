@@ -9,6 +9,7 @@ never sees a unit string or an impossible value.
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import math
 from dataclasses import dataclass, field, replace
@@ -22,6 +23,7 @@ from pydantic import BaseModel, ValidationError
 
 from .errors import InputError, LayoutError, Location
 from .gas import GasInput, cycle_degrees, firing_tdc, read_pressure_trace
+from .masses import MassParts, two_mass_split
 from .schema import (
     GEOMETRY_KEYS,
     LUMPED_KEYS,
@@ -101,6 +103,9 @@ class Layout:
     gas : GasInput or None
         The ``gas:`` and ``flywheel:`` sections, resolved (pressure trace read, firing TDCs
         placed); None for an inertia-only analysis.
+    mass_parts : MassParts or None
+        The parts behind the lumped masses of a by-part layout (None for lumped masses), so
+        that a sweep of a part or of the conrod length lumps them again.
     """
 
     name: str
@@ -125,6 +130,7 @@ class Layout:
     balance: BalanceSettings | None = None
     spec: LayoutSpec | None = field(default=None, repr=False)
     gas: GasInput | None = field(default=None, repr=False)
+    mass_parts: MassParts | None = field(default=None, repr=False)
 
     @property
     def n_cylinders(self) -> int:
@@ -154,7 +160,8 @@ class Layout:
             raise InputError("order must be a permutation of the cylinder indices")
         arrays = {name: getattr(self, name)[idx] for name in CYLINDER_FIELDS}
         gas = self.gas.reordered(idx) if self.gas is not None else None
-        return replace(self, firing_order=None, spec=None, gas=gas, **arrays)
+        parts = self.mass_parts.reordered(idx) if self.mass_parts is not None else None
+        return replace(self, firing_order=None, spec=None, gas=gas, mass_parts=parts, **arrays)
 
 
 # ---------------------------------------------------------------------------------------
@@ -450,6 +457,7 @@ def _build(doc: SourceDocument) -> Layout:
 
     geometry = spec.geometry
     values: dict[str, list[float]] = {k: [] for k in CYLINDER_FIELDS}
+    part_rows: list[tuple[float, ...]] = []
     for i, cyl in enumerate(cylinders):
         g = cyl.overrides(GEOMETRY_KEYS)
         if "stroke" in g:
@@ -471,7 +479,9 @@ def _build(doc: SourceDocument) -> Layout:
                 field=name,
                 valid="the crank slider exists only while conrod_length > crank_radius + |offset|",
             )
-        rec, rot, dinertia = _cylinder_masses(spec, cyl, length, i, where, sharing[i])
+        rec, rot, dinertia, record = _cylinder_masses(spec, cyl, length, i, where, sharing[i])
+        if record is not None:
+            part_rows.append(record)
         values["throw"].append(math.radians(cyl.throw_angle))
         values["bank"].append(math.radians(cyl.bank))
         values["z"].append(cyl.z)
@@ -502,8 +512,15 @@ def _build(doc: SourceDocument) -> Layout:
         balance=spec.balance,
         spec=spec,
         gas=gas,
+        mass_parts=_mass_parts(part_rows) if part_rows else None,
         **arrays,
     )
+
+
+def _mass_parts(rows: list[tuple[float, ...]]) -> MassParts:
+    columns = np.asarray(rows, dtype=np.float64).T
+    names = [f.name for f in dataclasses.fields(MassParts)]
+    return MassParts(**dict(zip(names, columns, strict=True)))
 
 
 def _gas(
@@ -578,8 +595,9 @@ def _rods_per_throw(spec: LayoutSpec, cylinders: list[CylinderSpec]) -> list[int
 
 def _cylinder_masses(
     spec: LayoutSpec, cyl: CylinderSpec, length: float, i: int, where: Any, sharing: int
-) -> tuple[float, float, float]:
-    """Reciprocating mass, rotating mass and conrod inertia correction of one cylinder.
+) -> tuple[float, float, float, tuple[float, ...] | None]:
+    """Reciprocating mass, rotating mass, conrod inertia correction of one cylinder, and
+    its parts (the fields of :class:`~balance.masses.MassParts`; None for lumped masses).
 
     ``crank_unbalance`` is per throw: each of the ``sharing`` rods on a throw carries its
     share.
@@ -599,7 +617,7 @@ def _cylinder_masses(
             )
         rec = lumped_over.get("reciprocating", masses.reciprocating)
         rot = lumped_over.get("rotating", masses.rotating)
-        return float(rec), float(rot), 0.0  # type: ignore[arg-type]
+        return float(rec), float(rot), 0.0, None  # type: ignore[arg-type]
     parts = {k: getattr(masses, k) for k in PART_KEYS}
     parts.update(part_over)
     cg = parts["conrod_cg_to_big_end"]
@@ -612,17 +630,21 @@ def _cylinder_masses(
             field=name,
             valid="the centre of gravity lies between big end and small end",
         )
-    conrod = parts["conrod"]
-    small_end = conrod * cg / length
-    big_end = conrod - small_end
-    rec = parts["piston_group"] + small_end
-    rot = big_end + (parts["crank_unbalance"] or 0.0) / sharing
-    dinertia = 0.0
-    if parts["conrod_inertia"] is not None:
-        dinertia = parts["conrod_inertia"] - conrod * cg * (length - cg)
-    rec = lumped_over.get("reciprocating", rec)
-    rot = lumped_over.get("rotating", rot)
-    return float(rec), float(rot), float(dinertia)
+    inertia = parts["conrod_inertia"]
+    record = (
+        float(parts["piston_group"]),
+        float(parts["conrod"]),
+        float(cg),
+        math.nan if inertia is None else float(inertia),
+        float(parts["crank_unbalance"] or 0.0),
+        float(sharing),
+        float(lumped_over.get("reciprocating", math.nan)),
+        float(lumped_over.get("rotating", math.nan)),
+    )
+    rec_split, rot_split, dinertia = two_mass_split(*record[:6], length)
+    rec = record[6] if not math.isnan(record[6]) else float(rec_split)
+    rot = record[7] if not math.isnan(record[7]) else float(rot_split)
+    return rec, rot, float(dinertia), record
 
 
 def _pitch(spec: LayoutSpec, z: FloatArray) -> float:

@@ -24,8 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from . import kinematics, phasors
-from .analysis import balance_engine, compute, parse_orders
+from .analysis import balance_engine, compute, free_phasors, parse_orders, speed_squared
 from .balancing import proposal_phasors
 from .errors import AnalysisError, InputError
 from .layout import CYLINDER_FIELDS, Layout
@@ -37,6 +36,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["PERCENTILES", "Scatter", "ToleranceResult", "histogram", "parse_scatter", "tolerance"]
 
 FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
 PERCENTILES = (50.0, 90.0, 99.0, 99.9, 100.0)
 
 
@@ -176,7 +176,7 @@ def tolerance(
     rng = np.random.default_rng(seed)
     n = layout.n_cylinders
     first = ks == 1
-    w2 = layout.speed**2
+    w2 = speed_squared(layout.speed)
     out = {
         f"{w}_{k}": np.empty((samples, ks.size))
         for w in ("force", "moment")
@@ -185,43 +185,70 @@ def tolerance(
     for lo in range(0, samples, chunk_size):
         m = min(chunk_size, samples - lo)
         p = {
-            name: np.broadcast_to(getattr(layout, name), (m, n)).copy()
-            for name in CYLINDER_FIELDS
-            if name != "conrod_inertia_correction"  # roll is not part of the study
+            name: np.broadcast_to(getattr(layout, name), (m, n)).copy() for name in CYLINDER_FIELDS
         }
-        for s in items:
+        parts: dict[str, FloatArray] = {}
+        deltas = []
+        for s in items:  # drawn in the order given, so a seed gives the same engines
             shape = (m, n) if s.field.cylinder is None else (m,)
             if distribution == "uniform":
                 draw = rng.uniform(-1.0, 1.0, shape) * s.tolerance
             else:
                 draw = rng.normal(0.0, s.tolerance / 3.0, shape)
-            delta = s.field.to_layout_units(draw)
-            if s.field.cylinder is None:
-                p[s.field.attribute] += delta
+            deltas.append((s.field, s.field.to_layout_units(draw)))
+        relump = False
+        for field, delta in deltas:  # geometry and parts first, as in a sweep
+            if field.attribute in _LUMPED:
+                continue
+            if field.attribute.startswith("parts."):
+                key = field.attribute.removeprefix("parts.")
+                if key not in parts:
+                    parts[key] = np.broadcast_to(getattr(layout.mass_parts, key), (m, n)).copy()
+                _add(parts[key], field, delta)
+                relump = True
             else:
-                p[s.field.attribute][:, s.field.cylinder] += delta
-        r = p["crank_radius"]
+                _add(p[field.attribute], field, delta)
+                relump |= field.attribute == "conrod_length" and layout.mass_parts is not None
+        if relump:
+            assert layout.mass_parts is not None
+            cg = parts.get("conrod_cg_to_big_end", layout.mass_parts.conrod_cg_to_big_end)
+            if np.any(cg > p["conrod_length"]):
+                raise InputError(
+                    "--scatter: the scatter puts a conrod's centre of gravity beyond its "
+                    "small end; reduce it"
+                )
+            rec, rot, _ = layout.mass_parts.lumped(p["conrod_length"], parts)
+            p["reciprocating_mass"] = np.array(np.broadcast_to(rec, (m, n)))
+            p["rotating_mass"] = np.array(np.broadcast_to(rot, (m, n)))
+        for field, delta in deltas:
+            if field.attribute in _LUMPED:
+                _add(p[field.attribute], field, delta)
+        if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
+            raise InputError("--scatter: the scatter makes some masses negative; reduce it")
         try:
-            coeffs = kinematics.acceleration_coefficients(
-                r / p["conrod_length"], p["offset"] / r, ks, model=model
+            unit = free_phasors(
+                p["reciprocating_mass"],
+                p["rotating_mass"],
+                p["crank_radius"],
+                p["conrod_length"],
+                p["offset"],
+                p["throw"],
+                p["bank"],
+                p["z"] - layout.reference_z,
+                p["conrod_inertia_correction"],
+                ks,
+                model=model,
+                roll=False,
             )
         except AnalysisError as exc:
             raise InputError(
                 f"--scatter: some samples have an impossible geometry: {exc}"
             ) from None
-        if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
-            raise InputError("--scatter: the scatter makes some masses negative; reduce it")
-        amp = p["reciprocating_mass"] * r * w2
-        lever = p["z"] - layout.reference_z
-        f_fwd, f_bwd = phasors.reciprocating_phasors(amp, coeffs, p["throw"], p["bank"], ks)
-        m_fwd, m_bwd = phasors.reciprocating_phasors(
-            amp, coeffs, p["throw"], p["bank"], ks, lever=lever
-        )
-        rot_amp = p["rotating_mass"] * r * w2
-        rot_f = phasors.rotating_phasor(rot_amp, p["throw"])[:, None]
-        rot_m = phasors.rotating_phasor(rot_amp, p["throw"], lever)[:, None]
-        f_fwd = f_fwd + first * rot_f
-        m_fwd = m_fwd + first * rot_m
+        v = unit.scaled(w2)
+        f_fwd = _given(v["force_forward"]) + first * _given(v["rotating_force"])[:, None]
+        m_fwd = _given(v["moment_forward"]) + first * _given(v["rotating_moment"])[:, None]
+        f_bwd = _given(v["force_backward"])
+        m_bwd = _given(v["moment_backward"])
         sl = slice(lo, lo + m)
         out["force_free"][sl] = np.abs(f_fwd) + np.abs(f_bwd)
         out["moment_free"][sl] = np.abs(m_fwd) + np.abs(m_bwd)
@@ -238,6 +265,22 @@ def tolerance(
         moment={"free": out["moment_free"], "balanced": out["moment_balanced"]},
         seconds=time.perf_counter() - t0,
     )
+
+
+_LUMPED = {"reciprocating_mass", "rotating_mass"}
+
+
+def _add(array: FloatArray, field: Field, delta: FloatArray) -> None:
+    """Add a drawn scatter to every cylinder's value, or to one cylinder's."""
+    if field.cylinder is None:
+        array += delta
+    else:
+        array[:, field.cylinder] += delta
+
+
+def _given(value: ComplexArray | None) -> ComplexArray:
+    assert value is not None
+    return value
 
 
 def histogram(result: ToleranceResult, *, bins: int = 60) -> Figure:

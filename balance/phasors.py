@@ -17,6 +17,8 @@ sweep is one call) and return complex arrays with the orders on the last axis.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -27,6 +29,7 @@ __all__ = [
     "reciprocating_phasors",
     "roll_phasors",
     "rotating_phasor",
+    "sum_over_cylinders",
 ]
 
 ComplexArray = NDArray[np.complex128]
@@ -69,13 +72,30 @@ def cancel_to_zero(total: ComplexArray, term_scale: ArrayLike, n_terms: int) -> 
     return out
 
 
+def sum_over_cylinders(terms: NDArray[Any]) -> NDArray[Any]:
+    r"""Sum over axis -2 in cylinder order, one cylinder at a time.
+
+    ``numpy.sum`` picks its summation order from the memory layout (pairwise blocks of
+    eight along a contiguous axis, plain accumulation otherwise), so the same terms could
+    round differently alone and inside a sweep's grid.  Here the order is fixed:
+    :math:`((t_1 + t_2) + t_3) + \dots`, whatever the leading axes.
+    """
+    n = terms.shape[-2]
+    if n == 0:
+        return np.zeros(terms.shape[:-2] + terms.shape[-1:], dtype=terms.dtype)
+    total = terms[..., 0, :].copy()
+    for i in range(1, n):
+        total += terms[..., i, :]
+    return total
+
+
 def _weighted_sum(terms: ComplexArray, lever: FloatArray | None) -> ComplexArray:
     """Sum over the cylinder axis (-2) with zero-cleaning."""
     if lever is not None:
         terms = terms * lever[..., :, None]
     n = terms.shape[-2]
-    total = terms.sum(axis=-2)
-    return cancel_to_zero(total, np.abs(terms).sum(axis=-2), n)
+    total = sum_over_cylinders(terms)
+    return cancel_to_zero(total, sum_over_cylinders(np.abs(terms)), n)
 
 
 def reciprocating_phasors(

@@ -133,8 +133,9 @@ def build_dataset(
     moment = pair(result.moment_forward, result.moment_backward)
     force_mag = np.abs(force)
     moment_mag = np.abs(moment)
-    force_peak = force_mag.sum(axis=-1)
-    moment_peak = moment_mag.sum(axis=-1)
+    # |P+| + |P-| (as the sweep forms it)
+    force_peak = force_mag[..., 0] + force_mag[..., 1]
+    moment_peak = moment_mag[..., 0] + moment_mag[..., 1]
 
     data: dict[str, xr.Variable] = {
         "reciprocating_force_magnitude": _var(
@@ -199,7 +200,7 @@ def build_dataset(
         ),
         "rotating_force_magnitude": _var(
             (),
-            abs(result.rotating_force),
+            np.abs(result.rotating_force),
             "N",
             "magnitude of the rotating (centrifugal) force, order 1 forward",
         ),
@@ -211,13 +212,13 @@ def build_dataset(
         ),
         "rotating_force_normalised": _var(
             (),
-            _safe_ratio(abs(result.rotating_force), f1),
+            _safe_ratio(np.abs(result.rotating_force), f1),
             "1",
             "rotating force per m_rec r omega^2",
         ),
         "rotating_moment_magnitude": _var(
             (),
-            abs(result.rotating_moment),
+            np.abs(result.rotating_moment),
             "N m",
             "magnitude of the rotating (centrifugal) moment about reference_z, order 1 forward",
         ),
@@ -229,7 +230,7 @@ def build_dataset(
         ),
         "rotating_moment_normalised": _var(
             (),
-            _safe_ratio(abs(result.rotating_moment), m1),
+            _safe_ratio(np.abs(result.rotating_moment), m1),
             "1",
             "rotating moment per m_rec r omega^2 times cylinder pitch",
         ),

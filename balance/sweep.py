@@ -52,10 +52,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import kinematics, phasors
-from .analysis import parse_orders
+from . import kinematics
+from .analysis import free_phasors, parse_orders, speed_squared
 from .errors import AnalysisError, InputError
 from .layout import CYLINDER_FIELDS, Layout
+from .masses import PART_FIELDS
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -89,6 +90,11 @@ _ENGINE_FIELDS: dict[str, tuple[str, str]] = {
     "offset": ("offset", "length"),
     "reciprocating": ("reciprocating_mass", "mass"),
     "rotating": ("rotating_mass", "mass"),
+    "piston_group": ("parts.piston_group", "mass"),
+    "conrod": ("parts.conrod", "mass"),
+    "conrod_cg_to_big_end": ("parts.conrod_cg_to_big_end", "length"),
+    "conrod_inertia": ("parts.conrod_inertia", "inertia"),
+    "crank_unbalance": ("parts.crank_unbalance", "mass"),
     "reference_z": ("reference_z", "length"),
 }
 _CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
@@ -101,12 +107,18 @@ _CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
     "offset": ("offset", "length"),
     "reciprocating": ("reciprocating_mass", "mass"),
     "rotating": ("rotating_mass", "mass"),
+    "piston_group": ("parts.piston_group", "mass"),
+    "conrod": ("parts.conrod", "mass"),
+    "conrod_cg_to_big_end": ("parts.conrod_cg_to_big_end", "length"),
+    "conrod_inertia": ("parts.conrod_inertia", "inertia"),
+    "crank_unbalance": ("parts.crank_unbalance", "mass"),
 }
 _SECTION = {
     "geometry": {"stroke", "crank_radius", "conrod_length", "offset"},
-    "masses": {"reciprocating", "rotating"},
+    "masses": {"reciprocating", "rotating", *PART_FIELDS},
 }
-_UNITS = {"speed": "rad/s", "length": "m", "mass": "kg", "angle": "deg"}
+_UNITS = {"speed": "rad/s", "length": "m", "mass": "kg", "angle": "deg", "inertia": "kg m^2"}
+_LUMPED = {"reciprocating_mass", "rotating_mass"}
 _CYLINDER = re.compile(r"^cylinders(?:\[(\d+)\]|\.(\d+))\.([a-z_]+)$")
 _MAX_POINTS = 10**12
 
@@ -188,6 +200,7 @@ def parse_field(text: str, layout: Layout, option: str = "--vary") -> Field:
                 f"{option}: '{name}': the layout has cylinders 1 to {layout.n_cylinders}"
             )
         attribute, kind = _CYLINDER_FIELDS[key]
+        _check_parts(layout, attribute, name, option)
         return Field(name, f"cylinder{number}_{key}", attribute, kind, key, number - 1)
     key = name
     for section, keys in _SECTION.items():
@@ -204,7 +217,16 @@ def parse_field(text: str, layout: Layout, option: str = "--vary") -> Field:
             f"{option}: '{name}' is not a numeric layout field; {more}{_valid_fields()}"
         )
     attribute, kind = _ENGINE_FIELDS[key]
+    _check_parts(layout, attribute, name, option)
     return Field(name, key, attribute, kind, key, None)
+
+
+def _check_parts(layout: Layout, attribute: str, name: str, option: str) -> None:
+    if attribute.startswith("parts.") and layout.mass_parts is None:
+        raise InputError(
+            f"{option}: '{name}' is a part of the moving masses, but this layout gives them "
+            "lumped; vary masses.reciprocating or masses.rotating"
+        )
 
 
 def _quantity(text: str, field: Field, option: str) -> float:
@@ -327,25 +349,76 @@ def variant(layout: Layout, values: Mapping[str, float]) -> Layout:
     Returns
     -------
     Layout
-        With ``reference_z`` re-centred when the file gives none and a ``z`` changes.
+        As loading the layout file with those values written in would give it: for masses
+        given by part, a changed part or conrod length is lumped again
+        (:func:`balance.masses.two_mass_split`), and a lumped mass set here wins over the
+        parts; ``reference_z`` is re-centred when the file gives none and a ``z`` changes.
     """
     changes: dict[str, Any] = {}
+    parts: dict[str, FloatArray] = {}
+    lumped: list[tuple[Field, float]] = []
+    relump = False
     for name, value in values.items():
         field = parse_field(name, layout)
         v = float(field.to_layout_units(value))
-        if field.attribute in {"speed", "reference_z"}:
-            changes[field.attribute] = v
-            continue
-        array = np.array(changes.get(field.attribute, getattr(layout, field.attribute)))
-        if field.cylinder is None:
-            array[:] = v
+        attribute = field.attribute
+        if attribute in {"speed", "reference_z"}:
+            changes[attribute] = v
+        elif attribute in _LUMPED:
+            lumped.append((field, v))
+        elif attribute.startswith("parts."):
+            key = attribute.removeprefix("parts.")
+            assert layout.mass_parts is not None
+            parts[key] = _set_one(parts.get(key, getattr(layout.mass_parts, key)), field, v)
+            relump = True
         else:
-            array[field.cylinder] = v
-        changes[field.attribute] = array
+            changes[attribute] = _set_one(
+                changes.get(attribute, getattr(layout, attribute)), field, v
+            )
+            relump |= attribute == "conrod_length" and layout.mass_parts is not None
+    if relump:
+        assert layout.mass_parts is not None
+        mass_parts = replace(layout.mass_parts, **parts)
+        length = changes.get("conrod_length", layout.conrod_length)
+        if np.any(mass_parts.conrod_cg_to_big_end > length):
+            raise InputError(_CG_BEYOND_ROD)
+        rec, rot, correction = mass_parts.lumped(length)
+        changes.update(
+            reciprocating_mass=rec,
+            rotating_mass=rot,
+            conrod_inertia_correction=correction,
+            mass_parts=mass_parts,
+        )
+    for field, v in lumped:
+        changes[field.attribute] = _set_one(
+            changes.get(field.attribute, getattr(layout, field.attribute)), field, v
+        )
+        if layout.mass_parts is not None:
+            given = field.attribute.replace("_mass", "_given")
+            parts_now = changes.get("mass_parts", layout.mass_parts)
+            changes["mass_parts"] = replace(
+                parts_now, **{given: _set_one(getattr(parts_now, given), field, v)}
+            )
     if "reference_z" not in changes and "z" in changes and _auto_reference(layout):
         z = changes["z"]
         changes["reference_z"] = float(0.5 * (z.min() + z.max()))
     return replace(layout, **changes)
+
+
+_CG_BEYOND_ROD = (
+    "--vary: the conrod's centre of gravity would lie beyond its small end "
+    "(conrod_cg_to_big_end > conrod_length); keep it between the two ends"
+)
+
+
+def _set_one(array: FloatArray, field: Field, value: float) -> FloatArray:
+    """A copy of a per-cylinder array with one cylinder's (or every cylinder's) value set."""
+    out = np.array(array, dtype=np.float64)
+    if field.cylinder is None:
+        out[:] = value
+    else:
+        out[field.cylinder] = value
+    return out
 
 
 def _auto_reference(layout: Layout) -> bool:
@@ -409,124 +482,117 @@ class _Plan:
 
 
 def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
-    """Layout arrays for one chunk: grid dims leading, cylinders last; broadcastable."""
+    """Layout arrays for one chunk: grid dims leading, cylinders last; broadcastable.
+
+    The same rules as :func:`variant`, over a grid: parts and conrod lengths are lumped
+    again for a by-part layout, then the varied lumped masses are set.
+    """
     layout = plan.layout
     ndim = len(plan.varies)
     params: dict[str, Any] = {name: getattr(layout, name) for name in CYLINDER_FIELDS}
     params["speed"] = np.float64(layout.speed)
     params["reference_z"] = np.float64(layout.reference_z)
     n = layout.n_cylinders
+    parts: dict[str, Any] = {}
+    lumped: list[tuple[Field, FloatArray]] = []
+    relump = False
+
+    def put(base: Any, field: Field, column: FloatArray) -> Any:
+        if field.cylinder is None:
+            return np.broadcast_to(column, np.broadcast_shapes(column.shape, np.shape(base)))
+        return np.where(np.arange(n) == field.cylinder, column, base)
+
     for axis, (v, sl) in enumerate(zip(plan.varies, where, strict=True)):
         values = v.field.to_layout_units(v.values[sl])
         shape = [1] * ndim
         shape[axis] = values.size
+        column = np.reshape(values, (*shape, 1))
         f = v.field
         if f.attribute in {"speed", "reference_z"}:
-            params[f.attribute] = np.reshape(values, (*shape, 1))
-            continue
-        column = np.reshape(values, (*shape, 1))
-        if f.cylinder is None:
-            params[f.attribute] = np.broadcast_to(
-                column, np.broadcast_shapes(column.shape, np.shape(params[f.attribute]))
-            )
+            params[f.attribute] = column
+        elif f.attribute in _LUMPED:
+            lumped.append((f, column))
+        elif f.attribute.startswith("parts."):
+            key = f.attribute.removeprefix("parts.")
+            parts[key] = put(parts.get(key, getattr(layout.mass_parts, key)), f, column)
+            relump = True
         else:
-            mask = np.arange(n) == f.cylinder
-            params[f.attribute] = np.where(mask, column, params[f.attribute])
+            params[f.attribute] = put(params[f.attribute], f, column)
+            relump |= f.attribute == "conrod_length" and layout.mass_parts is not None
+    if relump:
+        assert layout.mass_parts is not None
+        cg = parts.get("conrod_cg_to_big_end", layout.mass_parts.conrod_cg_to_big_end)
+        if np.any(cg > params["conrod_length"]):
+            raise InputError(_CG_BEYOND_ROD)
+        rec, rot, correction = layout.mass_parts.lumped(params["conrod_length"], parts)
+        params["reciprocating_mass"] = rec
+        params["rotating_mass"] = rot
+        params["conrod_inertia_correction"] = correction
+    for f, column in lumped:
+        params[f.attribute] = put(params[f.attribute], f, column)
     if _auto_reference(layout) and any(v.field.attribute == "z" for v in plan.varies):
         z = params["z"]
         params["reference_z"] = 0.5 * (z.min(axis=-1) + z.max(axis=-1))[..., None]
     return params
 
 
-def _scale_fields(plan: _Plan) -> set[str]:
-    """Varied fields that only scale the results: speed and engine-wide masses."""
-    return {
-        v.field.attribute
-        for v in plan.varies
-        if v.field.cylinder is None
-        and v.field.attribute in {"speed", "reciprocating_mass", "rotating_mass"}
-    }
-
-
 def _chunk(plan: _Plan, where: tuple[slice, ...]) -> dict[str, FloatArray]:
     r"""The sweep's variables over one chunk of the grid (full chunk shape leading).
 
-    Fields that only scale the results (speed: everything is proportional to
-    :math:`\omega^2`; an engine-wide reciprocating or rotating mass: the forces and
-    moments of those masses are proportional to it) are taken out of the phasor sums: the
-    sums run over the other fields' grid at unit speed and mass, and the magnitudes are
-    multiplied by the scale afterwards.
+    The phasor sums are formed by :func:`balance.analysis.free_phasors` at unit speed over
+    the grid of the other fields and then multiplied by :math:`\omega^2`, exactly as
+    :func:`balance.analysis.compute` does for one engine: a varied speed costs one
+    multiplication per grid point and order, and every value is the one ``analyse`` gives.
     """
     p = _grid_parameters(plan, where)
     ks = plan.orders
     chunk_shape = tuple(s.stop - s.start for s in where)
-    scaled = _scale_fields(plan)
-    n = plan.layout.n_cylinders
-    one = np.float64(1.0)
-    omega2 = one if "speed" in scaled else p["speed"] ** 2
-    w2_scale = p["speed"][..., 0] ** 2 if "speed" in scaled else one
-    m_rec = np.ones(n) if "reciprocating_mass" in scaled else p["reciprocating_mass"]
-    rec_scale = p["reciprocating_mass"][..., 0] if "reciprocating_mass" in scaled else one
-    m_rot = np.ones(n) if "rotating_mass" in scaled else p["rotating_mass"]
-    rot_scale = p["rotating_mass"][..., 0] if "rotating_mass" in scaled else one
-    r = p["crank_radius"]
-    ratio = r / p["conrod_length"]
-    offset_ratio = p["offset"] / r
     try:
-        coeffs = kinematics.acceleration_coefficients(
-            ratio, offset_ratio, ks, model=plan.model, terms=plan.terms
+        unit = free_phasors(
+            p["reciprocating_mass"],
+            p["rotating_mass"],
+            p["crank_radius"],
+            p["conrod_length"],
+            p["offset"],
+            p["throw"],
+            p["bank"],
+            p["z"] - p["reference_z"],
+            p["conrod_inertia_correction"],
+            ks,
+            model=plan.model,
+            terms=plan.terms,
+            moments=plan.moments,
+            roll=plan.roll,
         )
     except AnalysisError as exc:
         raise InputError(f"--vary: some grid points have an impossible geometry: {exc}") from None
-    amp = m_rec * r * omega2
-    lever = p["z"] - p["reference_z"]
-    out: dict[str, FloatArray] = {}
+    values = unit.scaled(speed_squared(p["speed"]))
 
-    def full(a: ArrayLike, scale: Any, tail: tuple[int, ...] = ()) -> FloatArray:
-        a = np.asarray(a)
+    def magnitude(name: str) -> FloatArray:
+        value = values[name]
+        assert value is not None
+        return np.abs(value)
+
+    def full(a: FloatArray, tail: tuple[int, ...] = ()) -> FloatArray:
         lead = a.shape[: a.ndim - len(tail)]
         lead = (1,) * (len(chunk_shape) - len(lead)) + lead
-        s = np.asarray(scale, dtype=np.float64)
-        s = s.reshape(s.shape + (1,) * len(tail)) if s.ndim else s
         return np.ascontiguousarray(
-            np.broadcast_to(a.reshape(lead + tail) * s, chunk_shape + tail), dtype=np.float64
+            np.broadcast_to(a.reshape(lead + tail), chunk_shape + tail), dtype=np.float64
         )
 
     K = ks.size
-    rec_w2 = rec_scale * w2_scale if np.ndim(rec_scale) or np.ndim(w2_scale) else one
-    rot_w2 = rot_scale * w2_scale if np.ndim(rot_scale) or np.ndim(w2_scale) else one
-    f_fwd, f_bwd = phasors.reciprocating_phasors(amp, coeffs, p["throw"], p["bank"], ks)
-    force = np.stack([np.abs(f_fwd), np.abs(f_bwd)], axis=-1)
-    out["reciprocating_force_magnitude"] = full(force, rec_w2, (K, 2))
-    out["reciprocating_force_peak"] = full(force.sum(axis=-1), rec_w2, (K,))
-    rot_amp = m_rot * r * omega2
-    out["rotating_force_magnitude"] = full(
-        np.abs(phasors.rotating_phasor(rot_amp, p["throw"])), rot_w2
-    )
+    out: dict[str, FloatArray] = {}
+    pairs = [("force", "reciprocating_force")]
     if plan.moments:
-        m_fwd, m_bwd = phasors.reciprocating_phasors(
-            amp, coeffs, p["throw"], p["bank"], ks, lever=lever
-        )
-        moment = np.stack([np.abs(m_fwd), np.abs(m_bwd)], axis=-1)
-        out["reciprocating_moment_magnitude"] = full(moment, rec_w2, (K, 2))
-        out["reciprocating_moment_peak"] = full(moment.sum(axis=-1), rec_w2, (K,))
-        out["rotating_moment_magnitude"] = full(
-            np.abs(phasors.rotating_phasor(rot_amp, p["throw"], lever)), rot_w2
-        )
+        pairs.append(("moment", "reciprocating_moment"))
+    for what, name in pairs:
+        forward = magnitude(f"{what}_forward")
+        backward = magnitude(f"{what}_backward")
+        out[f"{name}_magnitude"] = full(np.stack([forward, backward], axis=-1), (K, 2))
+        out[f"{name}_peak"] = full(forward + backward, (K,))
+        out[f"rotating_{what}_magnitude"] = full(magnitude(f"rotating_{what}"))
     if plan.roll:
-        # the roll mixes the reciprocating mass with the conrod's inertia: only the speed
-        # factors out
-        g_rec, g_rod = kinematics.roll_coefficients(ratio, offset_ratio, ks)
-        roll = phasors.roll_phasors(
-            p["reciprocating_mass"] * r**2 * omega2,
-            p["conrod_inertia_correction"] * omega2,
-            g_rec,
-            g_rod,
-            p["throw"],
-            p["bank"],
-            ks,
-        )
-        out["roll_amplitude"] = full(np.abs(roll), w2_scale, (K,))
+        out["roll_amplitude"] = full(magnitude("roll"), (K,))
     return out
 
 

@@ -41,6 +41,27 @@ def test_samples_match_single_layouts():
         )
 
 
+def test_part_scatter_is_lumped_again_like_the_layout_file():
+    """Scattering a part (by-part layout) changes the lumped masses as the file would."""
+    layout = balance.load_layout("v6-60-split")
+    assert layout.mass_parts is not None
+    result = tolerance(layout, ["cylinders[3].piston_group=±4g"], samples=3, seed=7)
+    draws = np.random.default_rng(7).uniform(-1, 1, 3) * 0.004
+    for i, d in enumerate(draws):
+        piston = float(layout.mass_parts.piston_group[2] + d)
+        ref = analyse(
+            variant(layout, {"cylinders[3].piston_group": piston}), "1-2", proposal=False
+        )
+        np.testing.assert_allclose(
+            result.force["free"][i], ref.reciprocating_force_peak.values, rtol=1e-12
+        )
+    # the conrod length moves mass between the small and the big end
+    zero = tolerance(layout, ["conrod_length=±0mm"], samples=2, orders="1-2")
+    np.testing.assert_allclose(
+        zero.force["free"][0], analyse(layout, "1-2").reciprocating_force_peak.values, rtol=1e-12
+    )
+
+
 def test_scatter_grows_the_balanced_residual():
     layout = balance.load_layout("v8-crossplane")
     result = tolerance(layout, ["reciprocating=±3g", "throw=±0.2deg"], samples=2000)
