@@ -581,7 +581,10 @@ def sweep_command(
             "or cylinders[3].reciprocating=0.4kg:0.7kg:13; repeat for more dimensions.",
         ),
     ],
-    output: Annotated[Path, typer.Option("--output", "-o", help="netCDF file to write.")],
+    output: Annotated[
+        Path,
+        typer.Option("--output", "-o", help="File to write: NAME.nc (netCDF) or NAME.zarr (Zarr)."),
+    ],
     orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-8 or 1,2.")] = "1-8",
     model: Annotated[
         str, typer.Option("--model", help="Piston acceleration model: exact, series, textbook.")
@@ -603,12 +606,11 @@ def sweep_command(
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
 ) -> None:
-    """Analyse a grid of layout variants and write one Dataset (netCDF), chunk by chunk."""
+    """Analyse a grid of layout variants and write one Dataset (netCDF or Zarr), chunk by chunk."""
     from .layout import load_layout
-    from .output import check_target
-    from .sweep import sweep_to_file
+    from .sweep import check_output, sweep_to_file
 
-    check_target(output, force)
+    check_output(output, force)
     if scheduler is not None and workers is not None:
         raise InputError("give --scheduler or --workers, not both")
     base = load_layout(layout)

@@ -65,6 +65,7 @@ __all__ = [
     "DEFAULT_CHUNK_SIZE",
     "Field",
     "Vary",
+    "check_output",
     "chunk_slices",
     "parse_field",
     "parse_values",
@@ -887,6 +888,10 @@ def sweep(
     return xr.Dataset(data_vars=data, coords=_coords(plan), attrs=_attrs(plan))
 
 
+#: Output formats of :func:`sweep_to_file`, by file name suffix.
+FORMATS = {".nc": "netcdf", ".nc4": "netcdf", ".zarr": "zarr"}
+
+
 def sweep_to_file(
     layout: Layout,
     vary: Mapping[str, Any] | Sequence[Vary | str],
@@ -901,18 +906,88 @@ def sweep_to_file(
     client: Any = None,
     progress: bool = False,
     force: bool = False,
+    file_format: str | None = None,
 ) -> Path:
-    """Run a sweep and write it to a netCDF-4 file chunk by chunk (see :func:`sweep`).
+    """Run a sweep and write it chunk by chunk to netCDF-4 or Zarr (see :func:`sweep`).
 
-    Only one chunk's results are in memory at a time; the file appears complete or not at
-    all (:func:`balance.output.write_atomic`).  The file opens with
-    ``xarray.open_dataset`` as the same Dataset :func:`sweep` returns.
+    Parameters
+    ----------
+    path : str or Path
+        The output: a ``.nc`` file or a ``.zarr`` directory store (Zarr format 3,
+        consolidated metadata, one Zarr chunk per sweep chunk).
+    file_format : {'netcdf', 'zarr'}, optional
+        Instead of the suffix.
+
+    Notes
+    -----
+    Only one chunk's results are in memory at a time; the output appears complete or not
+    at all (:mod:`balance.output`).  It opens with ``xarray.open_dataset`` (netCDF) or
+    ``xarray.open_zarr`` as the same Dataset :func:`sweep` returns, bit for bit.
     """
+    target = Path(path)
+    fmt = check_output(target, force, file_format)
+    plan = _plan(layout, vary, orders, model, terms, moments, roll)
+    chunks = chunk_slices(plan.shape, chunk_size)
+
+    def run(sink: Callable[[tuple[slice, ...], dict[str, FloatArray]], None]) -> None:
+        sweep_arrays(
+            layout,
+            plan.varies,
+            [int(k) for k in plan.orders],
+            model=model,
+            terms=terms,
+            moments=moments,
+            roll=roll,
+            chunk_size=chunk_size,
+            client=client,
+            progress=progress,
+            sink=sink,
+        )
+
+    if fmt == "zarr":
+        return _write_zarr(plan, chunks, target, run, force)
+    return _write_netcdf(plan, target, run, force)
+
+
+def check_output(path: str | Path, force: bool = False, file_format: str | None = None) -> str:
+    """Check a sweep's output before the work starts; return its format.
+
+    Raises
+    ------
+    InputError
+        For an unknown suffix, a missing ``zarr`` package, or a target that cannot be
+        written (:mod:`balance.output`).
+    """
+    from .output import check_directory_target, check_target
+
+    target = Path(path)
+    fmt = file_format or FORMATS.get(target.suffix.lower())
+    if fmt not in {"netcdf", "zarr"}:
+        raise InputError(
+            f"{target}: cannot tell the format from the suffix {target.suffix!r}; "
+            "name it .nc (netCDF) or .zarr (Zarr)"
+        )
+    if fmt == "zarr":
+        import importlib.util
+
+        if importlib.util.find_spec("zarr") is None:
+            raise InputError(
+                f"{target}: writing Zarr needs the zarr package; install balance[zarr] "
+                "(pip install 'balance[zarr]') or write netCDF (.nc)"
+            )
+        check_directory_target(target, force, _is_zarr_store)
+    else:
+        check_target(target, force)
+    return fmt
+
+
+_Runner = Callable[[Callable[[tuple[slice, ...], dict[str, FloatArray]], None]], None]
+
+
+def _write_netcdf(plan: _Plan, target: Path, run: _Runner, force: bool) -> Path:
     import netCDF4
 
     from .output import write_atomic
-
-    plan = _plan(layout, vary, orders, model, terms, moments, roll)
 
     def write(tmp: Path) -> None:
         with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
@@ -940,18 +1015,64 @@ def sweep_to_file(
                 for key, values in result.items():
                     variables[key][where] = values
 
-            sweep_arrays(
-                layout,
-                plan.varies,
-                [int(k) for k in plan.orders],
-                model=model,
-                terms=terms,
-                moments=moments,
-                roll=roll,
-                chunk_size=chunk_size,
-                client=client,
-                progress=progress,
-                sink=sink,
+            run(sink)
+
+    return write_atomic(target, write, force=force)
+
+
+def _is_zarr_store(path: Path) -> bool:
+    return (path / "zarr.json").is_file() or (path / ".zgroup").is_file()
+
+
+def _write_zarr(
+    plan: _Plan, chunks: list[tuple[slice, ...]], target: Path, run: _Runner, force: bool
+) -> Path:
+    import warnings
+
+    import zarr
+
+    from .output import write_atomic_directory
+
+    K = plan.orders.size
+    tails = {"order": K, "rotation": 2, "roll_order": K}
+    grid_chunk = tuple(s.stop - s.start for s in chunks[0])
+
+    def write(tmp: Path) -> None:
+        group = zarr.open_group(tmp, mode="w", zarr_format=3)
+        group.attrs.update(_attrs(plan))
+        for name, (dims, values, attrs) in _coords(plan).items():
+            data = values.astype(object) if values.dtype.kind in "US" else values
+            array = group.create_array(
+                name,
+                shape=data.shape,
+                dtype=str if data.dtype == object else data.dtype,
+                dimension_names=dims,
+                attributes=dict[str, Any](attrs),
+            )
+            array[:] = data
+        arrays = {}
+        for name in _variables(plan):
+            tail, units, long_name = _VARIABLES[name]
+            tail_shape = tuple(tails[d] for d in tail)
+            arrays[name] = group.create_array(
+                name,
+                shape=plan.shape + tail_shape,
+                chunks=grid_chunk + tail_shape,
+                dtype="f8",
+                fill_value=np.nan,
+                dimension_names=plan.dims + tail,
+                attributes={"units": units, "long_name": long_name},
             )
 
-    return write_atomic(path, write, force=force)
+        def sink(where: tuple[slice, ...], result: dict[str, FloatArray]) -> None:
+            for key, values in result.items():
+                arrays[key][where] = values
+
+        run(sink)
+        with warnings.catch_warnings():
+            # consolidated metadata is what xarray.open_zarr looks for first; zarr warns
+            # that it is not yet part of the Zarr 3 specification
+            warnings.filterwarnings("ignore", message="Consolidated metadata")
+            zarr.consolidate_metadata(tmp)
+
+    return write_atomic_directory(target, write, force=force, is_replaceable=_is_zarr_store)

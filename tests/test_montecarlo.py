@@ -49,9 +49,7 @@ def test_part_scatter_is_lumped_again_like_the_layout_file():
     draws = np.random.default_rng(7).uniform(-1, 1, 3) * 0.004
     for i, d in enumerate(draws):
         piston = float(layout.mass_parts.piston_group[2] + d)
-        ref = analyse(
-            variant(layout, {"cylinders[3].piston_group": piston}), "1-2", proposal=False
-        )
+        ref = analyse(variant(layout, {"cylinders[3].piston_group": piston}), "1-2", proposal=False)
         np.testing.assert_allclose(
             result.force["free"][i], ref.reciprocating_force_peak.values, rtol=1e-12
         )

@@ -87,7 +87,16 @@ def test_sweep_equals_single_analyses_for_every_model(model, terms):
         _assert_same_bits(at, ref)
 
 
-_SWEEPABLE = ["inline-3", "inline-4", "inline-6", "v6-90", "v8-crossplane", "v12-60", "boxer-4", "v6-60-split"]
+_SWEEPABLE = [
+    "inline-3",
+    "inline-4",
+    "inline-6",
+    "v6-90",
+    "v8-crossplane",
+    "v12-60",
+    "boxer-4",
+    "v6-60-split",
+]
 _FIELDS = [
     ("speed", 100.0, 1500.0),
     ("conrod_length", 0.13, 0.2),
@@ -253,23 +262,80 @@ def test_chunk_slices_cover_the_grid():
 
 
 def test_dask_cluster_gives_identical_result(tmp_path):
+    """A real local cluster (worker processes): the same bits in memory, netCDF and Zarr."""
     import distributed  # a test dependency
+
     layout = balance.load_layout("v6-90")
     local = sweep(layout, VARY, orders="1-4", chunk_size=7)
     with (
         distributed.LocalCluster(
-            n_workers=2, processes=False, threads_per_worker=1, dashboard_address=None
+            n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None
         ) as cluster,
         distributed.Client(cluster) as client,
     ):
         remote = sweep(layout, VARY, orders="1-4", chunk_size=7, client=client)
-        path = balance.sweep.sweep_to_file(
+        nc = balance.sweep.sweep_to_file(
             layout, VARY, tmp_path / "s.nc", orders="1-4", chunk_size=7, client=client
         )
+        store = balance.sweep.sweep_to_file(
+            layout, VARY, tmp_path / "s.zarr", orders="1-4", chunk_size=7, client=client
+        )
     xr.testing.assert_identical(local, remote)
-    with xr.open_dataset(path) as from_file:
+    with xr.open_dataset(nc) as from_netcdf, xr.open_zarr(store) as from_zarr:
         for name in local.data_vars:
-            assert np.array_equal(from_file[name].values, local[name].values)
+            assert np.array_equal(from_netcdf[name].values, local[name].values)
+            assert np.array_equal(from_zarr[name].values, local[name].values)
+
+
+def test_zarr_store_is_the_sweep_dataset(tmp_path):
+    layout = balance.load_layout("v12-60")
+    vary = {"speed": "1000rpm:8000rpm:7", "cylinders[4].throw": "100deg,120deg,140deg"}
+    ref = sweep(layout, vary, "1-8")
+    store = balance.sweep.sweep_to_file(layout, vary, tmp_path / "v12.zarr", "1-8", chunk_size=4)
+    with xr.open_zarr(store) as ds:
+        xr.testing.assert_identical(ds.load(), ref)
+        # one Zarr chunk per sweep chunk: 4 grid points of the trailing dimension fit
+        assert ds.reciprocating_force_magnitude.encoding["chunks"] == (1, 3, 8, 2)
+    # --force replaces a store; without it the old one is kept
+    with pytest.raises(InputError, match="exists; use --force"):
+        balance.sweep.sweep_to_file(layout, vary, store, "1-2")
+    balance.sweep.sweep_to_file(layout, vary, store, "1-2", force=True)
+    with xr.open_zarr(store) as ds:
+        assert ds.sizes["order"] == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["v12.zarr"]
+
+
+def test_zarr_write_that_fails_keeps_the_old_store(tmp_path, monkeypatch):
+    layout = balance.load_layout("inline-4")
+    store = balance.sweep.sweep_to_file(layout, {"speed": "1000rpm,2000rpm"}, tmp_path / "a.zarr")
+    before = sorted(str(p.relative_to(store)) for p in store.rglob("*"))
+
+    def broken(plan, where):
+        raise RuntimeError("worker lost")
+
+    monkeypatch.setattr(balance.sweep, "_chunk", broken)
+    with pytest.raises(RuntimeError, match="worker lost"):
+        balance.sweep.sweep_to_file(layout, {"speed": "1000rpm,3000rpm"}, store, force=True)
+    assert sorted(str(p.relative_to(store)) for p in store.rglob("*")) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.zarr"]
+
+
+def test_sweep_refuses_to_replace_a_directory_that_is_not_a_store(tmp_path):
+    precious = tmp_path / "results.zarr"
+    precious.mkdir()
+    (precious / "notes.txt").write_text("mine")
+    result = runner.invoke(
+        app,
+        ["sweep", "inline-4", "--vary", "speed=1000rpm,2000rpm", "-o", str(precious), "--force"],
+    )
+    assert result.exit_code == 2
+    assert "is a directory that is not a Zarr store" in result.output
+    assert (precious / "notes.txt").read_text() == "mine"
+    result = runner.invoke(
+        app, ["sweep", "inline-4", "--vary", "speed=1000rpm,2000rpm", "-o", str(tmp_path / "x.h5")]
+    )
+    assert result.exit_code == 2
+    assert "name it .nc (netCDF) or .zarr (Zarr)" in result.output
 
 
 def test_cli_sweep_writes_netcdf_without_importing_dask(tmp_path):
