@@ -299,7 +299,10 @@ def free_phasors(
     )
     m_rec = np.asarray(reciprocating_mass, dtype=np.float64)
     amp = m_rec * r
-    f_fwd, f_bwd = phasors.reciprocating_phasors(amp, coeffs, throw, bank, orders)
+    f_fwd, f_bwd, m_fwd, m_bwd = phasors.reciprocating_force_and_moment(
+        amp, coeffs, throw, bank, orders, lever if moments else None
+    )
+    assert f_fwd is not None and f_bwd is not None
     rot_amp = np.asarray(rotating_mass, dtype=np.float64) * r
     out = FreePhasors(
         force_forward=f_fwd,
@@ -308,7 +311,6 @@ def free_phasors(
         coefficients=coeffs,
     )
     if moments:
-        m_fwd, m_bwd = phasors.reciprocating_phasors(amp, coeffs, throw, bank, orders, lever=lever)
         out = replace(
             out,
             moment_forward=m_fwd,

@@ -26,6 +26,7 @@ __all__ = [
     "CANCELLATION_FACTOR",
     "cancel_to_zero",
     "peak",
+    "reciprocating_force_and_moment",
     "reciprocating_phasors",
     "roll_phasors",
     "rotating_phasor",
@@ -146,17 +147,92 @@ def reciprocating_phasors(
     Seed 001 (balance of the crank mechanism: "fictitious" rotating forces); Taylor, *The
     Internal Combustion Engine in Theory and Practice*, vol. 2, ch. 8.
     """
+    forward, backward, m_fwd, m_bwd = reciprocating_force_and_moment(
+        amplitude, coefficients, throw, bank, orders, lever, force=lever is None
+    )
+    if lever is not None:
+        forward, backward = m_fwd, m_bwd
+    assert forward is not None and backward is not None
+    return forward, backward
+
+
+def _dot_over_cylinders(weight: FloatArray, values: FloatArray) -> FloatArray:
+    r""":math:`\sum_i w_i v_i` over axis -2, in cylinder order (see :func:`sum_over_cylinders`).
+
+    The products are formed one cylinder at a time, so no array of every term is built;
+    the result is the same, bit for bit, as summing the materialised products.
+    """
+    n = max(weight.shape[-2], values.shape[-2])
+
+    def at(a: FloatArray, i: int) -> FloatArray:
+        return a[..., i if a.shape[-2] > 1 else 0, :]
+
+    total = at(weight, 0) * at(values, 0)
+    for i in range(1, n):
+        total += at(weight, i) * at(values, i)
+    return total
+
+
+def reciprocating_force_and_moment(
+    amplitude: ArrayLike,
+    coefficients: ArrayLike,
+    throw: ArrayLike,
+    bank: ArrayLike,
+    orders: ArrayLike,
+    lever: ArrayLike | None = None,
+    *,
+    force: bool = True,
+) -> tuple[ComplexArray | None, ComplexArray | None, ComplexArray | None, ComplexArray | None]:
+    r"""Forward and backward phasors of the reciprocating inertia force and moment at once.
+
+    Arguments as :func:`reciprocating_phasors`; the moment is formed when ``lever`` is
+    given, the force unless ``force`` is false (None for what is not formed).
+
+    Notes
+    -----
+    The factor that does not depend on the amplitude, :math:`u_{k,i} = c_{k,i}
+    e^{ik(\varphi_i-\psi_i)} e^{i\psi_i}` (and its backward twin), is formed once over
+    the grid of coefficients and angles; the sums :math:`\sum_i a_i\,\mathrm{Re}\,u`
+    and :math:`\sum_i a_i\,\mathrm{Im}\,u` are then real dot products over the
+    cylinders.  Sums below the rounding of their terms are set to zero
+    (:func:`cancel_to_zero`, with :math:`|t_i| = |a_i|\,|c_{k,i}|`).
+    """
     amp = np.asarray(amplitude, dtype=np.float64)[..., None]
     c = 0.5 * np.asarray(coefficients, dtype=np.complex128)
+    if c.ndim < 2:  # the same coefficients for every cylinder
+        c = c[None, :]
     phi = np.asarray(throw, dtype=np.float64)[..., None]
     psi = np.asarray(bank, dtype=np.float64)[..., None]
     k = np.asarray(orders, dtype=np.float64)
     along_bore = np.exp(1j * psi)
-    turn = np.exp(1j * k * (phi - psi))
-    forward_terms = amp * c * turn * along_bore
-    backward_terms = amp * np.conj(c) * np.conj(turn) * along_bore
-    lev = None if lever is None else np.asarray(lever, dtype=np.float64)
-    return _weighted_sum(forward_terms, lev), _weighted_sum(backward_terms, lev)
+    turn = c * np.exp(1j * k * (phi - psi))
+    forward_unit = turn * along_bore
+    backward_unit = np.conj(turn) * along_bore
+    parts = [
+        (forward_unit.real, forward_unit.imag),
+        (backward_unit.real, backward_unit.imag),
+    ]
+    size = np.abs(c)
+    n = max(amp.shape[-2], forward_unit.shape[-2])
+
+    def sums(weight: FloatArray) -> list[ComplexArray]:
+        scale = _dot_over_cylinders(np.abs(weight), size)
+        out = []
+        for re, im in parts:
+            sr = _dot_over_cylinders(weight, re)
+            si = _dot_over_cylinders(weight, im)
+            total = np.empty(np.broadcast_shapes(sr.shape, si.shape), dtype=np.complex128)
+            total.real = sr
+            total.imag = si
+            out.append(cancel_to_zero(total, scale, n))
+        return out
+
+    f_fwd = f_bwd = m_fwd = m_bwd = None
+    if force:
+        f_fwd, f_bwd = sums(amp)
+    if lever is not None:
+        m_fwd, m_bwd = sums(amp * np.asarray(lever, dtype=np.float64)[..., None])
+    return f_fwd, f_bwd, m_fwd, m_bwd
 
 
 def rotating_phasor(

@@ -53,7 +53,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import kinematics
-from .analysis import free_phasors, parse_orders, speed_squared
+from .analysis import FreePhasors, free_phasors, parse_orders, speed_squared
 from .errors import AnalysisError, InputError
 from .layout import CYLINDER_FIELDS, Layout
 from .masses import PART_FIELDS
@@ -537,19 +537,10 @@ def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
     return params
 
 
-def _chunk(plan: _Plan, where: tuple[slice, ...]) -> dict[str, FloatArray]:
-    r"""The sweep's variables over one chunk of the grid (full chunk shape leading).
-
-    The phasor sums are formed by :func:`balance.analysis.free_phasors` at unit speed over
-    the grid of the other fields and then multiplied by :math:`\omega^2`, exactly as
-    :func:`balance.analysis.compute` does for one engine: a varied speed costs one
-    multiplication per grid point and order, and every value is the one ``analyse`` gives.
-    """
-    p = _grid_parameters(plan, where)
-    ks = plan.orders
-    chunk_shape = tuple(s.stop - s.start for s in where)
+def _unit_phasors(plan: _Plan, p: dict[str, Any]) -> FreePhasors:
+    """The unit-speed phasor sums over a chunk's grid of the fields other than speed."""
     try:
-        unit = free_phasors(
+        return free_phasors(
             p["reciprocating_mass"],
             p["rotating_mass"],
             p["crank_radius"],
@@ -559,7 +550,7 @@ def _chunk(plan: _Plan, where: tuple[slice, ...]) -> dict[str, FloatArray]:
             p["bank"],
             p["z"] - p["reference_z"],
             p["conrod_inertia_correction"],
-            ks,
+            plan.orders,
             model=plan.model,
             terms=plan.terms,
             moments=plan.moments,
@@ -567,6 +558,34 @@ def _chunk(plan: _Plan, where: tuple[slice, ...]) -> dict[str, FloatArray]:
         )
     except AnalysisError as exc:
         raise InputError(f"--vary: some grid points have an impossible geometry: {exc}") from None
+
+
+def _chunk(
+    plan: _Plan, where: tuple[slice, ...], cache: dict[Any, FreePhasors] | None = None
+) -> dict[str, FloatArray]:
+    r"""The sweep's variables over one chunk of the grid (full chunk shape leading).
+
+    The phasor sums are formed by :func:`balance.analysis.free_phasors` at unit speed over
+    the grid of the other fields and then multiplied by :math:`\omega^2`, exactly as
+    :func:`balance.analysis.compute` does for one engine: a varied speed costs one
+    multiplication per grid point and order, and every value is the one ``analyse`` gives.
+    With a ``cache``, chunks that differ only in their speeds share those sums (the
+    in-process run keeps the last ones).
+    """
+    p = _grid_parameters(plan, where)
+    ks = plan.orders
+    chunk_shape = tuple(s.stop - s.start for s in where)
+    key = tuple(
+        (s.start, s.stop)
+        for v, s in zip(plan.varies, where, strict=True)
+        if v.field.attribute != "speed"
+    )
+    unit = cache.get(key) if cache is not None else None
+    if unit is None:
+        unit = _unit_phasors(plan, p)
+        if cache is not None:
+            cache.clear()
+            cache[key] = unit
     values = unit.scaled(speed_squared(p["speed"]))
 
     def magnitude(name: str) -> FloatArray:
@@ -718,8 +737,9 @@ def _run_chunks(
     bar = _Progress(progress, math.prod(plan.shape))
     with bar:
         if client is None:
+            cache: dict[Any, FreePhasors] = {}
             for where in chunks:
-                result = _chunk(plan, where)
+                result = _chunk(plan, where, cache)
                 bar.advance(where)
                 yield where, result
             return

@@ -310,7 +310,7 @@ def test_zarr_write_that_fails_keeps_the_old_store(tmp_path, monkeypatch):
     store = balance.sweep.sweep_to_file(layout, {"speed": "1000rpm,2000rpm"}, tmp_path / "a.zarr")
     before = sorted(str(p.relative_to(store)) for p in store.rglob("*"))
 
-    def broken(plan, where):
+    def broken(*args):
         raise RuntimeError("worker lost")
 
     monkeypatch.setattr(balance.sweep, "_chunk", broken)
