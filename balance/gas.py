@@ -24,8 +24,8 @@ swept volume :math:`V_s = A(s_{max}-s_{min})` and clearance :math:`V_c = V_s/(\v
 :math:`Q_{tot}` is given (``heat_released``) or found by bisection so that the largest
 pressure equals ``peak_pressure``.
 
-References
-----------
+.. rubric:: References
+
 Heywood, *Internal Combustion Engine Fundamentals*, McGraw-Hill 1988, sec. 9.2 (Wiebe
 function, single-zone heat release) and 5.7; Wiebe, *Brennverlauf und Kreisprozess von
 Verbrennungsmotoren*, VEB Verlag Technik 1970; seed 001 (indicator diagram, gas force

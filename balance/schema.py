@@ -79,7 +79,7 @@ OptEnergy = Annotated[float | None, BeforeValidator(_energy)]
 
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
 
 
 GEOMETRY_KEYS = ("stroke", "crank_radius", "conrod_length", "offset")

@@ -30,8 +30,8 @@ each at its own firing phase; the block receives the roll torque
 the gas torque), analysed into orders :math:`k = 1/2, 1, 3/2, \dots` (four-stroke) over the
 cycle.
 
-References
-----------
+.. rubric:: References
+
 Seed 001 (forces on the pin, rod and crank, torque summation, speed fluctuation and
 flywheel); Kolchin and Demidov, *Design of Automotive Engines*, Mir 1984, ch. 8–9; Taylor,
 *The Internal Combustion Engine in Theory and Practice*, vol. 2, MIT Press 1985, ch. 8.

@@ -301,3 +301,39 @@ def test_usage_errors_are_one_line_from_the_real_entry_point(args, message):
     assert proc.stderr.count("\n") == 1 and message in proc.stderr
     assert proc.stderr.startswith("balance: ") and "--help'" in proc.stderr
     assert proc.stdout == ""
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["analyse", "--help"],
+        ["analyse", "inline-4", "--orders", "1-2", "--format", "json"],
+        ["--debug", "analyse", "v6-90", "--orders", "1-3", "--format", "json"],
+        ["analyse"],
+        ["analyse", "inline-4", "--bogus"],
+        ["sweep", "--help"],
+        ["layouts"],
+        ["propose", "inline-3", "--format", "json"],
+    ],
+)
+def test_the_one_command_application_behaves_as_the_full_one(args):
+    """main() runs an application with only the named command (start-up time); its output,
+    help and errors must be those of the full application."""
+    from balance.cli import _app_for
+
+    chosen = _app_for(args)
+    assert chosen is not app
+    assert len(chosen.registered_commands) == 1
+    one = runner.invoke(chosen, args, prog_name="balance")
+    full = runner.invoke(app, args, prog_name="balance")
+    assert one.exit_code == full.exit_code
+    assert one.output == full.output
+
+
+@pytest.mark.parametrize(
+    "args", [[], ["--help"], ["layout", "expand", "inline-4"], ["analys", "inline-4"], ["--debug"]]
+)
+def test_other_command_lines_run_the_full_application(args):
+    from balance.cli import _app_for
+
+    assert _app_for(args) is app

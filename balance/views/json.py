@@ -11,6 +11,12 @@ import xarray as xr
 __all__ = ["to_dict", "to_json"]
 
 
+def _v(ds: xr.Dataset, name: str) -> Any:
+    """A variable's values as numpy (through ``Dataset.variables``: no DataArray is built,
+    which keeps a cold start's JSON view at about a millisecond)."""
+    return ds.variables[name].values
+
+
 def _num(value: Any) -> float | None:
     number = float(value)
     return number if math.isfinite(number) else None
@@ -19,19 +25,20 @@ def _num(value: Any) -> float | None:
 def _phasor(ds: xr.Dataset, prefix: str) -> dict[str, Any]:
     """A scalar phasor (magnitude and phase variables without dimensions)."""
     return {
-        "magnitude": _num(ds[f"{prefix}_magnitude"].values),
-        "phase_deg": _num(ds[f"{prefix}_phase"].values),
+        "magnitude": _num(_v(ds, f"{prefix}_magnitude")),
+        "phase_deg": _num(_v(ds, f"{prefix}_phase")),
     }
 
 
 def _orders(ds: xr.Dataset, prefix: str) -> list[dict[str, Any]]:
     """Per-order entries; reads each variable once as a numpy array (``.sel`` per value
     would cost a cold start tens of milliseconds)."""
-    magnitude = ds[f"{prefix}_magnitude"].transpose("order", "rotation").values
-    phase = ds[f"{prefix}_phase"].transpose("order", "rotation").values
-    peak = ds[f"{prefix}_peak"].values
-    normalised = ds[f"{prefix}_peak_normalised"].values
-    rotations = list(ds["rotation"].values)
+    variables = ds.variables
+    magnitude = variables[f"{prefix}_magnitude"].transpose("order", "rotation").values
+    phase = variables[f"{prefix}_phase"].transpose("order", "rotation").values
+    peak = _v(ds, f"{prefix}_peak")
+    normalised = _v(ds, f"{prefix}_peak_normalised")
+    rotations = list(_v(ds, "rotation"))
     fwd, bwd = rotations.index("forward"), rotations.index("backward")
     return [
         {
@@ -41,16 +48,16 @@ def _orders(ds: xr.Dataset, prefix: str) -> list[dict[str, Any]]:
             "peak": _num(peak[i]),
             "peak_normalised": _num(normalised[i]),
         }
-        for i, k in enumerate(ds["order"].values)
+        for i, k in enumerate(_v(ds, "order"))
     ]
 
 
 def _roll(ds: xr.Dataset, prefix: str) -> list[dict[str, Any]]:
-    amplitude = ds[f"{prefix}_amplitude"].values
-    phase = ds[f"{prefix}_phase"].values
+    amplitude = _v(ds, f"{prefix}_amplitude")
+    phase = _v(ds, f"{prefix}_phase")
     return [
         {"order": _order_value(k), "amplitude": _num(amplitude[i]), "phase_deg": _num(phase[i])}
-        for i, k in enumerate(ds["roll_order"].values)
+        for i, k in enumerate(_v(ds, "roll_order"))
     ]
 
 
@@ -67,14 +74,14 @@ def to_dict(ds: xr.Dataset) -> dict[str, Any]:
         prefix = f"rotating_{what}"
         rotating[what] = {
             "forward": _phasor(ds, prefix),
-            "peak": _num(ds[f"{prefix}_magnitude"]),
-            "peak_normalised": _num(ds[f"{prefix}_normalised"]),
+            "peak": _num(_v(ds, f"{prefix}_magnitude")),
+            "peak_normalised": _num(_v(ds, f"{prefix}_normalised")),
         }
     out: dict[str, Any] = {
         "schema": ds.attrs["schema"],
         "layout": ds.attrs["layout"],
         "speed_rpm": float(ds.attrs["speed_rpm"]),
-        "reference_z_m": float(ds["reference_z"]),
+        "reference_z_m": float(_v(ds, "reference_z")),
         "model": ds.attrs["model"],
         "accuracy": {
             "error_bound": _num(ds.attrs.get("error_bound", float("nan"))),
@@ -82,9 +89,9 @@ def to_dict(ds: xr.Dataset) -> dict[str, Any]:
             "time_samples": int(ds.attrs.get("time_samples", 0)),
         },
         "normalisation": {
-            "force_N": _num(ds["reference_force"]),
-            "pitch_m": _num(ds["pitch"]),
-            "moment_Nm": _num(ds["reference_moment"]),
+            "force_N": _num(_v(ds, "reference_force")),
+            "pitch_m": _num(_v(ds, "pitch")),
+            "moment_Nm": _num(_v(ds, "reference_moment")),
         },
         "reciprocating": {what: _orders(ds, f"reciprocating_{what}") for what in whats},
         "rotating": rotating,
@@ -93,31 +100,31 @@ def to_dict(ds: xr.Dataset) -> dict[str, Any]:
         out["roll"] = _roll(ds, "roll")
     if "torque_mean" in ds:
         out["torque"] = {
-            "mean_Nm": _num(ds["torque_mean"]),
-            "max_Nm": _num(ds["torque_max"]),
-            "min_Nm": _num(ds["torque_min"]),
-            "speed_fluctuation": _num(ds["speed_fluctuation"]),
-            "flywheel_inertia_kgm2": _num(ds["flywheel_inertia"]),
+            "mean_Nm": _num(_v(ds, "torque_mean")),
+            "max_Nm": _num(_v(ds, "torque_max")),
+            "min_Nm": _num(_v(ds, "torque_min")),
+            "speed_fluctuation": _num(_v(ds, "speed_fluctuation")),
+            "flywheel_inertia_kgm2": _num(_v(ds, "flywheel_inertia")),
         }
         out["gas"] = {
-            "indicated_work_J": _num(ds["indicated_work"]),
-            "torque_nonuniformity": _num(ds["torque_nonuniformity"]),
-            "excess_work_J": _num(ds["excess_work"]),
-            "firing_tdc_deg": [_num(v) for v in ds["firing_tdc"].values],
+            "indicated_work_J": _num(_v(ds, "indicated_work")),
+            "torque_nonuniformity": _num(_v(ds, "torque_nonuniformity")),
+            "excess_work_J": _num(_v(ds, "excess_work")),
+            "firing_tdc_deg": [_num(v) for v in _v(ds, "firing_tdc")],
         }
     if "counterweight_mass" in ds:
         out["proposal"] = _proposal(ds)
     if "study_factor" in ds:
         out["balance_factor_study"] = {
-            "optimal_factor": _num(ds["optimal_balance_factor"]),
+            "optimal_factor": _num(_v(ds, "optimal_balance_factor")),
             "factors": [
                 {
                     "factor": float(f),
-                    "vertical_peak": _num(ds["study_vertical_peak"][i]),
-                    "horizontal_peak": _num(ds["study_horizontal_peak"][i]),
-                    "moment_peak": _num(ds["study_moment_peak"][i]),
+                    "vertical_peak": _num(_v(ds, "study_vertical_peak")[i]),
+                    "horizontal_peak": _num(_v(ds, "study_horizontal_peak")[i]),
+                    "moment_peak": _num(_v(ds, "study_moment_peak")[i]),
                 }
-                for i, f in enumerate(ds["study_factor"].values)
+                for i, f in enumerate(_v(ds, "study_factor"))
             ],
         }
     return out
@@ -126,10 +133,10 @@ def to_dict(ds: xr.Dataset) -> dict[str, Any]:
 def _proposal(ds: xr.Dataset) -> dict[str, Any]:
     counterweights = [
         {
-            "z_m": _num(ds["counterweight_z"][i]),
-            "mass_kg": _num(ds["counterweight_mass"][i]),
-            "radius_m": _num(ds["counterweight_radius"][i]),
-            "angle_deg": _num(ds["counterweight_angle"][i]),
+            "z_m": _num(_v(ds, "counterweight_z")[i]),
+            "mass_kg": _num(_v(ds, "counterweight_mass")[i]),
+            "radius_m": _num(_v(ds, "counterweight_radius")[i]),
+            "angle_deg": _num(_v(ds, "counterweight_angle")[i]),
         }
         for i in range(ds.sizes.get("counterweight", 0))
     ]
@@ -137,20 +144,20 @@ def _proposal(ds: xr.Dataset) -> dict[str, Any]:
     for i in range(ds.sizes.get("shaft", 0)):
         planes = []
         for j in range(ds.sizes.get("shaft_plane", 0)):
-            z = float(ds["shaft_plane_z"][i, j])
+            z = float(_v(ds, "shaft_plane_z")[i, j])
             if math.isfinite(z):
                 planes.append(
                     {
                         "z_m": z,
-                        "unbalance_kgm": _num(ds["shaft_plane_unbalance"][i, j]),
-                        "angle_deg": _num(ds["shaft_plane_angle"][i, j]),
+                        "unbalance_kgm": _num(_v(ds, "shaft_plane_unbalance")[i, j]),
+                        "angle_deg": _num(_v(ds, "shaft_plane_angle")[i, j]),
                     }
                 )
         shafts.append(
             {
-                "speed_ratio": int(ds["shaft_speed_ratio"][i]),
-                "x_m": _num(ds["shaft_x"][i]),
-                "y_m": _num(ds["shaft_y"][i]),
+                "speed_ratio": int(_v(ds, "shaft_speed_ratio")[i]),
+                "x_m": _num(_v(ds, "shaft_x")[i]),
+                "y_m": _num(_v(ds, "shaft_y")[i]),
                 "planes": planes,
             }
         )
@@ -165,10 +172,10 @@ def _proposal(ds: xr.Dataset) -> dict[str, Any]:
         "residual": {
             what: [
                 {"order": int(k), "peak": _num(peak[i]), "peak_normalised": _num(norm[i])}
-                for i, k in enumerate(ds["order"].values)
+                for i, k in enumerate(_v(ds, "order"))
             ]
             for what, peak, norm in (
-                (w, ds[f"residual_{w}_peak"].values, ds[f"residual_{w}_peak_normalised"].values)
+                (w, _v(ds, f"residual_{w}_peak"), _v(ds, f"residual_{w}_peak_normalised"))
                 for w in ("force", "moment")
             )
         }
