@@ -228,7 +228,7 @@ def test_sweep_of_parts_equals_the_edited_layout_file(field, values, where):
 def test_part_fields_need_a_by_part_layout():
     layout = balance.load_layout("v8-flatplane")
     assert layout.mass_parts is None
-    with pytest.raises(InputError, match="gives them lumped; vary masses.reciprocating"):
+    with pytest.raises(InputError, match=r"gives them lumped; vary masses\.reciprocating"):
         sweep(layout, {"masses.piston_group": "0.3kg,0.4kg"})
 
 
