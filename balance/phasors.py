@@ -168,9 +168,31 @@ def _dot_over_cylinders(weight: FloatArray, values: FloatArray) -> FloatArray:
         return a[..., i if a.shape[-2] > 1 else 0, :]
 
     total = at(weight, 0) * at(values, 0)
-    for i in range(1, n):
-        total += at(weight, i) * at(values, i)
+    if n > 1:
+        product = np.empty_like(total)
+        for i in range(1, n):
+            np.multiply(at(weight, i), at(values, i), out=product)
+            total += product
     return total
+
+
+def _complex_dot(
+    terms: list[tuple[FloatArray, FloatArray, FloatArray]], scale: FloatArray, n: int
+) -> ComplexArray:
+    """:math:`\\sum_j \\sum_i w_{j,i} (x_{j,i} + i y_{j,i})` for ``terms`` of (w, x, y),
+    cleaned of rounding noise against ``scale`` (:func:`cancel_to_zero`)."""
+    real: FloatArray | None = None
+    imag: FloatArray | None = None
+    for weight, x, y in terms:
+        sx = _dot_over_cylinders(weight, x)
+        sy = _dot_over_cylinders(weight, y)
+        real = sx if real is None else real + sx
+        imag = sy if imag is None else imag + sy
+    assert real is not None and imag is not None
+    total = np.empty(np.broadcast_shapes(real.shape, imag.shape), dtype=np.complex128)
+    total.real = real
+    total.imag = imag
+    return cancel_to_zero(total, scale, n)
 
 
 def reciprocating_force_and_moment(
@@ -217,15 +239,7 @@ def reciprocating_force_and_moment(
 
     def sums(weight: FloatArray) -> list[ComplexArray]:
         scale = _dot_over_cylinders(np.abs(weight), size)
-        out = []
-        for re, im in parts:
-            sr = _dot_over_cylinders(weight, re)
-            si = _dot_over_cylinders(weight, im)
-            total = np.empty(np.broadcast_shapes(sr.shape, si.shape), dtype=np.complex128)
-            total.real = sr
-            total.imag = si
-            out.append(cancel_to_zero(total, scale, n))
-        return out
+        return [_complex_dot([(weight, re, im)], scale, n) for re, im in parts]
 
     f_fwd = f_bwd = m_fwd = m_bwd = None
     if force:
@@ -288,10 +302,19 @@ def roll_phasors(
     psi = np.asarray(bank, dtype=np.float64)[..., None]
     k = np.asarray(orders, dtype=np.float64)
     turn = np.exp(1j * k * (phi - psi))
-    terms = (
-        a_rec * np.asarray(reciprocating_coefficients) + a_rod * np.asarray(conrod_coefficients)
-    ) * turn
-    return _weighted_sum(terms, None)
+    g_rec = np.asarray(reciprocating_coefficients, dtype=np.complex128)
+    g_rod = np.asarray(conrod_coefficients, dtype=np.complex128)
+    if g_rec.ndim < 2:
+        g_rec, g_rod = g_rec[None, :], g_rod[None, :]
+    u_rec = g_rec * turn
+    u_rod = g_rod * turn
+    n = max(a_rec.shape[-2], a_rod.shape[-2], u_rec.shape[-2])
+    scale = _dot_over_cylinders(np.abs(a_rec), np.abs(g_rec)) + _dot_over_cylinders(
+        np.abs(a_rod), np.abs(g_rod)
+    )
+    return _complex_dot(
+        [(a_rec, u_rec.real, u_rec.imag), (a_rod, u_rod.real, u_rod.imag)], scale, 2 * n
+    )
 
 
 def peak(forward: ArrayLike, backward: ArrayLike | None = None) -> FloatArray:

@@ -205,6 +205,7 @@ def cold_start(runs: int = 21) -> dict[str, float]:
     out = {name: statistics.median(values) for name, values in wall.items()}
     out |= {f"{name}_cpu": statistics.median(values) for name, values in cpu.items()}
     out["runs"] = runs
+    out |= instructions(commands, env)
     # the spread: ratio of each run to the xarray run just before it
     for name in ("cli", "floor"):
         pairs = sorted(a / b for a, b in zip(wall[name], wall["xarray"], strict=True))
@@ -247,6 +248,15 @@ def markdown(rows, v12_times, start) -> str:
         f"| the floor, CPU time | {start['floor_cpu']:.3f} s | "
         f"{start['floor_cpu'] / start['xarray_cpu']:.2f} × | |",
     ]
+    if "cli_instructions" in start:
+        xi = start["xarray_instructions"]
+        lines += [
+            f"| instructions executed (callgrind): `balance analyse inline-4 --format json` | "
+            f"{start['cli_instructions'] / 1e9:.3f} × 10⁹ | "
+            f"{start['cli_instructions'] / xi:.2f} × `import xarray` ({xi / 1e9:.3f} × 10⁹) | |",
+            f"| instructions executed: the floor | {start['floor_instructions'] / 1e9:.3f} × 10⁹ | "
+            f"{start['floor_instructions'] / xi:.2f} × | |",
+        ]
     return "\n".join(lines) + "\n"
 
 
@@ -313,6 +323,32 @@ def main() -> None:
         )
 
 
+def instructions(commands: dict[str, list[str]], env: dict[str, str]) -> dict[str, float]:
+    """Instructions each command executes, counted by valgrind's callgrind (one run each,
+    about half a minute): unlike time, the count does not depend on what else the machine
+    is doing.  Empty when valgrind is not installed."""
+    import re
+    import shutil
+    import tempfile
+
+    if shutil.which("valgrind") is None:
+        return {}
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, cmd in commands.items():
+            result = subprocess.run(
+                ["valgrind", "--tool=callgrind", f"--callgrind-out-file={tmp}/{name}.out", *cmd],
+                capture_output=True,
+                text=True,
+                env=env,
+                check=True,
+            )
+            match = re.search(r"Collected : (\d+)", result.stderr)
+            if match:
+                out[f"{name}_instructions"] = float(match.group(1))
+    return out
+
+
 def startup_note(start: dict[str, float]) -> str:
     """What the start-up figures say, from this run's numbers."""
     return (
@@ -326,6 +362,14 @@ def startup_note(start: dict[str, float]) -> str:
         f"{start['floor'] / start['xarray']:.2f} × (per run {start['floor_p10']:.2f}–"
         f"{start['floor_p90']:.2f} ×), so balance's own imports, layout validation, "
         f"analysis and JSON add {1e3 * (start['cli'] - start['floor']):.0f} ms to it."
+        + (
+            " Counted in instructions, which no other load on the machine changes, the floor "
+            f"is {start['floor_instructions'] / start['xarray_instructions']:.2f} × and "
+            f"balance {start['cli_instructions'] / start['xarray_instructions']:.2f} × the "
+            "bare xarray import."
+            if "cli_instructions" in start
+            else ""
+        )
     )
 
 
