@@ -344,9 +344,24 @@ def rounding_floor(ratio: ArrayLike, offset_ratio: ArrayLike) -> FloatArray:
     return np.asarray(1e-14 * (1.0 - x) ** -1.5, dtype=np.float64)
 
 
+def _unique_pairs(
+    ratio: FloatArray, offset_ratio: FloatArray
+) -> tuple[FloatArray, NDArray[np.intp]]:
+    """The distinct (ratio, offset ratio) pairs and, for each entry, the index of its pair.
+
+    Each pair's coefficients depend on that pair alone (:func:`fourier_coefficients`
+    decides per function), so computing them once per distinct pair changes no bit.
+    """
+    lam = ratio.ravel()
+    eps = offset_ratio.ravel()
+    if lam.size and np.all(lam == lam[0]) and np.all(eps == eps[0]):  # one geometry
+        return np.array([[lam[0], eps[0]]]), np.zeros(lam.size, dtype=np.intp)
+    unique, inverse = np.unique(np.stack([lam, eps], axis=-1), axis=0, return_inverse=True)
+    return unique, inverse.ravel()
+
+
 def _exact(ratio: FloatArray, offset_ratio: FloatArray, orders: NDArray[np.intp]) -> ComplexArray:
-    pairs = np.stack([ratio.ravel(), offset_ratio.ravel()], axis=-1)
-    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    unique, inverse = _unique_pairs(ratio, offset_ratio)
     lam_u = unique[:, :1]
     eps_u = unique[:, 1:]
     coeffs, _ = fourier_coefficients(
@@ -519,8 +534,7 @@ def roll_coefficients(
     )
     orders_arr = np.asarray(orders, dtype=np.intp).ravel()
     _check_geometry(lam, eps)
-    pairs = np.stack([lam.ravel(), eps.ravel()], axis=-1)
-    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    unique, inverse = _unique_pairs(lam, eps)
     lam_u = unique[:, :1]
     eps_u = unique[:, 1:]
 

@@ -17,6 +17,7 @@ sweep is one call) and return complex arrays with the orders on the last axis.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -40,6 +41,9 @@ FloatArray = NDArray[np.float64]
 #: ``CANCELLATION_FACTOR * n_terms * eps * sum(|terms|)``.
 CANCELLATION_FACTOR = 64.0
 _EPS = float(np.finfo(np.float64).eps)
+#: Largest array (elements) summed over its cylinders in one call (see
+#: :func:`sum_over_cylinders`); larger ones are summed one cylinder at a time.
+_SMALL = 1 << 16
 
 
 def cancel_to_zero(total: ComplexArray, term_scale: ArrayLike, n_terms: int) -> ComplexArray:
@@ -84,6 +88,8 @@ def sum_over_cylinders(terms: NDArray[Any]) -> NDArray[Any]:
     n = terms.shape[-2]
     if n == 0:
         return np.zeros(terms.shape[:-2] + terms.shape[-1:], dtype=terms.dtype)
+    if terms.size <= _SMALL:  # one call; a running sum has this order too
+        return np.add.accumulate(terms, axis=-2)[..., -1, :]
     total = terms[..., 0, :].copy()
     for i in range(1, n):
         total += terms[..., i, :]
@@ -157,12 +163,18 @@ def reciprocating_phasors(
 
 
 def _dot_over_cylinders(weight: FloatArray, values: FloatArray) -> FloatArray:
-    r""":math:`\sum_i w_i v_i` over axis -2, in cylinder order (see :func:`sum_over_cylinders`).
+    """:math:`\\sum_i w_i v_i` over axis -2, in cylinder order (see :func:`sum_over_cylinders`).
 
-    The products are formed one cylinder at a time, so no array of every term is built;
-    the result is the same, bit for bit, as summing the materialised products.
+    Small arrays (one engine) form every product and take the last entry of their running
+    sum (``numpy.add.accumulate``), one call whatever the number of cylinders; large ones
+    (a sweep's chunk) form the products one cylinder at a time, so that no array of every
+    term is built.  Both add :math:`((w_1 v_1 + w_2 v_2) + w_3 v_3) + \\dots` in this
+    order, so they give the same bits.
     """
-    n = max(weight.shape[-2], values.shape[-2])
+    shape = np.broadcast_shapes(weight.shape, values.shape)
+    if math.prod(shape) <= _SMALL:
+        return np.add.accumulate(weight * values, axis=-2)[..., -1, :]
+    n = shape[-2]
 
     def at(a: FloatArray, i: int) -> FloatArray:
         return a[..., i if a.shape[-2] > 1 else 0, :]
