@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import accuracy, kinematics, phasors
 from .balancing import Proposal, proposal_phasors, propose
 from .errors import InputError
-from .layout import Layout
+from .layout import CYLINDER_FIELDS, Layout
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -33,6 +33,7 @@ __all__ = [
     "balance_engine",
     "compute",
     "free_phasors",
+    "free_phasors_of",
     "parse_orders",
     "speed_squared",
 ]
@@ -159,16 +160,9 @@ def compute(
     if model == "time":
         return _compute_time(layout, ks, samples, moments=moments, roll=roll)
     r = layout.crank_radius
-    unit = free_phasors(
-        layout.reciprocating_mass,
-        layout.rotating_mass,
-        r,
-        layout.conrod_length,
-        layout.offset,
-        layout.throw,
-        layout.bank,
+    unit = free_phasors_of(
+        {name: getattr(layout, name) for name in CYLINDER_FIELDS},
         layout.z - layout.reference_z,
-        layout.conrod_inertia_correction,
         ks,
         model=model,
         terms=terms,
@@ -326,6 +320,29 @@ def free_phasors(
             ),
         )
     return out
+
+
+def free_phasors_of(
+    cylinders: Mapping[str, ArrayLike],
+    lever: ArrayLike,
+    orders: NDArray[np.intp],
+    **options: Any,
+) -> FreePhasors:
+    """:func:`free_phasors` of a table of cylinders: a mapping with the arrays named as
+    :data:`balance.layout.CYLINDER_FIELDS` (a layout's, or a sweep's grid of them)."""
+    return free_phasors(
+        cylinders["reciprocating_mass"],
+        cylinders["rotating_mass"],
+        cylinders["crank_radius"],
+        cylinders["conrod_length"],
+        cylinders["offset"],
+        cylinders["throw"],
+        cylinders["bank"],
+        lever,
+        cylinders["conrod_inertia_correction"],
+        orders,
+        **options,
+    )
 
 
 def _assemble(

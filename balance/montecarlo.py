@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from .analysis import balance_engine, compute, free_phasors, parse_orders, speed_squared
+from .analysis import balance_engine, compute, free_phasors_of, parse_orders, speed_squared
 from .balancing import proposal_phasors
 from .errors import AnalysisError, InputError
 from .layout import CYLINDER_FIELDS, Layout
@@ -226,20 +226,7 @@ def tolerance(
         if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
             raise InputError("--scatter: the scatter makes some masses negative; reduce it")
         try:
-            unit = free_phasors(
-                p["reciprocating_mass"],
-                p["rotating_mass"],
-                p["crank_radius"],
-                p["conrod_length"],
-                p["offset"],
-                p["throw"],
-                p["bank"],
-                p["z"] - layout.reference_z,
-                p["conrod_inertia_correction"],
-                ks,
-                model=model,
-                roll=False,
-            )
+            unit = free_phasors_of(p, p["z"] - layout.reference_z, ks, model=model, roll=False)
         except AnalysisError as exc:
             raise InputError(
                 f"--scatter: some samples have an impossible geometry: {exc}"

@@ -53,7 +53,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import kinematics
-from .analysis import FreePhasors, free_phasors, parse_orders, speed_squared
+from .analysis import FreePhasors, free_phasors_of, parse_orders, speed_squared
 from .errors import AnalysisError, InputError
 from .layout import CYLINDER_FIELDS, Layout
 from .masses import PART_FIELDS
@@ -540,16 +540,9 @@ def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
 def _unit_phasors(plan: _Plan, p: dict[str, Any]) -> FreePhasors:
     """The unit-speed phasor sums over a chunk's grid of the fields other than speed."""
     try:
-        return free_phasors(
-            p["reciprocating_mass"],
-            p["rotating_mass"],
-            p["crank_radius"],
-            p["conrod_length"],
-            p["offset"],
-            p["throw"],
-            p["bank"],
+        return free_phasors_of(
+            p,
             p["z"] - p["reference_z"],
-            p["conrod_inertia_correction"],
             plan.orders,
             model=plan.model,
             terms=plan.terms,
@@ -834,6 +827,27 @@ def sweep_arrays(
     return plan, arrays
 
 
+def _options(
+    model: str,
+    terms: int,
+    moments: bool,
+    roll: bool,
+    chunk_size: int,
+    client: Any,
+    progress: bool,
+) -> dict[str, Any]:
+    """The keyword arguments that :func:`sweep` and :func:`sweep_to_file` pass on."""
+    return {
+        "model": model,
+        "terms": terms,
+        "moments": moments,
+        "roll": roll,
+        "chunk_size": chunk_size,
+        "client": client,
+        "progress": progress,
+    }
+
+
 def sweep(
     layout: Layout,
     vary: Mapping[str, Any] | Sequence[Vary | str],
@@ -884,18 +898,8 @@ def sweep(
     """
     import xarray as xr
 
-    plan, arrays = sweep_arrays(
-        layout,
-        vary,
-        orders,
-        model=model,
-        terms=terms,
-        moments=moments,
-        roll=roll,
-        chunk_size=chunk_size,
-        client=client,
-        progress=progress,
-    )
+    options = _options(model, terms, moments, roll, chunk_size, client, progress)
+    plan, arrays = sweep_arrays(layout, vary, orders, **options)
     assert arrays is not None
     data = {
         name: (
@@ -949,20 +953,10 @@ def sweep_to_file(
     plan = _plan(layout, vary, orders, model, terms, moments, roll)
     chunks = chunk_slices(plan.shape, chunk_size)
 
+    options = _options(model, terms, moments, roll, chunk_size, client, progress)
+
     def run(sink: Callable[[tuple[slice, ...], dict[str, FloatArray]], None]) -> None:
-        sweep_arrays(
-            layout,
-            plan.varies,
-            [int(k) for k in plan.orders],
-            model=model,
-            terms=terms,
-            moments=moments,
-            roll=roll,
-            chunk_size=chunk_size,
-            client=client,
-            progress=progress,
-            sink=sink,
-        )
+        sweep_arrays(layout, plan.varies, [int(k) for k in plan.orders], sink=sink, **options)
 
     if fmt == "zarr":
         return _write_zarr(plan, chunks, target, run, force)
