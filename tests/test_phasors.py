@@ -315,7 +315,7 @@ def test_both_ways_of_summing_over_cylinders_give_the_same_bits(shape, monkeypat
 
     rng = np.random.default_rng(sum(shape))
     values = rng.normal(size=shape) * 10.0 ** rng.uniform(-8, 8, size=shape)
-    weight = rng.normal(size=shape[:-1] + (1,))
+    weight = rng.normal(size=(*shape[:-1], 1))
     terms = values + 1j * rng.normal(size=shape)
     small = (phasors._dot_over_cylinders(weight, values), phasors.sum_over_cylinders(terms))
     monkeypatch.setattr(phasors, "_SMALL", 0)
