@@ -87,9 +87,13 @@ def _coord(name: str, values: Any, long_name: str) -> xr.IndexVariable:
 
 
 def _safe_ratio(values: Any, scale: float) -> Any:
+    """``values / scale``: NaN where the scale is zero or not finite, and inf (without a
+    warning) where the ratio lies beyond the float range (a normalising force of a few
+    1e-300 N, as a layout with a 1e-308 kg piston has)."""
     if not math.isfinite(scale) or scale == 0.0:
         return np.full(np.shape(values), np.nan)
-    return np.asarray(values) / scale
+    with np.errstate(over="ignore"):
+        return np.asarray(values) / scale
 
 
 def build_dataset(

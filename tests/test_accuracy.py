@@ -209,3 +209,27 @@ def test_a_json_request_imports_no_pint_matplotlib_or_dask():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == ""
+
+
+def test_a_vanishing_piston_mass_gives_infinite_ratios_not_a_warning(tmp_path):
+    """Found by the fuzz test: with a 1e-308 kg piston the normalising force F1 is a few
+    1e-303 N and the rotating force per F1 exceeds the float range.  The ratio is inf
+    (null in JSON), the command succeeds, and numpy's overflow warning is not raised."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from balance.cli import app
+
+    rows = "\n".join(f"- {{throw: 0, bank: 0, z: {90 * i} mm}}" for i in range(5))
+    path = tmp_path / "tiny.yaml"
+    path.write_text(
+        "name: tiny\nspeed: 6000 rpm\ngeometry: {stroke: 86 mm, conrod_length: 143 mm}\n"
+        f"masses: {{reciprocating: 1.0e-308, rotating: 0.4 kg}}\ncylinders:\n{rows}\n"
+    )
+    result = CliRunner().invoke(app, ["analyse", str(path), "--format", "json"])
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    rotating = doc["rotating"]["force"]
+    assert rotating["peak"] > 0
+    assert rotating["peak_normalised"] is None  # inf in the Dataset, null in JSON
