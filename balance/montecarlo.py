@@ -28,7 +28,7 @@ from .analysis import balance_engine, compute, free_phasors_of, parse_orders, sp
 from .balancing import proposal_phasors
 from .errors import AnalysisError, InputError
 from .layout import CYLINDER_FIELDS, Layout
-from .sweep import Field, parse_field
+from .sweep import Field, lumped_again, parse_field
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -210,14 +210,13 @@ def tolerance(
                 _add(p[field.attribute], field, delta)
                 relump |= field.attribute == "conrod_length" and layout.mass_parts is not None
         if relump:
-            assert layout.mass_parts is not None
-            cg = parts.get("conrod_cg_to_big_end", layout.mass_parts.conrod_cg_to_big_end)
-            if np.any(cg > p["conrod_length"]):
-                raise InputError(
-                    "--scatter: the scatter puts a conrod's centre of gravity beyond its "
-                    "small end; reduce it"
-                )
-            rec, rot, _ = layout.mass_parts.lumped(p["conrod_length"], parts)
+            rec, rot, _ = lumped_again(
+                layout,
+                p["conrod_length"],
+                parts,
+                "--scatter: the scatter puts a conrod's centre of gravity beyond its small "
+                "end; reduce it",
+            )
             p["reciprocating_mass"] = np.array(np.broadcast_to(rec, (m, n)))
             p["rotating_mass"] = np.array(np.broadcast_to(rot, (m, n)))
         for field, delta in deltas:

@@ -67,6 +67,7 @@ __all__ = [
     "Vary",
     "check_output",
     "chunk_slices",
+    "lumped_again",
     "parse_field",
     "parse_values",
     "parse_vary",
@@ -82,22 +83,7 @@ ComplexArray = NDArray[np.complex128]
 #: Grid points per chunk by default (about 100 MB of temporaries for a V12 at orders 1-8).
 DEFAULT_CHUNK_SIZE = 50_000
 
-# field name -> (Layout attribute, kind, unit of the coordinate)
-_ENGINE_FIELDS: dict[str, tuple[str, str]] = {
-    "speed": ("speed", "speed"),
-    "stroke": ("crank_radius", "length"),
-    "crank_radius": ("crank_radius", "length"),
-    "conrod_length": ("conrod_length", "length"),
-    "offset": ("offset", "length"),
-    "reciprocating": ("reciprocating_mass", "mass"),
-    "rotating": ("rotating_mass", "mass"),
-    "piston_group": ("parts.piston_group", "mass"),
-    "conrod": ("parts.conrod", "mass"),
-    "conrod_cg_to_big_end": ("parts.conrod_cg_to_big_end", "length"),
-    "conrod_inertia": ("parts.conrod_inertia", "inertia"),
-    "crank_unbalance": ("parts.crank_unbalance", "mass"),
-    "reference_z": ("reference_z", "length"),
-}
+# field name -> (Layout attribute, unit kind); "parts.X" is a MassParts array
 _CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
     "throw": ("throw", "angle"),
     "bank": ("bank", "angle"),
@@ -113,6 +99,13 @@ _CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
     "conrod_cg_to_big_end": ("parts.conrod_cg_to_big_end", "length"),
     "conrod_inertia": ("parts.conrod_inertia", "inertia"),
     "crank_unbalance": ("parts.crank_unbalance", "mass"),
+}
+# engine-wide: the speed, every per-cylinder field but the crank's own angles and
+# positions, and where moments are taken
+_ENGINE_FIELDS: dict[str, tuple[str, str]] = {
+    "speed": ("speed", "speed"),
+    **{k: v for k, v in _CYLINDER_FIELDS.items() if k not in {"throw", "bank", "z"}},
+    "reference_z": ("reference_z", "length"),
 }
 _SECTION = {
     "geometry": {"stroke", "crank_radius", "conrod_length", "offset"},
@@ -381,9 +374,7 @@ def variant(layout: Layout, values: Mapping[str, float]) -> Layout:
         assert layout.mass_parts is not None
         mass_parts = replace(layout.mass_parts, **parts)
         length = changes.get("conrod_length", layout.conrod_length)
-        if np.any(mass_parts.conrod_cg_to_big_end > length):
-            raise InputError(_CG_BEYOND_ROD)
-        rec, rot, correction = mass_parts.lumped(length)
+        rec, rot, correction = lumped_again(layout, length, parts, _CG_BEYOND_ROD)
         changes.update(
             reciprocating_mass=rec,
             rotating_mass=rot,
@@ -404,6 +395,25 @@ def variant(layout: Layout, values: Mapping[str, float]) -> Layout:
         z = changes["z"]
         changes["reference_z"] = float(0.5 * (z.min() + z.max()))
     return replace(layout, **changes)
+
+
+def lumped_again(
+    layout: Layout, conrod_length: ArrayLike, parts: Mapping[str, ArrayLike], problem: str
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Lumped masses of a by-part layout with some parts (arrays that broadcast) or the
+    conrod length changed, as loading the file would give them.
+
+    Raises
+    ------
+    InputError
+        With the message ``problem`` where a conrod's centre of gravity would lie beyond
+        its small end.
+    """
+    assert layout.mass_parts is not None
+    cg = parts.get("conrod_cg_to_big_end", layout.mass_parts.conrod_cg_to_big_end)
+    if np.any(np.asarray(cg) > np.asarray(conrod_length)):
+        raise InputError(problem)
+    return layout.mass_parts.lumped(conrod_length, parts)
 
 
 _CG_BEYOND_ROD = (
@@ -521,11 +531,7 @@ def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
             params[f.attribute] = put(params[f.attribute], f, column)
             relump |= f.attribute == "conrod_length" and layout.mass_parts is not None
     if relump:
-        assert layout.mass_parts is not None
-        cg = parts.get("conrod_cg_to_big_end", layout.mass_parts.conrod_cg_to_big_end)
-        if np.any(cg > params["conrod_length"]):
-            raise InputError(_CG_BEYOND_ROD)
-        rec, rot, correction = layout.mass_parts.lumped(params["conrod_length"], parts)
+        rec, rot, correction = lumped_again(layout, params["conrod_length"], parts, _CG_BEYOND_ROD)
         params["reciprocating_mass"] = rec
         params["rotating_mass"] = rot
         params["conrod_inertia_correction"] = correction
