@@ -282,17 +282,7 @@ def _order_signals(
     divisor: float,
 ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Each order's signal and their sum, scaled by ``divisor`` and without round-off."""
-    per_order = (
-        synthesis.phasor_signal_per_order(
-            np.abs(forward),
-            np.degrees(np.angle(forward)),
-            np.abs(backward),
-            np.degrees(np.angle(backward)),
-            orders,
-            theta_deg,
-        )
-        / divisor
-    )
+    per_order = synthesis.signal_per_order(forward, backward, orders, theta_deg) / divisor
     reference = float(np.nansum(synthesis.peaks(forward, backward))) / divisor
     return _denoise(per_order, reference), _denoise(per_order.sum(axis=0), reference)
 

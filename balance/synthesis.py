@@ -52,6 +52,7 @@ __all__ = [
     "roll_signal",
     "roll_signal_per_order",
     "roll_span_deg",
+    "signal_per_order",
     "transverse_components",
 ]
 
@@ -131,8 +132,34 @@ def phasor_signal_per_order(
     ndarray of complex, shape (n_orders, n_angles)
         :math:`y + ix` of each order at each crank angle [N or N m].
     """
-    fwd = np.atleast_1d(phasors_from_polar(magnitude_fwd, phase_fwd))
-    bwd = np.atleast_1d(phasors_from_polar(magnitude_bwd, phase_bwd))
+    return signal_per_order(
+        phasors_from_polar(magnitude_fwd, phase_fwd),
+        phasors_from_polar(magnitude_bwd, phase_bwd),
+        orders,
+        theta_deg,
+    )
+
+
+def signal_per_order(
+    forward: ArrayLike, backward: ArrayLike, orders: ArrayLike, theta_deg: ArrayLike
+) -> ComplexArray:
+    r"""Each order's :math:`Q_k(\theta)` from complex phasors (as :func:`phasor_signal_per_order`).
+
+    Parameters
+    ----------
+    forward, backward : array_like of complex
+        :math:`P_k^{+}` and :math:`P_k^{-}` per order [N or N m].
+    orders : array_like
+        Order :math:`k` of each phasor [1].
+    theta_deg : array_like
+        Crank angles [deg].
+
+    Returns
+    -------
+    ndarray of complex, shape (n_orders, n_angles)
+    """
+    fwd = np.atleast_1d(np.asarray(forward, dtype=np.complex128))
+    bwd = np.atleast_1d(np.asarray(backward, dtype=np.complex128))
     ks = np.atleast_1d(np.asarray(orders, dtype=np.float64))
     th = np.radians(np.atleast_1d(np.asarray(theta_deg, dtype=np.float64)))
     if not fwd.shape == bwd.shape == ks.shape:
@@ -339,14 +366,7 @@ def dataset_signal(
         ``y + i x`` at each angle, shape (n_angles,) or (n_orders, n_angles).
     """
     orders, fwd, bwd = dataset_phasors(ds, quantity, source)
-    signal = phasor_signal_per_order(
-        np.abs(fwd),
-        np.degrees(np.angle(fwd)),
-        np.abs(bwd),
-        np.degrees(np.angle(bwd)),
-        orders,
-        theta_deg,
-    )
+    signal = signal_per_order(fwd, bwd, orders, theta_deg)
     return signal if per_order else np.asarray(signal.sum(axis=0), dtype=np.complex128)
 
 
