@@ -27,20 +27,20 @@ __all__ = [
 ]
 
 _LAZY = {
-    "analyse": "balance.analysis",
-    "load_layout": "balance.layout",
-    "builtin_layout_names": "balance.layout",
-    "Layout": "balance.layout",
-    "AnalysisError": "balance.errors",
-    "BalanceError": "balance.errors",
-    "InputError": "balance.errors",
-    "LayoutError": "balance.errors",
+    "analyse": "balance.core.analysis",
+    "load_layout": "balance.io.layout_file",
+    "builtin_layout_names": "balance.io.layout_file",
+    "Layout": "balance.io.layout_file",
+    "AnalysisError": "balance.core.errors",
+    "BalanceError": "balance.core.errors",
+    "InputError": "balance.core.errors",
+    "LayoutError": "balance.core.errors",
 }
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .analysis import analyse
-    from .errors import AnalysisError, BalanceError, InputError, LayoutError
-    from .layout import Layout, builtin_layout_names, load_layout
+    from balance.core.analysis import analyse
+    from balance.core.errors import AnalysisError, BalanceError, InputError, LayoutError
+    from balance.io.layout_file import Layout, builtin_layout_names, load_layout
 
 
 def __getattr__(name: str) -> Any:

@@ -1,5 +1,5 @@
 """``python -m balance`` runs the command line."""
 
-from .cli import main
+from balance.cli import main
 
 main()

@@ -19,7 +19,7 @@ from typing import Annotated, Any, TypeVar
 
 import typer
 
-from .errors import BalanceError, InputError
+from balance.core.errors import BalanceError, InputError
 
 __all__ = ["app", "main"]
 
@@ -105,7 +105,7 @@ def _parse_speed(text: str | None) -> float | None:
     """The ``--speed`` option in rad/s (None when it is not given)."""
     if text is None:
         return None
-    from .units import UnitProblem, parse_quantity
+    from balance.io.units import UnitProblem, parse_quantity
 
     try:
         return parse_quantity(text, "speed")
@@ -126,7 +126,7 @@ def _console() -> Any:
 def _check_output(output: Path | None, force: bool, binary: bool) -> None:
     """Refuse an output that cannot be written before any work is done."""
     if output is not None:
-        from .output import check_target
+        from balance.io.atomic import check_target
 
         check_target(output, force)
     elif binary:
@@ -134,7 +134,7 @@ def _check_output(output: Path | None, force: bool, binary: bool) -> None:
 
 
 def _write_netcdf(ds: Any, output: Path, force: bool) -> None:
-    from .output import write_atomic
+    from balance.io.atomic import write_atomic
 
     write_atomic(output, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"), force=force)
     sys.stderr.write(f"balance: wrote {output}\n")
@@ -145,7 +145,7 @@ def _emit_text(text: str, output: Path | None, force: bool) -> None:
         sys.stdout.write(text)
         sys.stdout.flush()
         return
-    from .output import write_atomic
+    from balance.io.atomic import write_atomic
 
     def write(tmp: Path) -> None:
         tmp.write_text(text, encoding="utf-8")
@@ -200,8 +200,8 @@ def analyse_command(
     ] = False,
 ) -> None:
     """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
-    from .analysis import analyse, parse_orders
-    from .layout import load_layout
+    from balance.core.analysis import analyse, parse_orders
+    from balance.io.layout_file import load_layout
 
     order_list = parse_orders(orders)
     speed_value = _parse_speed(speed)
@@ -229,11 +229,11 @@ def _write(
     ds: Any, format: Format, output: Path | None, force: bool, proposal_only: bool = False
 ) -> None:
     if format is Format.json:
-        from .views.json import to_json
+        from balance.views.json import to_json
 
         _emit_text(to_json(ds), output, force)
     elif format is Format.csv:
-        from .views.csv import to_csv
+        from balance.views.csv import to_csv
 
         _emit_text(to_csv(ds), output, force)
     elif format is Format.netcdf:
@@ -242,7 +242,7 @@ def _write(
     else:
         from rich.console import Console, Group
 
-        from .views.table import render, render_proposal
+        from balance.views.table import render, render_proposal
 
         renderable = Group(*_proposal_table(ds, render_proposal)) if proposal_only else render(ds)
         if output is not None:
@@ -256,7 +256,7 @@ def _write(
 def _proposal_table(ds: Any, render_proposal: Any) -> list[Any]:
     from rich.text import Text
 
-    from .views.table import render_factor_study
+    from balance.views.table import render_factor_study
 
     parts: list[Any] = [
         Text(f"{ds.attrs['layout']} at {ds.attrs['speed_rpm']:.0f} rpm", style="bold")
@@ -275,7 +275,7 @@ class Strategy(StrEnum):
 
 
 def _parse_fraction(text: str, option: str) -> float:
-    from .units import UnitProblem, parse_quantity
+    from balance.io.units import UnitProblem, parse_quantity
 
     try:
         value = parse_quantity(text, "fraction")
@@ -287,7 +287,7 @@ def _parse_fraction(text: str, option: str) -> float:
 
 
 def _parse_length(text: str, option: str) -> float:
-    from .units import UnitProblem, parse_quantity
+    from balance.io.units import UnitProblem, parse_quantity
 
     try:
         value = parse_quantity(text, "length")
@@ -338,8 +338,8 @@ def propose_command(
     ] = False,
 ) -> None:
     """Propose counterweights and balance shafts, and show what remains."""
-    from .analysis import analyse, parse_orders
-    from .layout import load_layout
+    from balance.core.analysis import analyse, parse_orders
+    from balance.io.layout_file import load_layout
 
     order_list = parse_orders(orders)
     cancel_list = parse_orders(cancel).tolist() if cancel is not None else None
@@ -363,7 +363,7 @@ def propose_command(
         cancel_roll=cancel_roll,
     )
     if factor_study:
-        from .study import factor_study_dataset
+        from balance.studies.factor import factor_study_dataset
 
         study = factor_study_dataset(
             engine if speed_value is None else engine.with_speed(speed_value)
@@ -385,7 +385,7 @@ class CompareFormat(StrEnum):
 def _expand_layout_args(layouts: list[str], all_builtin: bool) -> list[str]:
     import glob
 
-    from .layout import builtin_layout_names
+    from balance.io.layout_file import builtin_layout_names
 
     names: list[str] = list(builtin_layout_names()) if all_builtin else []
     for item in layouts:
@@ -435,16 +435,16 @@ def compare_command(
     """Compare layouts side by side: free forces, moments, roll and balancing needs."""
     import json
 
-    from .analysis import parse_orders
-    from .compare import compare, compare_json, compare_table, markdown_table
-    from .layout import load_layout
+    from balance.core.analysis import parse_orders
+    from balance.io.layout_file import load_layout
+    from balance.studies.compare import compare, compare_json, compare_table, markdown_table
 
     names = _expand_layout_args(layouts or [], all_builtin)
     order_list = parse_orders(orders)
     speed_value = _parse_speed(speed)
     volume = None
     if displacement is not None:
-        from .units import UnitProblem, parse_quantity
+        from balance.io.units import UnitProblem, parse_quantity
 
         try:
             volume = parse_quantity(displacement, "volume")
@@ -526,8 +526,8 @@ def plot_command(
     force: Annotated[bool, typer.Option("--force", help="Replace existing files.")] = False,
 ) -> None:
     """Draw the design-review figures of a layout into a directory."""
-    from .analysis import analyse, parse_orders
-    from .layout import load_layout
+    from balance.core.analysis import analyse, parse_orders
+    from balance.io.layout_file import load_layout
 
     order_list = parse_orders(orders)
     speed_value = _parse_speed(speed)
@@ -535,7 +535,7 @@ def plot_command(
         raise InputError(f"{output_dir}: no such directory; create it first")
     engine = load_layout(layout)
     ds = analyse(engine, order_list, speed=speed_value)
-    from .plots import save_plots
+    from balance.views.plots import save_plots
 
     stem = Path(layout).stem if layout.endswith((".yaml", ".yml")) else layout
     kinds = [k.replace("-", "_") for k in kind] if kind else None
@@ -556,15 +556,15 @@ def report_command(
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
 ) -> None:
     """Write a self-contained HTML design review (tables, figures, proposal, accuracy)."""
-    from .analysis import analyse, parse_orders
-    from .layout import load_layout
-    from .output import check_target
+    from balance.core.analysis import analyse, parse_orders
+    from balance.io.atomic import check_target
+    from balance.io.layout_file import load_layout
 
     order_list = parse_orders(orders)
     speed_value = _parse_speed(speed)
     check_target(output, force)
     ds = analyse(load_layout(layout), order_list, speed=speed_value)
-    from .report import write_report
+    from balance.views.report import write_report
 
     write_report(ds, output, force=force)
     sys.stderr.write(f"balance: wrote {output}\n")
@@ -608,8 +608,8 @@ def sweep_command(
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
 ) -> None:
     """Analyse a grid of layout variants and write one Dataset (netCDF or Zarr), chunk by chunk."""
-    from .layout import load_layout
-    from .sweep import check_output, sweep_to_file
+    from balance.io.layout_file import load_layout
+    from balance.studies.sweep import check_output, sweep_to_file
 
     check_output(output, force)
     if scheduler is not None and workers is not None:
@@ -667,9 +667,9 @@ def search_command(
     top: Annotated[int, typer.Option("--top", min=1, help="How many to print.")] = 5,
 ) -> None:
     """Enumerate crank arrangements, drop symmetric duplicates, print the best."""
-    from .analysis import parse_orders
-    from .search import search
-    from .units import UnitProblem, parse_quantity
+    from balance.core.analysis import parse_orders
+    from balance.io.units import UnitProblem, parse_quantity
+    from balance.studies.search import search
 
     try:
         step_deg = parse_quantity(step, "angle")
@@ -727,11 +727,11 @@ def tolerance_command(
     force: Annotated[bool, typer.Option("--force", help="Replace an existing plot.")] = False,
 ) -> None:
     """Monte Carlo over part-mass and geometry scatter: percentiles of the residuals."""
-    from .layout import load_layout
-    from .montecarlo import PERCENTILES, histogram, tolerance
+    from balance.io.layout_file import load_layout
+    from balance.studies.tolerance import PERCENTILES, histogram, tolerance
 
     if plot is not None:
-        from .output import check_target
+        from balance.io.atomic import check_target
 
         check_target(plot, force)
     result = tolerance(
@@ -754,7 +754,7 @@ def tolerance_command(
             cells = " ".join(f"{v:10.4g}" for v in values[:, col])
             out.write(f"{key:16s} order {int(k)} [{unit}]: {cells}\n")
     if plot is not None:
-        from .output import write_atomic
+        from balance.io.atomic import write_atomic
 
         fig = histogram(result)
         fmt = plot.suffix.lstrip(".") or "png"
@@ -768,7 +768,7 @@ def layouts_command() -> None:
     """List the built-in layouts."""
     from rich.table import Table
 
-    from .layout import builtin_layout_names, load_layout
+    from balance.io.layout_file import builtin_layout_names, load_layout
 
     table = Table(title="Built-in layouts (use the name in place of a file)", title_justify="left")
     table.add_column("name")
@@ -786,7 +786,7 @@ def expand_command(
     layout: Annotated[str, typer.Argument(help="Layout file or built-in name.")],
 ) -> None:
     """Print a layout in the explicit form, one entry per cylinder."""
-    from .layout import expand_layout
+    from balance.io.layout_file import expand_layout
 
     sys.stdout.write(expand_layout(layout))
 

@@ -9,7 +9,7 @@ For each model and rod ratio it measures, in one run on one machine:
 
 * the largest error of the normalised acceleration coefficients of orders 1-8 against a
   30-digit mpmath reference (trapezoidal rule, spectrally accurate for this function);
-* the time of one analysis (``balance.analysis.compute`` of a single cylinder, orders 1-8);
+* the time of one analysis (``balance.core.analysis.compute`` of a single cylinder, orders 1-8);
 * the time for 10**6 variants of the coefficients (10**6 distinct rod ratios near the given
   one, in chunks of 10**5), except for the ``time`` model, which has no batched path: its
   figure is the per-analysis time times 10**6 and is marked as extrapolated;
@@ -37,10 +37,10 @@ import mpmath
 import numpy as np
 
 import balance
-from balance import kinematics
-from balance.analysis import analyse, balance_engine, compute
-from balance.layout import Layout
-from balance.result import build_dataset
+from balance.core import kinematics
+from balance.core.analysis import analyse, balance_engine, compute
+from balance.io.layout_file import Layout
+from balance.views.dataset import build_dataset
 
 ROOT = Path(__file__).resolve().parent.parent
 LAMBDAS = (0.1, 0.25, 0.4, 0.6, 0.8, 0.95)
@@ -342,7 +342,7 @@ def main() -> None:
             + "\n"
             + startup_note(start)
             + "\n\n![error against time](_static/model_ladder.png)\n\n"
-            "The documented bounds are those of {mod}`balance.accuracy`; the tolerance mode "
+            "The documented bounds are those of {mod}`balance.core.accuracy`; the tolerance mode "
             "(`--tolerance`) picks the first model down the ladder textbook → series "
             "(up to 12 terms) → exact whose bound meets the tolerance.\n",
             encoding="utf-8",

@@ -5,7 +5,7 @@ Run from the repository root:
     python benchmarks/sweep.py                 # print the tables
     python benchmarks/sweep.py --write-docs    # and write the benchmark section of docs/sweeps.md
 
-Variants per second of :func:`balance.sweep.sweep_arrays` (in-process, the process pinned to
+Variants per second of :func:`balance.studies.sweep.sweep_arrays` (in-process, the process pinned to
 one core) for the
 inline-4 and the V12 at orders 1-2 and 1-8, with moments and roll, against a loop of
 :func:`balance.analyse` over variants and against the brute-force time-domain computation
@@ -30,10 +30,10 @@ from pathlib import Path
 import numpy as np
 
 import balance
-from balance.analysis import analyse, compute
-from balance.montecarlo import tolerance
-from balance.search import search
-from balance.sweep import sweep_arrays, variant
+from balance.core.analysis import analyse, compute
+from balance.studies.search import search
+from balance.studies.sweep import sweep_arrays, variant
+from balance.studies.tolerance import tolerance
 
 ROOT = Path(__file__).resolve().parent.parent
 SEPARABLE = {

@@ -6,7 +6,7 @@ from typing import Any
 
 import pytest
 
-from balance.layout import Layout, layout_from_dict
+from balance.io.layout_file import Layout, layout_from_dict
 
 
 def engine(

@@ -14,7 +14,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from balance.cli import app
-from balance.layout import builtin_layout_names
+from balance.io.layout_file import builtin_layout_names
 
 runner = CliRunner()
 

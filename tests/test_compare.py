@@ -11,8 +11,8 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from balance.cli import app
-from balance.compare import compare, compare_table, scale_layout
-from balance.layout import builtin_layout_names, builtin_layout_path, load_layout
+from balance.io.layout_file import builtin_layout_names, builtin_layout_path, load_layout
+from balance.studies.compare import compare, compare_table, scale_layout
 
 runner = CliRunner()
 

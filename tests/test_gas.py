@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import balance
-from balance.errors import LayoutError
-from balance.gas import model_pressure
-from balance.layout import layout_from_text, load_layout
-from balance.schema import GasModelSpec
+from balance.core.errors import LayoutError
+from balance.core.gas import model_pressure
+from balance.io.layout_file import layout_from_text, load_layout
+from balance.io.schema import GasModelSpec
 
 BASE = """name: test
 speed: 3000 rpm
@@ -153,7 +153,7 @@ def test_model_reaches_the_peak_pressure_and_the_polytropes():
     assert pressure.max() == pytest.approx(60e5, rel=1e-9)
     assert 0.0 < angle[np.argmax(pressure)] < 40.0
     # compression: p V^n constant from BDC to the start of combustion
-    from balance.gas import cylinder_volume
+    from balance.core.gas import cylinder_volume
 
     volume = cylinder_volume(angle, 0.086, 0.043, 0.143, 0.0, 10.0)
     closed = (angle >= -180.0) & (angle < spec.combustion_start)

@@ -13,8 +13,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from balance import kinematics as kin
-from balance.errors import AnalysisError
+from balance.core import kinematics as kin
+from balance.core.errors import AnalysisError
 
 DATA = Path(__file__).parent / "data"
 

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from balance.errors import InputError, LayoutError
-from balance.layout import (
+from balance.core.errors import InputError, LayoutError
+from balance.io.layout_file import (
     builtin_layout_names,
     expand_layout,
     layout_from_text,

@@ -7,10 +7,10 @@ import pytest
 from typer.testing import CliRunner
 
 import balance
-from balance.analysis import analyse
 from balance.cli import app
-from balance.montecarlo import histogram, parse_scatter, tolerance
-from balance.sweep import variant
+from balance.core.analysis import analyse
+from balance.studies.sweep import variant
+from balance.studies.tolerance import histogram, parse_scatter, tolerance
 
 runner = CliRunner()
 

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from balance.errors import InputError
-from balance.output import check_target, write_atomic
+from balance.core.errors import InputError
+from balance.io.atomic import check_target, write_atomic
 
 OLD = b"the previous result, which must survive\n"
 

@@ -11,10 +11,10 @@ from helpers import engine
 from hypothesis import given
 from hypothesis import strategies as st
 
-from balance import kinematics as kin
-from balance import timedomain as td
-from balance.analysis import analyse, compute
-from balance.layout import Layout, load_layout
+from balance.core import kinematics as kin
+from balance.core import sampled as td
+from balance.core.analysis import analyse, compute
+from balance.io.layout_file import Layout, load_layout
 
 ORDERS = np.arange(1, 9)
 
@@ -311,7 +311,7 @@ def test_exact_cancellation_is_reported_as_zero_not_noise():
 def test_both_ways_of_summing_over_cylinders_give_the_same_bits(shape, monkeypatch):
     """One running-sum call (one engine) and the per-cylinder loop (a sweep's chunk) add
     in the same order; a sweep equals analyse bit for bit only if they agree exactly."""
-    from balance import phasors
+    from balance.core import phasors
 
     rng = np.random.default_rng(sum(shape))
     values = rng.normal(size=shape) * 10.0 ** rng.uniform(-8, 8, size=shape)

@@ -17,9 +17,11 @@ import pytest
 from helpers import engine, image_compare
 
 import balance
-from balance import plots, synthesis, timedomain
-from balance.analysis import balance_engine, compute
-from balance.errors import InputError
+from balance.core import sampled as timedomain
+from balance.core.analysis import balance_engine, compute
+from balance.core.errors import InputError
+from balance.views import plots
+from balance.views import signals as synthesis
 
 ORDERS = 40
 REL = 1e-9
@@ -248,14 +250,14 @@ def test_plots_leave_global_state_alone():
 
 
 def test_no_pyplot_and_lazy_matplotlib():
-    """Importing balance.plots loads no matplotlib; drawing never loads pyplot."""
+    """Importing balance.views.plots loads no matplotlib; drawing never loads pyplot."""
     code = (
-        "import sys, balance, balance.plots, balance.report, balance.synthesis\n"
+        "import sys, balance, balance.views.plots, balance.views.report, balance.views.signals\n"
         "assert 'matplotlib' not in sys.modules, 'matplotlib imported at import time'\n"
         "ds = balance.analyse(balance.load_layout('inline-3'))\n"
-        "for f in balance.plots.PLOT_KINDS.values():\n"
-        "    balance.plots.figure_bytes(f(ds), 'png')\n"
-        "balance.report.render_report(ds)\n"
+        "for f in balance.views.plots.PLOT_KINDS.values():\n"
+        "    balance.views.plots.figure_bytes(f(ds), 'png')\n"
+        "balance.views.report.render_report(ds)\n"
         "assert 'matplotlib.pyplot' not in sys.modules, 'pyplot imported'\n"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)

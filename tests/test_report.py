@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 import balance
-from balance.errors import InputError
-from balance.report import SECTIONS, accuracy_statement, render_report, write_report
+from balance.core.errors import InputError
+from balance.views.report import SECTIONS, accuracy_statement, render_report, write_report
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = [

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import balance
-from balance.result import phase_deg
 from balance.views.csv import to_csv
+from balance.views.dataset import phase_deg
 from balance.views.json import to_dict
 
 

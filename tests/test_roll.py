@@ -11,8 +11,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from test_phasors import random_layouts
 
-from balance import timedomain as td
-from balance.analysis import analyse, compute
+from balance.core import sampled as td
+from balance.core.analysis import analyse, compute
 
 ORDERS = np.arange(1, 9)
 

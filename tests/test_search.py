@@ -6,7 +6,7 @@ import pytest
 from typer.testing import CliRunner
 
 from balance.cli import app
-from balance.search import firing_order, search
+from balance.studies.search import firing_order, search
 
 runner = CliRunner()
 

@@ -14,11 +14,11 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 import balance
-from balance.analysis import analyse
 from balance.cli import app
-from balance.errors import InputError
-from balance.layout import builtin_layout_path
-from balance.sweep import chunk_slices, parse_field, sweep, variant
+from balance.core.analysis import analyse
+from balance.core.errors import InputError
+from balance.io.layout_file import builtin_layout_path
+from balance.studies.sweep import chunk_slices, parse_field, sweep, variant
 
 runner = CliRunner()
 
@@ -208,7 +208,7 @@ def test_sweep_of_parts_equals_the_edited_layout_file(field, values, where):
     """A by-part layout: the sweep lumps the parts again exactly as loading the file does."""
     import yaml
 
-    from balance.layout import layout_from_dict
+    from balance.io.layout_file import layout_from_dict
 
     name = "v6-60-split"
     data = yaml.safe_load(builtin_layout_path(name).read_text())
@@ -274,10 +274,10 @@ def test_dask_cluster_gives_identical_result(tmp_path):
         distributed.Client(cluster) as client,
     ):
         remote = sweep(layout, VARY, orders="1-4", chunk_size=7, client=client)
-        nc = balance.sweep.sweep_to_file(
+        nc = balance.studies.sweep.sweep_to_file(
             layout, VARY, tmp_path / "s.nc", orders="1-4", chunk_size=7, client=client
         )
-        store = balance.sweep.sweep_to_file(
+        store = balance.studies.sweep.sweep_to_file(
             layout, VARY, tmp_path / "s.zarr", orders="1-4", chunk_size=7, client=client
         )
     xr.testing.assert_identical(local, remote)
@@ -291,15 +291,17 @@ def test_zarr_store_is_the_sweep_dataset(tmp_path):
     layout = balance.load_layout("v12-60")
     vary = {"speed": "1000rpm:8000rpm:7", "cylinders[4].throw": "100deg,120deg,140deg"}
     ref = sweep(layout, vary, "1-8")
-    store = balance.sweep.sweep_to_file(layout, vary, tmp_path / "v12.zarr", "1-8", chunk_size=4)
+    store = balance.studies.sweep.sweep_to_file(
+        layout, vary, tmp_path / "v12.zarr", "1-8", chunk_size=4
+    )
     with xr.open_zarr(store) as ds:
         xr.testing.assert_identical(ds.load(), ref)
         # one Zarr chunk per sweep chunk: 4 grid points of the trailing dimension fit
         assert ds.reciprocating_force_magnitude.encoding["chunks"] == (1, 3, 8, 2)
     # --force replaces a store; without it the old one is kept
     with pytest.raises(InputError, match="exists; use --force"):
-        balance.sweep.sweep_to_file(layout, vary, store, "1-2")
-    balance.sweep.sweep_to_file(layout, vary, store, "1-2", force=True)
+        balance.studies.sweep.sweep_to_file(layout, vary, store, "1-2")
+    balance.studies.sweep.sweep_to_file(layout, vary, store, "1-2", force=True)
     with xr.open_zarr(store) as ds:
         assert ds.sizes["order"] == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["v12.zarr"]
@@ -307,15 +309,17 @@ def test_zarr_store_is_the_sweep_dataset(tmp_path):
 
 def test_zarr_write_that_fails_keeps_the_old_store(tmp_path, monkeypatch):
     layout = balance.load_layout("inline-4")
-    store = balance.sweep.sweep_to_file(layout, {"speed": "1000rpm,2000rpm"}, tmp_path / "a.zarr")
+    store = balance.studies.sweep.sweep_to_file(
+        layout, {"speed": "1000rpm,2000rpm"}, tmp_path / "a.zarr"
+    )
     before = sorted(str(p.relative_to(store)) for p in store.rglob("*"))
 
     def broken(*args):
         raise RuntimeError("worker lost")
 
-    monkeypatch.setattr(balance.sweep, "_chunk", broken)
+    monkeypatch.setattr(balance.studies.sweep, "_chunk", broken)
     with pytest.raises(RuntimeError, match="worker lost"):
-        balance.sweep.sweep_to_file(layout, {"speed": "1000rpm,3000rpm"}, store, force=True)
+        balance.studies.sweep.sweep_to_file(layout, {"speed": "1000rpm,3000rpm"}, store, force=True)
     assert sorted(str(p.relative_to(store)) for p in store.rglob("*")) == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.zarr"]
 

@@ -12,12 +12,13 @@ import pytest
 from helpers import engine, image_compare
 
 import balance
-from balance import plots, timedomain
-from balance.analysis import compute
-from balance.gas import GasInput, read_pressure_trace
-from balance.kinematics import piston_position
-from balance.layout import builtin_layout_path
-from balance.torque import compute_torque
+from balance.core import sampled as timedomain
+from balance.core.analysis import compute
+from balance.core.gas import GasInput, read_pressure_trace
+from balance.core.kinematics import piston_position
+from balance.core.torque import compute_torque
+from balance.io.layout_file import builtin_layout_path
+from balance.views import plots
 from balance.views.json import to_dict
 
 ORDERS = np.arange(1, 13)
@@ -94,7 +95,7 @@ def _with_trace(layout, pressure_offset=None):
     angle, pressure = _trace()
     if pressure_offset is not None:
         pressure = np.full_like(pressure, pressure_offset)
-    from balance.gas import firing_tdc
+    from balance.core.gas import firing_tdc
 
     tdc = firing_tdc(
         np.degrees(layout.throw), np.degrees(layout.bank), "four-stroke", layout.firing_order, None

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from balance.units import UnitProblem, parse_quantity, registry
+from balance.io.units import UnitProblem, parse_quantity, registry
 
 
 def test_pint_rpm_is_two_pi_radians_per_minute():

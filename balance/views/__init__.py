@@ -1,4 +1,4 @@
 """Views of the result Dataset: JSON, CSV, netCDF and a rich table.
 
-Each view only reads the Dataset built by :func:`balance.result.build_dataset`.
+Each view only reads the Dataset built by :func:`balance.views.dataset.build_dataset`.
 """

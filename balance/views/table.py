@@ -225,7 +225,7 @@ def render_proposal(ds: xr.Dataset) -> list[RenderableType]:
 
 
 def render_factor_study(ds: xr.Dataset) -> list[RenderableType]:
-    """Rich renderables of a balance-factor study (:mod:`balance.study`)."""
+    """Rich renderables of a balance-factor study (:mod:`balance.studies.factor`)."""
     from rich.table import Table
     from rich.text import Text
 

@@ -1,6 +1,6 @@
 """Sphinx extension: the figure gallery of a few built-in layouts, drawn at build time.
 
-When the builder starts (``builder-inited``) every figure kind of :mod:`balance.plots` is
+When the builder starts (``builder-inited``) every figure kind of :mod:`balance.views.plots` is
 drawn for each layout of :data:`LAYOUTS` (analysed with their balancing proposals) into
 ``_generated/gallery/<layout>-<kind>.png`` under the documentation source, and the MyST
 page ``_generated/gallery.md`` that shows them is written; ``gallery.md`` includes it.
@@ -102,7 +102,7 @@ def generate(srcdir: str | os.PathLike[str]) -> list[Path]:
         The files that were (re)written; empty when everything was up to date.
     """
     import balance
-    from balance.plots import PLOT_KINDS, figure_bytes, proposal_summary
+    from balance.views.plots import PLOT_KINDS, figure_bytes, proposal_summary
 
     root = Path(srcdir) / GENERATED
     written = []

@@ -1,8 +1,8 @@
 """The layout file's schema (pydantic models over plain data).
 
-Every quantity is read through :func:`balance.units.parse_quantity`, so after validation a
+Every quantity is read through :func:`balance.io.units.parse_quantity`, so after validation a
 model holds SI floats (degrees for angles).  These models are only the file's shape; the
-engine the physics sees is :class:`balance.layout.Layout`.
+engine the physics sees is :class:`balance.io.layout_file.Layout`.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from .units import parse_quantity
+from balance.io.units import parse_quantity
 
 __all__ = [
     "BalanceSettings",
@@ -58,7 +58,7 @@ def _energy(value: Any) -> float | None:
     """An energy [J] from a plain number (joules) or text with a unit ('1.2 kJ')."""
     if value is None:
         return None
-    from .units import UnitProblem, registry
+    from balance.io.units import UnitProblem, registry
 
     valid = "give the heat released per cylinder and cycle, e.g. '1.6 kJ', or a number in J"
     if isinstance(value, bool) or not isinstance(value, int | float | str):
@@ -304,7 +304,7 @@ class BalanceSettings(_Strict):
 class GasModelSpec(_Strict):
     """``gas: model:``: a parametric cylinder pressure (polytropes and a Wiebe heat release).
 
-    See :mod:`balance.gas` for the equations.  Angles are crank angles from firing TDC.
+    See :mod:`balance.core.gas` for the equations.  Angles are crank angles from firing TDC.
     """
 
     compression_ratio: float

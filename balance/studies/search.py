@@ -34,8 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from . import kinematics, phasors
-from .errors import InputError
+from balance.core import kinematics, phasors
+from balance.core.errors import InputError
 
 __all__ = ["OBJECTIVES", "Arrangement", "SearchResult", "firing_order", "search"]
 

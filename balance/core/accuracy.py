@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .errors import AnalysisError
+from balance.core.errors import AnalysisError
 
 __all__ = [
     "MAX_SERIES_TERMS",

@@ -1,4 +1,4 @@
-r"""Figures of a result Dataset: compute first (:mod:`balance.synthesis`), then draw.
+r"""Figures of a result Dataset: compute first (:mod:`balance.views.signals`), then draw.
 
 Every figure is a function ``plot_<kind>(ds, *, ax=None, ...)`` that takes the Dataset of
 :func:`balance.analyse` and returns a :class:`matplotlib.figure.Figure`.  The figures are
@@ -37,7 +37,7 @@ Kinds (:data:`PLOT_KINDS`):
 
 The force and moment drawn are by default the *free* ones: reciprocating inertia plus the
 centrifugal force of the rotating masses (``source="free"``; see
-:mod:`balance.synthesis`).  Moments are :math:`\sum (z_i - z_{ref}) F_i`, drawn along the
+:mod:`balance.views.signals`).  Moments are :math:`\sum (z_i - z_{ref}) F_i`, drawn along the
 force as in the CONTRACT; ``crank_angle`` shows them as the physical pitch and yaw couples.
 """
 
@@ -53,9 +53,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import synthesis
-from .errors import InputError
-from .synthesis import Quantity, Source
+from balance.core.errors import InputError
+from balance.views import signals as synthesis
+from balance.views.signals import Quantity, Source
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -435,7 +435,7 @@ def plot_phasors(
     ax : sequence of 2 polar Axes, optional
         Axes for the force and the moment; a new figure otherwise.
     source : {'free', 'reciprocating', 'residual'}
-        Which force and moment (see :mod:`balance.synthesis`).
+        Which force and moment (see :mod:`balance.views.signals`).
     orders : iterable of int, optional
         Orders to draw; default every order of the Dataset (zero ones are not drawn).
     normalised : bool
@@ -531,7 +531,7 @@ def plot_crank_angle(
     ax : sequence of 4 Axes, optional
         Axes for F_y, F_x, M_x and M_y; a new figure otherwise.
     source : {'free', 'reciprocating', 'residual'}
-        Which force and moment (see :mod:`balance.synthesis`).
+        Which force and moment (see :mod:`balance.views.signals`).
     orders : iterable of int, optional
         Orders to include; default all of the Dataset.
     normalised : bool
@@ -631,7 +631,7 @@ def plot_locus(
     ax : sequence of 2 Axes, optional
         Axes for the force and the moment; a new figure otherwise.
     source : {'free', 'reciprocating', 'residual'}
-        Which force and moment (see :mod:`balance.synthesis`).
+        Which force and moment (see :mod:`balance.views.signals`).
     orders : iterable of int, optional
         Orders to include; default all of the Dataset.
     normalised : bool
@@ -731,7 +731,7 @@ def plot_spectrum(
     ax : sequence of 2 Axes, optional
         Axes for the force and the moment; a new figure otherwise.
     source : {'free', 'reciprocating', 'residual'}
-        Which force and moment (see :mod:`balance.synthesis`).
+        Which force and moment (see :mod:`balance.views.signals`).
     normalised : bool
         Per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
     log : bool
@@ -1220,7 +1220,7 @@ def save_plots(
         For an unknown kind or format, a file that exists without ``force``, or ``balance``
         asked for without a proposal.
     """
-    from .output import check_target, write_atomic
+    from balance.io.atomic import check_target, write_atomic
 
     if fmt not in FORMATS:
         raise InputError(f"format {fmt!r}: expected one of {', '.join(FORMATS)}")
@@ -1243,7 +1243,7 @@ def save_plots(
 
 
 def readable_file_writer(data: bytes) -> Callable[[Path], None]:
-    """A writer for :func:`balance.output.write_atomic` that also gives the file the usual
+    """A writer for :func:`balance.io.atomic.write_atomic` that also gives the file the usual
     permissions (0666 less the umask; the temporary file is created private)."""
 
     def write(tmp: Path) -> None:

@@ -15,9 +15,9 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from .analysis import analyse, parse_orders
-from .errors import InputError
-from .layout import Layout
+from balance.core.analysis import analyse, parse_orders
+from balance.core.errors import InputError
+from balance.io.layout_file import Layout
 
 __all__ = ["compare", "compare_json", "compare_table", "markdown_table", "scale_layout"]
 
@@ -172,7 +172,7 @@ def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], l
     Normalised: peaks per :math:`F_1 = m_{rec} r\\omega^2` and per :math:`F_1 a`, roll per
     :math:`m_{rec} r^2\\omega^2`.  Absolute: N, N m.
     """
-    from .views.table import format_number
+    from balance.views.table import format_number
 
     ks = [int(k) for k in ds["order"].values]
     suffix = "_normalised" if normalised else ""
@@ -222,7 +222,7 @@ def markdown_table(headers: list[str], rows: list[list[str]]) -> str:
 
 def compare_json(ds: xr.Dataset) -> dict[str, object]:
     """The comparison as plain data: one entry per layout, in the analysis JSON's shape."""
-    from .views.json import _num, _orders
+    from balance.views.json import _num, _orders
 
     entries = []
     for label in ds["layout"].values:

@@ -3,11 +3,10 @@ r"""Design-space sweeps: one analysis over a whole grid of layout variants.
 A sweep varies numeric layout fields over given values and computes the free forces,
 moments, rotating forces and roll of every combination.  Nothing loops over grid points in
 Python: each varied field becomes an array with one grid dimension of its own (size one on
-the others), these arrays broadcast against the per-cylinder arrays of the
-:class:`~balance.layout.Layout`, and :func:`balance.kinematics.acceleration_coefficients`
-and the :mod:`balance.phasors` sums are called once per chunk.  The acceleration
-coefficients are therefore computed once per distinct rod ratio and offset ratio, not once
-per variant.
+the others), these arrays broadcast against the per-cylinder arrays of the engine, and
+:func:`balance.core.kinematics.acceleration_coefficients` and the
+:mod:`balance.core.phasors` sums are called once per chunk.  The acceleration coefficients
+are therefore computed once per distinct rod ratio and offset ratio, not once per variant.
 
 Fields
 ------
@@ -52,11 +51,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import kinematics
-from .analysis import FreePhasors, free_phasors_of, parse_orders, speed_squared
-from .errors import AnalysisError, InputError
-from .layout import CYLINDER_FIELDS, Layout
-from .masses import PART_FIELDS
+from balance.core import kinematics
+from balance.core.analysis import FreePhasors, free_phasors_of, parse_orders, speed_squared
+from balance.core.errors import AnalysisError, InputError
+from balance.core.masses import PART_FIELDS
+from balance.io.layout_file import CYLINDER_FIELDS, Layout
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -129,9 +128,9 @@ class Field:
         A canonical name, usable as a dimension name (``conrod_length``,
         ``cylinder3_reciprocating``).
     attribute : str
-        The :class:`~balance.layout.Layout` attribute it sets.
+        The :class:`~balance.io.layout_file.Layout` attribute it sets.
     kind : str
-        Unit kind (:data:`balance.units.KINDS`): ``speed``, ``length``, ``mass``, ``angle``.
+        Unit kind (:data:`balance.io.units.KINDS`): ``speed``, ``length``, ``mass``, ``angle``.
     key : str
         The field's own name (``stroke``, ``throw``...).
     cylinder : int or None
@@ -224,7 +223,7 @@ def _check_parts(layout: Layout, attribute: str, name: str, option: str) -> None
 
 
 def _quantity(text: str, field: Field, option: str) -> float:
-    from .units import UnitProblem, parse_quantity
+    from balance.io.units import UnitProblem, parse_quantity
 
     try:
         return parse_quantity(text.strip(), field.kind)
@@ -345,7 +344,7 @@ def variant(layout: Layout, values: Mapping[str, float]) -> Layout:
     Layout
         As loading the layout file with those values written in would give it: for masses
         given by part, a changed part or conrod length is lumped again
-        (:func:`balance.masses.two_mass_split`), and a lumped mass set here wins over the
+        (:func:`balance.core.masses.two_mass_split`), and a lumped mass set here wins over the
         parts; ``reference_z`` is re-centred when the file gives none and a ``z`` changes.
     """
     changes: dict[str, Any] = {}
@@ -564,9 +563,9 @@ def _chunk(
 ) -> dict[str, FloatArray]:
     r"""The sweep's variables over one chunk of the grid (full chunk shape leading).
 
-    The phasor sums are formed by :func:`balance.analysis.free_phasors` at unit speed over
+    The phasor sums are formed by :func:`balance.core.analysis.free_phasors` at unit speed over
     the grid of the other fields and then multiplied by :math:`\omega^2`, exactly as
-    :func:`balance.analysis.compute` does for one engine: a varied speed costs one
+    :func:`balance.core.analysis.compute` does for one engine: a varied speed costs one
     multiplication per grid point and order, and every value is the one ``analyse`` gives.
     With a ``cache``, chunks that differ only in their speeds share those sums (the
     in-process run keeps the last ones).
@@ -711,7 +710,7 @@ def _coords(plan: _Plan) -> dict[str, tuple[tuple[str, ...], Any, dict[str, str]
 
 
 def _attrs(plan: _Plan) -> dict[str, Any]:
-    from . import __version__
+    from balance import __version__
 
     return {
         "schema": "balance.sweep/1",
@@ -951,7 +950,7 @@ def sweep_to_file(
     Notes
     -----
     Only one chunk's results are in memory at a time; the output appears complete or not
-    at all (:mod:`balance.output`).  It opens with ``xarray.open_dataset`` (netCDF) or
+    at all (:mod:`balance.io.atomic`).  It opens with ``xarray.open_dataset`` (netCDF) or
     ``xarray.open_zarr`` as the same Dataset :func:`sweep` returns, bit for bit.
     """
     target = Path(path)
@@ -976,9 +975,9 @@ def check_output(path: str | Path, force: bool = False, file_format: str | None 
     ------
     InputError
         For an unknown suffix, a missing ``zarr`` package, or a target that cannot be
-        written (:mod:`balance.output`).
+        written (:mod:`balance.io.atomic`).
     """
-    from .output import check_directory_target, check_target
+    from balance.io.atomic import check_directory_target, check_target
 
     target = Path(path)
     fmt = file_format or FORMATS.get(target.suffix.lower())
@@ -1007,7 +1006,7 @@ _Runner = Callable[[Callable[[tuple[slice, ...], dict[str, FloatArray]], None]],
 def _write_netcdf(plan: _Plan, target: Path, run: _Runner, force: bool) -> Path:
     import netCDF4
 
-    from .output import write_atomic
+    from balance.io.atomic import write_atomic
 
     def write(tmp: Path) -> None:
         with netCDF4.Dataset(tmp, "w", format="NETCDF4") as nc:
@@ -1051,7 +1050,7 @@ def _write_zarr(
 
     import zarr
 
-    from .output import write_atomic_directory
+    from balance.io.atomic import write_atomic_directory
 
     K = plan.orders.size
     tails = {"order": K, "rotation": 2, "roll_order": K}

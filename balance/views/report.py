@@ -1,6 +1,6 @@
 """A self-contained HTML design review of a result Dataset.
 
-One file, readable offline: inline CSS, figures as inline SVG (:mod:`balance.plots`), no
+One file, readable offline: inline CSS, figures as inline SVG (:mod:`balance.views.plots`), no
 script, no external resource.  Every piece of text that comes from the Dataset is escaped.
 
 Sections (each an ``<section>`` with the ``id`` of :data:`SECTIONS`): the layout and the
@@ -21,8 +21,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import synthesis
-from .views.table import format_number
+from balance.views import signals as synthesis
+from balance.views.table import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -141,7 +141,7 @@ def svg_fragment(svg: str, prefix: str) -> str:
 
 
 def _figure(ds: xr.Dataset, kind: str, caption: str, number: int) -> str:
-    from .plots import PLOT_KINDS, figure_bytes
+    from balance.views.plots import PLOT_KINDS, figure_bytes
 
     fig = PLOT_KINDS[kind](ds)
     svg = figure_bytes(fig, "svg").decode("utf-8")
@@ -157,7 +157,7 @@ def accuracy_statement(ds: xr.Dataset) -> str:
     """What the model of the analysis does and how accurate its numbers are.
 
     Uses the Dataset's ``error_bound`` attribute (the bound on the normalised acceleration
-    coefficients, see :mod:`balance.accuracy`) where the analysis recorded one.
+    coefficients, see :mod:`balance.core.accuracy`) where the analysis recorded one.
 
     Parameters
     ----------
@@ -680,8 +680,8 @@ def write_report(
     InputError
         If the file exists (without ``force``) or its directory cannot be written.
     """
-    from .output import check_target, write_atomic
-    from .plots import readable_file_writer
+    from balance.io.atomic import check_target, write_atomic
+    from balance.views.plots import readable_file_writer
 
     target = Path(path)
     check_target(target, force)  # fail before the figures are drawn

@@ -43,9 +43,9 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import LayoutError, Location
-from .kinematics import normalised_slider
-from .schema import GasModelSpec
+from balance.core.errors import LayoutError, Location
+from balance.core.kinematics import normalised_slider
+from balance.io.schema import GasModelSpec
 
 __all__ = [
     "MAX_TRACE_ROWS",
@@ -127,7 +127,7 @@ class GasInput:
 
 def _unit_factor(header: str, where: Location, field: str) -> float:
     """Pascals per unit of a pressure column header such as ``pressure [bar]``."""
-    from .units import UnitProblem, parse_quantity
+    from balance.io.units import UnitProblem, parse_quantity
 
     match = re.search(r"\[(.+?)\]", header)
     if not match:

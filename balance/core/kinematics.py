@@ -28,7 +28,7 @@ from math import comb
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import AnalysisError
+from balance.core.errors import AnalysisError
 
 __all__ = [
     "MODELS",
@@ -339,7 +339,7 @@ def fourier_coefficients(
 
 def rounding_floor(ratio: ArrayLike, offset_ratio: ArrayLike) -> FloatArray:
     r"""Estimated rounding error of the exact coefficients, :math:`10^{-14}(1-x)^{-3/2}`
-    with :math:`x = \lambda(1+|e|/r)` (see :mod:`balance.accuracy`)."""
+    with :math:`x = \lambda(1+|e|/r)` (see :mod:`balance.core.accuracy`)."""
     x = np.asarray(ratio, dtype=np.float64) * (1 + np.abs(np.asarray(offset_ratio)))
     return np.asarray(1e-14 * (1.0 - x) ** -1.5, dtype=np.float64)
 

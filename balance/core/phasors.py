@@ -121,7 +121,7 @@ def reciprocating_phasors(
         :math:`m_{rec}\, r\, \omega^2` per cylinder [N], shape ``(..., n)``.
     coefficients : array_like of complex
         :math:`G_k` of :math:`-s''/r` per cylinder and order, shape ``(..., n, K)``
-        (:func:`balance.kinematics.acceleration_coefficients`).
+        (:func:`balance.core.kinematics.acceleration_coefficients`).
     throw, bank : array_like
         Throw and bank angle per cylinder [rad], shape ``(..., n)``.
     orders : array_like of int
@@ -296,7 +296,7 @@ def roll_phasors(
         :math:`\Delta I\, \omega^2` per cylinder [N m].
     reciprocating_coefficients, conrod_coefficients : array_like of complex
         :math:`G_k` of :math:`g_{rec}` and :math:`g_{rod}`
-        (:func:`balance.kinematics.roll_coefficients`), shape ``(..., n, K)``.
+        (:func:`balance.core.kinematics.roll_coefficients`), shape ``(..., n, K)``.
     throw, bank : array_like
         [rad] per cylinder.
     orders : array_like of int

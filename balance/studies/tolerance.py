@@ -3,13 +3,13 @@ r"""Tolerance studies: Monte Carlo over part-mass and geometry scatter, per cyli
 Each sample draws every scattered field independently for every cylinder (or for the one
 cylinder named, ``cylinders[3].reciprocating``) around the layout's value, and computes the
 free forces and moments of order k (vectorised over the samples, in chunks).  The balancing
-proposal is designed once, for the nominal layout (:func:`balance.analysis.balance_engine`),
+proposal is designed once, for the nominal layout (:func:`balance.core.analysis.balance_engine`),
 and stays as built: the residual *with balancing* is each sample's reciprocating and rotating
 phasors plus the nominal proposal's counterweights and shafts; *without* it, the engine's
 own free force and moment (reciprocating + rotating).
 
 Scatter is written ``FIELD=±TOL`` (``+-`` also accepted), with the fields of
-:mod:`balance.sweep` that belong to a cylinder: ``reciprocating``, ``rotating``,
+:mod:`balance.studies.sweep` that belong to a cylinder: ``reciprocating``, ``rotating``,
 ``stroke``, ``crank_radius``, ``conrod_length``, ``offset``, ``z``, ``throw``, ``bank``.
 By default a value is uniform in ``[nominal - TOL, nominal + TOL]``; with
 ``distribution="normal"`` it is normal with standard deviation ``TOL/3``.
@@ -24,11 +24,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from .analysis import balance_engine, compute, free_phasors_of, parse_orders, speed_squared
-from .balancing import proposal_phasors
-from .errors import AnalysisError, InputError
-from .layout import CYLINDER_FIELDS, Layout
-from .sweep import Field, lumped_again, parse_field
+from balance.core.analysis import (
+    balance_engine,
+    compute,
+    free_phasors_of,
+    parse_orders,
+    speed_squared,
+)
+from balance.core.balancing import proposal_phasors
+from balance.core.errors import AnalysisError, InputError
+from balance.io.layout_file import CYLINDER_FIELDS, Layout
+from balance.studies.sweep import Field, lumped_again, parse_field
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -56,14 +62,14 @@ def parse_scatter(text: str, layout: Layout) -> Scatter:
     InputError
         If the field is not a numeric per-cylinder field or the tolerance is malformed.
     """
-    from .units import UnitProblem, parse_quantity
+    from balance.io.units import UnitProblem, parse_quantity
 
     if "=" not in text:
         raise InputError(
             f"--scatter: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
         )
     name, _, spec = text.partition("=")
-    from .sweep import _CYLINDER_FIELDS
+    from balance.studies.sweep import _CYLINDER_FIELDS
 
     key = name.strip()
     if key in _CYLINDER_FIELDS and key in {"throw", "bank", "z"}:

@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import AnalysisError
-from .layout import Layout
-from .phasors import CANCELLATION_FACTOR
+from balance.core.errors import AnalysisError
+from balance.core.phasors import CANCELLATION_FACTOR
+from balance.io.layout_file import Layout
 
 __all__ = [
     "DEFAULT_ORDERS",

@@ -36,12 +36,12 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
-from . import phasors as _phasors
-from .analysis import Balanced, Phasors
-from .layout import Layout
+from balance.core import phasors as _phasors
+from balance.core.analysis import Balanced, Phasors
+from balance.io.layout_file import Layout
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .torque import TorqueResult
+    from balance.core.torque import TorqueResult
 
 __all__ = ["SCHEMA", "build_dataset", "phase_deg"]
 
@@ -109,18 +109,18 @@ def build_dataset(
     layout : Layout
         The engine analysed.
     result : Phasors
-        The phasors from :func:`balance.analysis.compute`.
+        The phasors from :func:`balance.core.analysis.compute`.
     balanced : Balanced, optional
-        A balancing proposal and its residual (:func:`balance.analysis.balance_engine`).
+        A balancing proposal and its residual (:func:`balance.core.analysis.balance_engine`).
     torque : TorqueResult, optional
-        Gas and inertia forces over the cycle (:func:`balance.torque.compute_torque`); its
+        Gas and inertia forces over the cycle (:func:`balance.core.torque.compute_torque`); its
         roll (with half orders for a four-stroke) replaces the inertia-only roll.
 
     Returns
     -------
     xarray.Dataset
     """
-    from . import __version__
+    from balance import __version__
 
     ks = result.orders
     f1 = result.reference_force
@@ -324,7 +324,7 @@ def build_dataset(
         "time_samples": result.samples,
         "error_bound": float(result.error_bound),
         "error_bound_note": "bound on the normalised acceleration coefficients (force error per "
-        "m_rec r omega^2) of the model used; see balance.accuracy",
+        "m_rec r omega^2) of the model used; see balance.core.accuracy",
         # 12 significant digits: 8000 rpm read from a file stays 8000, not 7999.999999999999
         "speed_rpm": float(f"{layout.speed * 60.0 / (2.0 * math.pi):.12g}"),
         "firing_order": ",".join(map(str, layout.firing_order or ())),

@@ -1,7 +1,7 @@
 """Layouts: reading a layout file into a table of cylinders.
 
 A :class:`Layout` is plain data: one entry per cylinder in numpy arrays, SI units
-(radians for angles).  Loading validates the file (:mod:`balance.schema`), expands the
+(radians for angles).  Loading validates the file (:mod:`balance.io.schema`), expands the
 compact ``crank:`` form, applies per-cylinder overrides, derives the lumped masses from
 parts where parts are given, and checks that the geometry can exist, so that the physics
 never sees a unit string or an impossible value.
@@ -21,10 +21,10 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ValidationError
 
-from .errors import InputError, LayoutError, Location
-from .gas import GasInput, cycle_degrees, firing_tdc, read_pressure_trace
-from .masses import MassParts, two_mass_split
-from .schema import (
+from balance.core.errors import InputError, LayoutError, Location
+from balance.core.gas import GasInput, cycle_degrees, firing_tdc, read_pressure_trace
+from balance.core.masses import MassParts, two_mass_split
+from balance.io.schema import (
     GEOMETRY_KEYS,
     LUMPED_KEYS,
     PART_KEYS,
@@ -34,8 +34,8 @@ from .schema import (
     FieldProblem,
     LayoutSpec,
 )
-from .units import UnitProblem
-from .yamlsource import SourceDocument, decode_text, dotted_path, parse_yaml
+from balance.io.units import UnitProblem
+from balance.io.yamlsource import SourceDocument, decode_text, dotted_path, parse_yaml
 
 __all__ = [
     "CYLINDER_FIELDS",
@@ -173,7 +173,7 @@ def _layout_dirs() -> list[Path]:
     packaged = resources.files("balance") / "layouts"
     if packaged.is_dir():
         dirs.append(Path(str(packaged)))
-    source_tree = Path(__file__).resolve().parent.parent / "layouts"
+    source_tree = Path(__file__).resolve().parents[2] / "layouts"
     if source_tree.is_dir():
         dirs.append(source_tree)
     return dirs
@@ -597,7 +597,7 @@ def _cylinder_masses(
     spec: LayoutSpec, cyl: CylinderSpec, length: float, i: int, where: Any, sharing: int
 ) -> tuple[float, float, float, tuple[float, ...] | None]:
     """Reciprocating mass, rotating mass, conrod inertia correction of one cylinder, and
-    its parts (the fields of :class:`~balance.masses.MassParts`; None for lumped masses).
+    its parts (the fields of :class:`~balance.core.masses.MassParts`; None for lumped masses).
 
     ``crank_unbalance`` is per throw: each of the ``sharing`` rods on a throw carries its
     share.

@@ -26,7 +26,7 @@ each at its own firing phase; the block receives the roll torque
     R(\theta) = \sum_i \left[\omega^2\left(m_\mathrm{rec} r^2 g_\mathrm{rec}(\beta_i) +
     \Delta I\,g_\mathrm{rod}(\beta_i)\right) - P_{g,i}\,(-s_i')\right]
 
-(the core's inertia roll, :func:`balance.kinematics.roll_coefficients`, plus the reaction to
+(the core's inertia roll, :func:`balance.core.kinematics.roll_coefficients`, plus the reaction to
 the gas torque), analysed into orders :math:`k = 1/2, 1, 3/2, \dots` (four-stroke) over the
 cycle.
 
@@ -45,11 +45,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from . import phasors
-from .errors import InputError
-from .gas import pressure_at
-from .kinematics import conrod_angle_derivatives, normalised_slider
-from .layout import Layout
+from balance.core import phasors
+from balance.core.errors import InputError
+from balance.core.gas import pressure_at
+from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
+from balance.io.layout_file import Layout
 
 __all__ = ["CYCLE_SAMPLES_PER_DEGREE", "TorqueResult", "compute_torque", "roll_orders"]
 

@@ -15,7 +15,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from .errors import InputError
+from balance.core.errors import InputError
 
 __all__ = ["check_directory_target", "check_target", "write_atomic", "write_atomic_directory"]
 

@@ -8,7 +8,7 @@ against these functions.
 The roll torque is found here by the Newton–Euler equations of piston and rigid conrod
 (mass, centre of gravity, moment of inertia) at each crank angle, solved for the force of
 the cylinder wall; its moment about the crank axis is what the block receives.  This does
-not use the energy argument by which :func:`balance.kinematics.roll_coefficients` is
+not use the energy argument by which :func:`balance.core.kinematics.roll_coefficients` is
 derived.
 """
 
@@ -17,9 +17,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .balancing import Proposal
-from .kinematics import conrod_angle_derivatives, normalised_slider
-from .layout import Layout
+from balance.core.balancing import Proposal
+from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
+from balance.io.layout_file import Layout
 
 __all__ = [
     "crank_angles",

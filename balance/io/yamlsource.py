@@ -15,7 +15,7 @@ from typing import Any
 
 import yaml
 
-from .errors import LayoutError, Location
+from balance.core.errors import LayoutError, Location
 
 __all__ = [
     "MAX_BYTES",

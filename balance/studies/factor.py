@@ -6,9 +6,9 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from .balancing import balance_factor_study, optimal_balance_factor
-from .kinematics import acceleration_coefficients
-from .layout import Layout
+from balance.core.balancing import balance_factor_study, optimal_balance_factor
+from balance.core.kinematics import acceleration_coefficients
+from balance.io.layout_file import Layout
 
 __all__ = ["factor_study_dataset"]
 

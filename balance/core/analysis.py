@@ -2,7 +2,7 @@
 
 :func:`compute` does the arithmetic and returns plain complex arrays
 (:class:`Phasors`); :func:`analyse` wraps it into the result Dataset
-(:mod:`balance.result`).
+(:mod:`balance.views.dataset`).
 """
 
 from __future__ import annotations
@@ -16,10 +16,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import accuracy, kinematics, phasors
-from .balancing import Proposal, proposal_phasors, propose
-from .errors import InputError
-from .layout import CYLINDER_FIELDS, Layout
+from balance.core import accuracy, kinematics, phasors
+from balance.core.balancing import Proposal, proposal_phasors, propose
+from balance.core.errors import InputError
+from balance.io.layout_file import CYLINDER_FIELDS, Layout
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -141,9 +141,9 @@ def compute(
         Orders to compute (default 1 to 8); see :func:`parse_orders`.
     model : {'exact', 'series', 'textbook', 'time'}
         How the piston acceleration is expanded
-        (:func:`balance.kinematics.acceleration_coefficients`), or ``time``: forces, moments
+        (:func:`balance.core.kinematics.acceleration_coefficients`), or ``time``: forces, moments
         and roll synthesised over ``samples`` crank angles and transformed
-        (:mod:`balance.timedomain`).
+        (:mod:`balance.core.sampled`).
     terms : int
         Binomial terms of the ``series`` model.
     samples : int, optional
@@ -271,7 +271,7 @@ def free_phasors(
     orders : ndarray of int
         The K orders.
     model, terms
-        Acceleration model (:func:`balance.kinematics.acceleration_coefficients`).
+        Acceleration model (:func:`balance.core.kinematics.acceleration_coefficients`).
     moments, roll : bool
         Whether to form the moment and roll sums.
 
@@ -281,7 +281,7 @@ def free_phasors(
 
     Notes
     -----
-    :func:`compute` (one engine) and :func:`balance.sweep.sweep` (a grid) both call this
+    :func:`compute` (one engine) and :func:`balance.studies.sweep.sweep` (a grid) both call this
     function and then multiply by :math:`\omega^2`; each value is formed by the same
     operations in the same order, so the two agree bit for bit.
     """
@@ -329,7 +329,7 @@ def free_phasors_of(
     **options: Any,
 ) -> FreePhasors:
     """:func:`free_phasors` of a table of cylinders: a mapping with the arrays named as
-    :data:`balance.layout.CYLINDER_FIELDS` (a layout's, or a sweep's grid of them)."""
+    :data:`balance.io.layout_file.CYLINDER_FIELDS` (a layout's, or a sweep's grid of them)."""
     return free_phasors(
         cylinders["reciprocating_mass"],
         cylinders["rotating_mass"],
@@ -411,7 +411,7 @@ def _compute_time(
     layout: Layout, ks: NDArray[np.intp], samples: int | None, *, moments: bool, roll: bool
 ) -> Phasors:
     """The ``time`` model: sample, sum as vectors, transform."""
-    from . import timedomain
+    from balance.core import sampled as timedomain
 
     k_max = int(ks.max())
     if samples is None:
@@ -484,7 +484,7 @@ def balance_engine(
     """Propose counterweights and shafts for an analysed layout and form the residual.
 
     Settings not given here come from the layout's ``balance:`` section, then from the
-    defaults of :func:`balance.balancing.propose` (orders 1 and 2, two-plane counterweights
+    defaults of :func:`balance.core.balancing.propose` (orders 1 and 2, two-plane counterweights
     at the crank ends, counterweight radius = crank radius).
     """
     settings = layout.balance
@@ -612,7 +612,7 @@ def analyse(
     tolerance : float, optional
         Instead of a model: the largest error allowed in the normalised coefficients (force
         error per :math:`m_{rec} r\omega^2`); the cheapest model that meets it is used
-        (:func:`balance.accuracy.choose_model`) and recorded with its error bound.
+        (:func:`balance.core.accuracy.choose_model`) and recorded with its error bound.
     moments, roll : bool
         Whether to compute the moments and the roll torque.
     proposal : bool
@@ -625,10 +625,10 @@ def analyse(
     Returns
     -------
     xarray.Dataset
-        Every variable carries ``units`` and ``long_name``; see :mod:`balance.result`.
+        Every variable carries ``units`` and ``long_name``; see :mod:`balance.views.dataset`.
         With a ``gas:`` section the Dataset also holds the forces and torque over the cycle
         (dimension ``crank_angle``), the torque summary, and the roll with gas forces, in
-        half orders for a four-stroke (:mod:`balance.torque`).
+        half orders for a four-stroke (:mod:`balance.core.torque`).
 
     Examples
     --------
@@ -637,7 +637,7 @@ def analyse(
     >>> float(ds.reciprocating_force_peak_normalised.sel(order=2)) > 1.0
     True
     """
-    from .result import build_dataset
+    from balance.views.dataset import build_dataset
 
     if speed is not None:
         if not (math.isfinite(speed) and speed > 0):
@@ -664,7 +664,7 @@ def analyse(
         )
     torque = None
     if layout.gas is not None:
-        from .torque import compute_torque
+        from balance.core.torque import compute_torque
 
         torque = compute_torque(layout, result.orders)
     return build_dataset(layout, result, balanced, torque=torque)
