@@ -17,6 +17,7 @@ __version__ = "0.1.0"
 __all__ = [
     "AnalysisError",
     "BalanceError",
+    "Engine",
     "InputError",
     "Layout",
     "LayoutError",
@@ -27,10 +28,11 @@ __all__ = [
 ]
 
 _LAZY = {
-    "analyse": "balance.core.analysis",
-    "load_layout": "balance.io.layout_file",
-    "builtin_layout_names": "balance.io.layout_file",
-    "Layout": "balance.io.layout_file",
+    "analyse": "balance.api",
+    "load_layout": "balance.api",
+    "builtin_layout_names": "balance.api",
+    "Engine": "balance.api",
+    "Layout": "balance.api",
     "AnalysisError": "balance.core.errors",
     "BalanceError": "balance.core.errors",
     "InputError": "balance.core.errors",
@@ -38,9 +40,8 @@ _LAZY = {
 }
 
 if TYPE_CHECKING:  # pragma: no cover
-    from balance.core.analysis import analyse
+    from balance.api import Engine, Layout, analyse, builtin_layout_names, load_layout
     from balance.core.errors import AnalysisError, BalanceError, InputError, LayoutError
-    from balance.io.layout_file import Layout, builtin_layout_names, load_layout
 
 
 def __getattr__(name: str) -> Any:

@@ -200,7 +200,8 @@ def analyse_command(
     ] = False,
 ) -> None:
     """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
-    from balance.core.analysis import analyse, parse_orders
+    from balance.api import analyse
+    from balance.io.fields import parse_orders
     from balance.io.layout_file import load_layout
 
     order_list = parse_orders(orders)
@@ -338,7 +339,8 @@ def propose_command(
     ] = False,
 ) -> None:
     """Propose counterweights and balance shafts, and show what remains."""
-    from balance.core.analysis import analyse, parse_orders
+    from balance.api import analyse
+    from balance.io.fields import parse_orders
     from balance.io.layout_file import load_layout
 
     order_list = parse_orders(orders)
@@ -435,7 +437,7 @@ def compare_command(
     """Compare layouts side by side: free forces, moments, roll and balancing needs."""
     import json
 
-    from balance.core.analysis import parse_orders
+    from balance.io.fields import parse_orders
     from balance.io.layout_file import load_layout
     from balance.studies.compare import compare, compare_json, compare_table, markdown_table
 
@@ -526,7 +528,8 @@ def plot_command(
     force: Annotated[bool, typer.Option("--force", help="Replace existing files.")] = False,
 ) -> None:
     """Draw the design-review figures of a layout into a directory."""
-    from balance.core.analysis import analyse, parse_orders
+    from balance.api import analyse
+    from balance.io.fields import parse_orders
     from balance.io.layout_file import load_layout
 
     order_list = parse_orders(orders)
@@ -556,8 +559,9 @@ def report_command(
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
 ) -> None:
     """Write a self-contained HTML design review (tables, figures, proposal, accuracy)."""
-    from balance.core.analysis import analyse, parse_orders
+    from balance.api import analyse
     from balance.io.atomic import check_target
+    from balance.io.fields import parse_orders
     from balance.io.layout_file import load_layout
 
     order_list = parse_orders(orders)
@@ -667,7 +671,7 @@ def search_command(
     top: Annotated[int, typer.Option("--top", min=1, help="How many to print.")] = 5,
 ) -> None:
     """Enumerate crank arrangements, drop symmetric duplicates, print the best."""
-    from balance.core.analysis import parse_orders
+    from balance.io.fields import parse_orders
     from balance.io.units import UnitProblem, parse_quantity
     from balance.studies.search import search
 

@@ -37,9 +37,9 @@ import mpmath
 import numpy as np
 
 import balance
+from balance.api import Layout, analyse
 from balance.core import kinematics
-from balance.core.analysis import analyse, balance_engine, compute
-from balance.io.layout_file import Layout
+from balance.core.analysis import balance_engine, compute
 from balance.views.dataset import build_dataset
 
 ROOT = Path(__file__).resolve().parent.parent

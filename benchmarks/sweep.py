@@ -30,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 import balance
-from balance.core.analysis import analyse, compute
+from balance.api import analyse
+from balance.core.analysis import compute
 from balance.studies.search import search
 from balance.studies.sweep import sweep_arrays, variant
 from balance.studies.tolerance import tolerance

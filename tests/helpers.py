@@ -6,7 +6,8 @@ from typing import Any
 
 import pytest
 
-from balance.io.layout_file import Layout, layout_from_dict
+from balance.api import Layout
+from balance.io.layout_file import layout_from_dict
 
 
 def engine(

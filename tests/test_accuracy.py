@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 from helpers import engine
 
+from balance.api import Layout, analyse
 from balance.core import accuracy
 from balance.core import kinematics as kin
 from balance.core import sampled as td
-from balance.core.analysis import analyse, compute
+from balance.core.analysis import compute
 from balance.core.errors import AnalysisError
-from balance.io.layout_file import Layout
 
 ORDERS = np.arange(1, 9)
 LAMBDAS = [1e-9, 0.1, 0.25, 0.4, 0.6, 0.8, 0.95, 0.999]

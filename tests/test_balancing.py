@@ -11,11 +11,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 from test_phasors import random_layouts
 
+from balance.api import Layout, analyse, builtin_layout_names, load_layout
 from balance.core import kinematics as kin
 from balance.core import sampled as td
-from balance.core.analysis import analyse, balance_engine, compute
+from balance.core.analysis import balance_engine, compute
 from balance.core.balancing import balance_factor_study, optimal_balance_factor
-from balance.io.layout_file import Layout, builtin_layout_names, load_layout
 from balance.studies.factor import factor_study_dataset
 
 ORDERS = np.arange(1, 9)

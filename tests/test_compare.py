@@ -24,7 +24,7 @@ def textbook() -> xr.Dataset:
 
 
 def test_compare_reproduces_the_textbook_coefficients(textbook):
-    """Taylor vol. 2 / seed 001 / DOMAIN.md, two-term model: inline-3 sqrt(3) first-order
+    """Taylor 1985, vol. 2, ch. 8 (engine balance), two-term model: inline-3 sqrt(3) first-order
     couple; inline-4 4 lambda second-order force; inline-5 0.449 first-order couple and
     4.98 lambda second-order couple; cross-plane V8 sqrt(10) first-order couple turning
     forwards; inline-6 and V12 nothing."""

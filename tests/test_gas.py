@@ -9,9 +9,8 @@ import pytest
 
 import balance
 from balance.core.errors import LayoutError
-from balance.core.gas import model_pressure
+from balance.core.gas import GasModel, model_pressure
 from balance.io.layout_file import layout_from_text, load_layout
-from balance.io.schema import GasModelSpec
 
 BASE = """name: test
 speed: 3000 rpm
@@ -148,7 +147,7 @@ def test_bore_is_needed():
 
 
 def test_model_reaches_the_peak_pressure_and_the_polytropes():
-    spec = GasModelSpec(compression_ratio=10.0, peak_pressure=60e5, polytropic_compression=1.35)
+    spec = GasModel(compression_ratio=10.0, peak_pressure=60e5, polytropic_compression=1.35)
     angle, pressure = model_pressure(spec, 0.086, 0.043, 0.143, 0.0, "four-stroke")
     assert pressure.max() == pytest.approx(60e5, rel=1e-9)
     assert 0.0 < angle[np.argmax(pressure)] < 40.0

@@ -19,7 +19,7 @@ from balance.core.errors import AnalysisError
 DATA = Path(__file__).parent / "data"
 
 
-# --- seed 000: the 6" rod, 2" crank example -------------------------------------------
+# --- worked example: the 6" rod, 2" crank (Wikipedia, "Piston motion equations") ------
 
 
 def _velocity_extreme_deg(r: float, length: float) -> float:
@@ -39,10 +39,12 @@ def _velocity_extreme_deg(r: float, length: float) -> float:
 
 
 def test_seed000_velocity_extremes():
-    """Seed 000 (piston motion equations): rod 6", crank radius 2": velocity extremes at
-    +-73.17615 deg.  A 30-digit mpmath root of s'' gives 73.1752966362 deg: the seed's root
-    is 8.5e-4 deg off (its other figures are computed from its own root, below), so we agree
-    with it to 1e-3 deg and with the high-precision root to 1e-9 deg."""
+    """Worked example of the English Wikipedia article "Piston motion equations" (section
+    on velocity maxima/minima; equations as Heywood 1988, eq. 2.4): rod 6", crank radius 2":
+    velocity extremes at +-73.17615 deg.  A 30-digit mpmath root of s'' gives
+    73.1752966362 deg: the article's root is 8.5e-4 deg off (its other figures are computed
+    from its own root, below), so we agree with it to 1e-3 deg and with the high-precision
+    root to 1e-9 deg."""
     beta = _velocity_extreme_deg(2.0, 6.0)
     with mpmath.workdps(30):
         lam = mpmath.mpf(1) / 3
@@ -56,14 +58,15 @@ def test_seed000_velocity_extremes():
 
 
 def test_seed000_rod_and_crank_rod_angles():
-    """Seed 000: at its crank angle 73.17615 deg, rod angle 18.60647 deg and crank-rod angle
-    88.21738 deg (the triangle's angles sum to 180 deg)."""
+    """Same worked example (Wikipedia, "Piston motion equations"): at its crank angle
+    73.17615 deg, rod angle 18.60647 deg and crank-rod angle 88.21738 deg (the triangle's
+    angles sum to 180 deg)."""
     rod = math.degrees(float(kin.conrod_angle(math.radians(73.17615), 2.0, 6.0)))
     assert rod == pytest.approx(18.60647, abs=5e-6)
     assert 180.0 - 73.17615 - rod == pytest.approx(88.21738, abs=5e-6)
 
 
-# --- seed 003: table 3 (VAZ-2108) ------------------------------------------------------
+# --- Makushev, Polyakova and Batrakov (2010), table 3 (VAZ-2108) -----------------------
 
 
 def _table3() -> list[dict[str, str]]:
@@ -77,7 +80,9 @@ def _half_unit(text: str) -> float:
     return 0.5 * 10.0**-decimals
 
 
-# The text of seed 003 states r = 0.035 m and omega = 513 1/s; the table fits r = 35.5 mm
+# The article's text (Makushev, Polyakova and Batrakov, "Determination of piston velocity and
+# acceleration by means of derivatives", 2010, in Russian; full entry in docs/theory.md)
+# states r = 0.035 m and omega = 513 1/s; the table fits r = 35.5 mm
 # (stroke 71 mm, the VAZ-2108's real stroke), and omega from J(0) = r omega^2 (1 + lambda).
 TABLE3_R = 0.0355
 TABLE3_LAMBDA = 0.26
@@ -87,7 +92,7 @@ TABLE3_OMEGA = math.sqrt(11765.45 / (TABLE3_R * (1 + TABLE3_LAMBDA)))
 def test_seed003_table3_fit_of_speed_is_consistent():
     # V(90 deg) = r omega holds for every rod ratio; it must agree with the omega fitted to J(0)
     assert pytest.approx(TABLE3_OMEGA, rel=3e-5) == 18.207 / TABLE3_R
-    assert pytest.approx(512.9, abs=0.05) == TABLE3_OMEGA  # DOMAIN.md: omega about 512.9 1/s
+    assert pytest.approx(512.9, abs=0.05) == TABLE3_OMEGA  # fitted to the printed table
 
 
 def test_seed003_table3_reproduced_by_textbook_kinematics():
@@ -203,7 +208,8 @@ def test_exact_coefficients_match_quadrature(lam, eps):
 
 
 def test_series_closed_form_matches_domain_terms():
-    """DOMAIN.md / seed 003: A2 = l + l^3/4 + 15 l^5/128, A4 = -(l^3/4 + 3 l^5/16),
+    """Binomial series of the acceleration (Taylor 1985, vol. 2, ch. 8; derivation in
+    docs/theory.md): A2 = l + l^3/4 + 15 l^5/128, A4 = -(l^3/4 + 3 l^5/16),
     A6 = 9 l^5/128 (l = lambda)."""
     lam = np.array([0.05, 0.2, 0.26, 0.31, 0.5])
     np.testing.assert_allclose(

@@ -7,8 +7,8 @@ import pytest
 from typer.testing import CliRunner
 
 import balance
+from balance.api import analyse
 from balance.cli import app
-from balance.core.analysis import analyse
 from balance.studies.sweep import variant
 from balance.studies.tolerance import histogram, parse_scatter, tolerance
 

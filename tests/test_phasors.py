@@ -11,10 +11,10 @@ from helpers import engine
 from hypothesis import given
 from hypothesis import strategies as st
 
+from balance.api import Layout, analyse, load_layout
 from balance.core import kinematics as kin
 from balance.core import sampled as td
-from balance.core.analysis import analyse, compute
-from balance.io.layout_file import Layout, load_layout
+from balance.core.analysis import compute
 
 ORDERS = np.arange(1, 9)
 
@@ -23,7 +23,7 @@ def f1(layout: Layout) -> float:
     return float(layout.reciprocating_mass[0] * layout.crank_radius[0] * layout.speed**2)
 
 
-# --- literature values (DOMAIN.md; Taylor vol. 2 ch. 8; seed 001) ------------------------
+# --- literature values (Taylor 1985, vol. 2, ch. 8; Kolchin and Demidov 1984) ------------
 
 
 def test_inline4_flat_crank_second_order_force_only():

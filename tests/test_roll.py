@@ -11,8 +11,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 from test_phasors import random_layouts
 
+from balance.api import analyse
 from balance.core import sampled as td
-from balance.core.analysis import analyse, compute
+from balance.core.analysis import compute
 
 ORDERS = np.arange(1, 9)
 

@@ -14,8 +14,8 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 import balance
+from balance.api import analyse
 from balance.cli import app
-from balance.core.analysis import analyse
 from balance.core.errors import InputError
 from balance.io.layout_file import builtin_layout_path
 from balance.studies.sweep import chunk_slices, parse_field, sweep, variant

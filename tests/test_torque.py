@@ -14,10 +14,11 @@ from helpers import engine, image_compare
 import balance
 from balance.core import sampled as timedomain
 from balance.core.analysis import compute
-from balance.core.gas import GasInput, read_pressure_trace
+from balance.core.gas import GasInput
 from balance.core.kinematics import piston_position
 from balance.core.torque import compute_torque
 from balance.io.layout_file import builtin_layout_path
+from balance.io.traces import read_pressure_trace
 from balance.views import plots
 from balance.views.json import to_dict
 
@@ -62,9 +63,12 @@ def test_energy_mean_torque_equals_indicated_work():
 
 @pytest.mark.parametrize("step", [10.0, 30.0])
 def test_seed_mean_tangential_force_check(step):
-    """Seed 001: p_i A 2 r z = T_mean A r 2 pi (z = 0.5 four-stroke) within the seeds' 5 %
-    with a tangential force table every 10 or 30 deg (trapezoidal rule, as the seeds), and
-    within 0.1 % with the 0.25 deg integration."""
+    """Mean tangential force against the mean indicated pressure, the classical check of a
+    tangential force diagram (indicated work per cycle; derivation in docs/torque.md):
+    p_i A 2 r z = T_mean A r 2 pi (z = 0.5 four-stroke) within 5 % (the acceptance band of
+    engine-design course work for hand-integrated diagrams, our tolerance) with a tangential
+    force table every 10 or 30 deg (trapezoidal rule, as done by hand), and within 0.1 % with
+    the 0.25 deg integration."""
     layout = gas_layout()
     result = compute_torque(layout, ORDERS)
     r = float(layout.crank_radius[0])
@@ -188,7 +192,8 @@ def test_offset_engine_torque_is_exact_against_newton_euler():
     torque = timedomain.crank_torque_newton_euler(layout, theta, gas_force=result.gas_force.T)
     scale = float(np.max(np.abs(result.engine_torque)))
     assert np.max(np.abs(torque - result.engine_torque)) <= 1e-9 * scale
-    # and T = P sin(beta + psi)/cos(psi) (seed form) equals -P s'/r with offset
+    # and T = P sin(beta + psi)/cos(psi) (the textbook form, Kolchin and Demidov 1984)
+    # equals -P s'/r with offset
     beta = np.radians(np.mod(result.crank_angle, 360.0))
     r, rod, e = 0.043, 0.143, 0.004
     psi = np.arcsin((r * np.sin(beta) - e) / rod)

@@ -8,38 +8,29 @@
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import accuracy, kinematics, phasors
 from balance.core.balancing import Proposal, proposal_phasors, propose
+from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import InputError
-from balance.io.layout_file import CYLINDER_FIELDS, Layout
-
-if TYPE_CHECKING:  # pragma: no cover
-    import xarray as xr
 
 __all__ = [
-    "DEFAULT_ORDERS",
     "Balanced",
     "FreePhasors",
     "Phasors",
-    "analyse",
     "balance_engine",
     "compute",
     "free_phasors",
     "free_phasors_of",
-    "parse_orders",
     "speed_squared",
 ]
 
-DEFAULT_ORDERS = 8
-MAX_ORDER = 1000
 
 ComplexArray = NDArray[np.complex128]
 
@@ -85,45 +76,9 @@ class Balanced:
     roll: ComplexArray
 
 
-def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -> NDArray[np.intp]:
-    """Orders from an int (1..N), a spec string (``"1-8"``, ``"2"``, ``"1,2,4-6"``) or a list.
-
-    Raises
-    ------
-    InputError
-        For an empty, malformed or out-of-range spec.
-    """
-    if spec is None:
-        return np.arange(1, DEFAULT_ORDERS + 1)
-    if isinstance(spec, bool):
-        raise InputError("orders: expected a number, a range such as 1-8, or a list")
-    if isinstance(spec, int | np.integer):
-        values = list(range(1, int(spec) + 1))
-    elif isinstance(spec, str):
-        values = []
-        for part in spec.replace(" ", "").split(","):
-            match = re.fullmatch(r"(\d+)(?:-(\d+))?", part)
-            if not match:
-                raise InputError(
-                    f"orders: cannot read {spec!r}; write a range or list such as 1-8, 2 or 1,2,4-6"
-                )
-            lo = int(match.group(1))
-            hi = int(match.group(2)) if match.group(2) else lo
-            if hi < lo or hi - lo > MAX_ORDER:
-                raise InputError(f"orders: {part!r} is not an increasing range")
-            values.extend(range(lo, hi + 1))
-    else:
-        values = [int(v) for v in spec]
-    if not values:
-        raise InputError("orders: no orders given; for example 1-8")
-    if min(values) < 1 or max(values) > MAX_ORDER:
-        raise InputError(f"orders: every order must be between 1 and {MAX_ORDER}")
-    return np.asarray(sorted(set(values)), dtype=np.intp)
-
-
 def compute(
-    layout: Layout,
-    orders: int | str | Iterable[int] | None = None,
+    layout: Engine,
+    orders: int | Iterable[int] | None = None,
     *,
     model: str = "exact",
     terms: int = 3,
@@ -135,10 +90,11 @@ def compute(
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
         The engine.
-    orders : int, str or sequence of int, optional
-        Orders to compute (default 1 to 8); see :func:`parse_orders`.
+    orders : int or sequence of int, optional
+        Orders to compute: 1 to N for an int N, default 1 to 8 (spec strings such as
+        ``"1-8"`` are read by :func:`balance.io.fields.parse_orders` at the edges).
     model : {'exact', 'series', 'textbook', 'time'}
         How the piston acceleration is expanded
         (:func:`balance.core.kinematics.acceleration_coefficients`), or ``time``: forces, moments
@@ -156,7 +112,7 @@ def compute(
     -------
     Phasors
     """
-    ks = parse_orders(orders)
+    ks = _orders_array(orders)
     if model == "time":
         return _compute_time(layout, ks, samples, moments=moments, roll=roll)
     r = layout.crank_radius
@@ -182,6 +138,19 @@ def compute(
         terms=terms,
         error_bound=bound,
     )
+
+
+def _orders_array(orders: int | Iterable[int] | None) -> NDArray[np.intp]:
+    """Orders as a sorted array of distinct orders: ``None`` is 1 to 8, an int N is 1 to N.
+
+    The core assumes the orders are valid (whole numbers of at least 1); the edges check
+    what a user wrote (:func:`balance.io.fields.parse_orders`).
+    """
+    if orders is None:
+        orders = 8
+    if isinstance(orders, int | np.integer):
+        return np.arange(1, int(orders) + 1, dtype=np.intp)
+    return np.asarray(sorted({int(k) for k in orders}), dtype=np.intp)
 
 
 def speed_squared(speed: ArrayLike) -> NDArray[np.float64]:
@@ -346,7 +315,7 @@ def free_phasors_of(
 
 
 def _assemble(
-    layout: Layout,
+    layout: Engine,
     ks: NDArray[np.intp],
     values: dict[str, ComplexArray | None],
     coefficients: ComplexArray,
@@ -386,14 +355,14 @@ def _assemble(
     )
 
 
-def _reference_force(layout: Layout) -> float:
+def _reference_force(layout: Engine) -> float:
     r""":math:`F_1 = m_{rec} r \omega^2` with the engine means of mass and radius [N]."""
     return float(
         np.mean(layout.reciprocating_mass) * np.mean(layout.crank_radius) * layout.speed**2
     )
 
 
-def _rotating(layout: Layout, moments: bool) -> dict[str, ComplexArray | None]:
+def _rotating(layout: Engine, moments: bool) -> dict[str, ComplexArray | None]:
     """Rotating force and (if asked) moment phasors, order 1 forward [N, N m]."""
     w2 = speed_squared(layout.speed)
     amplitude = layout.rotating_mass * layout.crank_radius
@@ -408,7 +377,7 @@ def _rotating(layout: Layout, moments: bool) -> dict[str, ComplexArray | None]:
 
 
 def _compute_time(
-    layout: Layout, ks: NDArray[np.intp], samples: int | None, *, moments: bool, roll: bool
+    layout: Engine, ks: NDArray[np.intp], samples: int | None, *, moments: bool, roll: bool
 ) -> Phasors:
     """The ``time`` model: sample, sum as vectors, transform."""
     from balance.core import sampled as timedomain
@@ -471,7 +440,7 @@ def _compute_time(
 
 
 def balance_engine(
-    layout: Layout,
+    layout: Engine,
     result: Phasors,
     *,
     cancel: Iterable[int] | None = None,
@@ -572,99 +541,3 @@ def balance_engine(
         moment_backward=clean(result.moment_backward + added.moment_backward, force_scale * span),
         roll=clean(result.roll + added.roll, roll_scale),
     )
-
-
-def analyse(
-    layout: Layout,
-    orders: int | str | Iterable[int] | None = None,
-    *,
-    speed: float | None = None,
-    model: str = "exact",
-    terms: int = 3,
-    samples: int | None = None,
-    tolerance: float | None = None,
-    moments: bool = True,
-    roll: bool = True,
-    proposal: bool = True,
-    cancel: Iterable[int] | None = None,
-    strategy: str | None = None,
-    balance_factor: float | None = None,
-    counterweight_radius: float | None = None,
-    cancel_roll: bool = False,
-) -> xr.Dataset:
-    r"""Analyse a layout: free forces, moments, rotating forces and roll per order.
-
-    Parameters
-    ----------
-    layout : Layout
-        The engine (:func:`balance.load_layout`).
-    orders : int, str or sequence of int, optional
-        Orders to report; default 1 to 8.
-    speed : float, optional
-        Crank speed [rad/s] instead of the layout's.
-    model : {'exact', 'series', 'textbook', 'time'}
-        Piston acceleration model; ``exact`` is accurate to machine precision; ``time``
-        synthesises the forces over crank angle (see :func:`compute`).
-    terms : int
-        Binomial terms for the ``series`` model.
-    samples : int, optional
-        Crank angles per revolution of the ``time`` model.
-    tolerance : float, optional
-        Instead of a model: the largest error allowed in the normalised coefficients (force
-        error per :math:`m_{rec} r\omega^2`); the cheapest model that meets it is used
-        (:func:`balance.core.accuracy.choose_model`) and recorded with its error bound.
-    moments, roll : bool
-        Whether to compute the moments and the roll torque.
-    proposal : bool
-        Propose counterweights and balance shafts and report the residual (needs moments
-        and roll).
-    cancel, strategy, balance_factor, counterweight_radius, cancel_roll
-        Proposal settings (see :func:`balance_engine`); by default from the layout's
-        ``balance:`` section.
-
-    Returns
-    -------
-    xarray.Dataset
-        Every variable carries ``units`` and ``long_name``; see :mod:`balance.views.dataset`.
-        With a ``gas:`` section the Dataset also holds the forces and torque over the cycle
-        (dimension ``crank_angle``), the torque summary, and the roll with gas forces, in
-        half orders for a four-stroke (:mod:`balance.core.torque`).
-
-    Examples
-    --------
-    >>> import balance
-    >>> ds = balance.analyse(balance.load_layout("inline-4"), orders=2)
-    >>> float(ds.reciprocating_force_peak_normalised.sel(order=2)) > 1.0
-    True
-    """
-    from balance.views.dataset import build_dataset
-
-    if speed is not None:
-        if not (math.isfinite(speed) and speed > 0):
-            raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
-        layout = layout.with_speed(speed)
-    if tolerance is not None:
-        r = layout.crank_radius
-        model, terms, _ = accuracy.choose_model(
-            tolerance, r / layout.conrod_length, layout.offset / r
-        )
-    result = compute(
-        layout, orders, model=model, terms=terms, samples=samples, moments=moments, roll=roll
-    )
-    balanced = None
-    if proposal and moments and roll:
-        balanced = balance_engine(
-            layout,
-            result,
-            cancel=cancel,
-            strategy=strategy,
-            balance_factor=balance_factor,
-            counterweight_radius=counterweight_radius,
-            cancel_roll=cancel_roll,
-        )
-    torque = None
-    if layout.gas is not None:
-        from balance.core.torque import compute_torque
-
-        torque = compute_torque(layout, result.orders)
-    return build_dataset(layout, result, balanced, torque=torque)

@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from balance.core.engine import Engine
 from balance.core.errors import AnalysisError
 from balance.core.phasors import CANCELLATION_FACTOR
-from balance.io.layout_file import Layout
 
 __all__ = [
     "DEFAULT_ORDERS",
@@ -147,7 +147,7 @@ def _deg(z: complex) -> float:
     return 0.0 if value >= 360.0 or abs(z) == 0 else value + 0.0
 
 
-def throw_groups(layout: Layout) -> NDArray[np.intp]:
+def throw_groups(layout: Engine) -> NDArray[np.intp]:
     """Index of the crank throw (and rod plane) each cylinder's pin belongs to.
 
     Rods whose pins are at the same angle and the same axial position share a throw;
@@ -161,13 +161,13 @@ def throw_groups(layout: Layout) -> NDArray[np.intp]:
 
 
 def counterweight_targets(
-    layout: Layout, first_order: ComplexArray, balance_factor: float | None = None
+    layout: Engine, first_order: ComplexArray, balance_factor: float | None = None
 ) -> ComplexArray:
     r"""Per-cylinder unbalance the counterweights set out to cancel [kg m].
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
     first_order : ndarray of complex
         :math:`G_1` of each cylinder's :math:`-s''/r` (1 without offset).
     balance_factor : float, optional
@@ -228,7 +228,7 @@ def _planes_for(
 
 
 def propose(
-    layout: Layout,
+    layout: Engine,
     first_order: ComplexArray,
     force_forward: ComplexArray,
     force_backward: ComplexArray,
@@ -248,7 +248,7 @@ def propose(
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
     first_order : ndarray of complex
         :math:`G_1` of each cylinder (from the analysis' acceleration coefficients).
     force_forward, force_backward, moment_forward, moment_backward : ndarray of complex
@@ -459,7 +459,7 @@ def _place_for_roll(
 
 
 def proposal_phasors(
-    proposal: Proposal, layout: Layout, orders: Sequence[int] | NDArray[np.integer]
+    proposal: Proposal, layout: Engine, orders: Sequence[int] | NDArray[np.integer]
 ) -> ProposalPhasors:
     """Forward and backward phasors of every proposed mass, and their roll, per order."""
     ks = np.asarray(orders, dtype=np.intp).ravel()
@@ -487,7 +487,7 @@ def proposal_phasors(
 
 
 def _residual_first_order(
-    layout: Layout, first_order: ComplexArray, factor: float
+    layout: Engine, first_order: ComplexArray, factor: float
 ) -> tuple[complex, complex, complex]:
     """Free first-order force phasors (forward, backward) and moment peak after counterweights
     carrying rotating mass plus ``factor`` of the reciprocating mass, per-throw."""
@@ -505,7 +505,7 @@ def _residual_first_order(
 
 
 def balance_factor_study(
-    layout: Layout, first_order: ComplexArray, factors: Sequence[float] | FloatArray
+    layout: Engine, first_order: ComplexArray, factors: Sequence[float] | FloatArray
 ) -> dict[str, FloatArray]:
     r"""Residual first-order force against balance factor.
 
@@ -538,7 +538,7 @@ def balance_factor_study(
     }
 
 
-def optimal_balance_factor(layout: Layout, first_order: ComplexArray) -> float:
+def optimal_balance_factor(layout: Engine, first_order: ComplexArray) -> float:
     """Balance factor in [0, 1] that minimises the larger of the vertical and horizontal
     first-order residual peaks (ternary search: the larger of two convex functions is
     convex)."""

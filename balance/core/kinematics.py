@@ -103,8 +103,9 @@ def normalised_slider(
 
     References
     ----------
-    Seed 000 (piston motion equations, e = 0); Heywood, *Internal Combustion Engine
-    Fundamentals*, McGraw-Hill 1988, sec. 2.2.
+    Heywood, *Internal Combustion Engine Fundamentals*, McGraw-Hill 1988, sec. 2.2, eq. (2.4)
+    (position, e = 0); Taylor, *The Internal Combustion Engine in Theory and Practice*,
+    vol. 2, 2nd ed., MIT Press 1985, ch. 8 (piston velocity and acceleration).
     """
     sin_b, cos_b, u, D, lam = _conrod_terms(beta, ratio, offset_ratio)
     s = cos_b + D / lam
@@ -127,8 +128,11 @@ def textbook_slider(beta: ArrayLike, ratio: ArrayLike) -> tuple[FloatArray, Floa
     -----
     The first binomial term of the conrod's projection,
     :math:`\sqrt{1-\lambda^2\sin^2\beta} \approx 1 - \tfrac{\lambda^2}{2}\sin^2\beta`.
-    These are the formulas of most textbook kinematic tables (seed 003, table 3, is computed
-    with them); the error in acceleration is of order :math:`\lambda^3`.
+    These are the formulas of most textbook kinematic tables (Kolchin and Demidov, *Design
+    of Automotive Engines*, Mir 1984; the VAZ-2108 table 3 of Makushev, Polyakova and
+    Batrakov, "Determination of piston velocity and acceleration by means of derivatives",
+    2010, in Russian, eqs. (19)–(21), is computed with them); the error in acceleration is
+    of order :math:`\lambda^3`.
     """
     b = np.asarray(beta, dtype=np.float64)
     lam = np.asarray(ratio, dtype=np.float64)
@@ -389,8 +393,10 @@ def series_coefficients_centred(ratio: ArrayLike, terms: int, order: int) -> Flo
 
     References
     ----------
-    Seed 003 (series form of the piston acceleration); Taylor, *The Internal Combustion
-    Engine in Theory and Practice*, vol. 2, MIT Press 1985, ch. 8.
+    Taylor, *The Internal Combustion Engine in Theory and Practice*, vol. 2, MIT Press 1985,
+    ch. 8 (the piston acceleration as a series of even harmonics).  The coefficients above
+    follow from the binomial series; the test suite checks them against their closed forms
+    and the truncated series against the exact motion.
     """
     lam = np.asarray(ratio, dtype=np.float64)
     if order == 1:

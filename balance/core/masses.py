@@ -73,8 +73,9 @@ def two_mass_split(
 
     References
     ----------
-    DOMAIN.md, "Two-mass conrod (static equivalence)"; Taylor, *The Internal Combustion
-    Engine in Theory and Practice*, vol. 2, ch. 8.  Derivation on the theory page.
+    Kolchin and Demidov, *Design of Automotive Engines*, Mir 1984 (the two-mass conrod);
+    Taylor, *The Internal Combustion Engine in Theory and Practice*, vol. 2, 2nd ed., MIT
+    Press 1985, ch. 8.  Derivation on the theory page.
     """
     m_c = np.asarray(conrod, dtype=np.float64)
     a = np.asarray(conrod_cg_to_big_end, dtype=np.float64)

@@ -150,8 +150,9 @@ def reciprocating_phasors(
 
     References
     ----------
-    Seed 001 (balance of the crank mechanism: "fictitious" rotating forces); Taylor, *The
-    Internal Combustion Engine in Theory and Practice*, vol. 2, ch. 8.
+    Taylor, *The Internal Combustion Engine in Theory and Practice*, vol. 2, 2nd ed., MIT
+    Press 1985, ch. 8 (engine balance).  The split into two counter-rotating halves is
+    Euler's formula.
     """
     forward, backward, m_fwd, m_bwd = reciprocating_force_and_moment(
         amplitude, coefficients, throw, bank, orders, lever, force=lever is None

@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core.balancing import Proposal
+from balance.core.engine import Engine
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
-from balance.io.layout_file import Layout
 
 __all__ = [
     "crank_angles",
@@ -43,7 +43,7 @@ def crank_angles(samples: int) -> FloatArray:
 
 
 def reciprocating_force_samples(
-    layout: Layout, theta: ArrayLike, lever: bool = False
+    layout: Engine, theta: ArrayLike, lever: bool = False
 ) -> ComplexArray:
     r"""Reciprocating inertia force (or moment) on the block at each crank angle.
 
@@ -63,7 +63,7 @@ def reciprocating_force_samples(
     return np.asarray(force.sum(axis=1), dtype=np.complex128)
 
 
-def rotating_force_samples(layout: Layout, theta: ArrayLike, lever: bool = False) -> ComplexArray:
+def rotating_force_samples(layout: Engine, theta: ArrayLike, lever: bool = False) -> ComplexArray:
     """Centrifugal force (or moment) of the rotating masses at each crank angle [N, N m]."""
     th = np.asarray(theta, dtype=np.float64)[:, None]
     force = (
@@ -107,7 +107,7 @@ def _cross(a: ComplexArray, b: ComplexArray) -> FloatArray:
 
 
 def roll_newton_euler(
-    layout: Layout,
+    layout: Engine,
     theta: ArrayLike,
     small_end_share: float = 1.0 / 3.0,
     cg_fraction: float = 0.3,
@@ -117,7 +117,7 @@ def roll_newton_euler(
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
         The engine (inertia only, constant crank speed).
     theta : array_like
         Crank angles [rad].
@@ -164,7 +164,7 @@ def roll_newton_euler(
 
 
 def crank_torque_newton_euler(
-    layout: Layout,
+    layout: Engine,
     theta: ArrayLike,
     gas_force: ArrayLike | None = None,
     small_end_share: float = 1.0 / 3.0,
@@ -192,7 +192,7 @@ def crank_torque_newton_euler(
 
 
 def _newton_euler(
-    layout: Layout,
+    layout: Engine,
     theta: ArrayLike,
     small_end_share: float,
     cg_fraction: float,
@@ -236,7 +236,7 @@ def _newton_euler(
 
 
 def proposal_force_samples(
-    proposal: Proposal, layout: Layout, theta: ArrayLike, lever: bool = False
+    proposal: Proposal, layout: Engine, theta: ArrayLike, lever: bool = False
 ) -> ComplexArray:
     r"""Force (or moment) of every proposed mass at each crank angle [N, N m].
 
@@ -259,7 +259,7 @@ def proposal_force_samples(
     return total
 
 
-def proposal_roll_samples(proposal: Proposal, layout: Layout, theta: ArrayLike) -> FloatArray:
+def proposal_roll_samples(proposal: Proposal, layout: Engine, theta: ArrayLike) -> FloatArray:
     """Torque about the crank axis of the shafts' eccentric forces [N m] (rotation sense).
 
     A force :math:`(F_x, F_y)` at :math:`(x, y)` turns the block by :math:`yF_x - xF_y`.

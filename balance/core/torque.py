@@ -32,8 +32,8 @@ cycle.
 
 .. rubric:: References
 
-Seed 001 (forces on the pin, rod and crank, torque summation, speed fluctuation and
-flywheel); Kolchin and Demidov, *Design of Automotive Engines*, Mir 1984, ch. 8–9; Taylor,
+Kolchin and Demidov, *Design of Automotive Engines*, Mir 1984, ch. 8–9 (forces on the pin,
+rod and crank, torque summation, speed fluctuation and flywheel); Taylor,
 *The Internal Combustion Engine in Theory and Practice*, vol. 2, MIT Press 1985, ch. 8.
 """
 
@@ -46,10 +46,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core import phasors
+from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.core.gas import pressure_at
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
-from balance.io.layout_file import Layout
 
 __all__ = ["CYCLE_SAMPLES_PER_DEGREE", "TorqueResult", "compute_torque", "roll_orders"]
 
@@ -101,12 +101,12 @@ def roll_orders(orders: NDArray[np.intp], cycle: str) -> FloatArray:
     return np.asarray(orders, dtype=np.float64)
 
 
-def compute_torque(layout: Layout, orders: NDArray[np.intp]) -> TorqueResult:
+def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     r"""Forces, torque, roll and flywheel of a layout with gas forces.
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
         The engine, with a ``gas:`` section (:attr:`Layout.gas`).
     orders : ndarray of int
         The analysis orders; the roll is reported for :func:`roll_orders`.

@@ -1,10 +1,10 @@
 """Layouts: reading a layout file into a table of cylinders.
 
-A :class:`Layout` is plain data: one entry per cylinder in numpy arrays, SI units
-(radians for angles).  Loading validates the file (:mod:`balance.io.schema`), expands the
-compact ``crank:`` form, applies per-cylinder overrides, derives the lumped masses from
-parts where parts are given, and checks that the geometry can exist, so that the physics
-never sees a unit string or an impossible value.
+:func:`load_layout` returns a :class:`~balance.core.engine.Engine`: one entry per cylinder
+in numpy arrays, SI units (radians for angles).  Loading validates the file
+(:mod:`balance.io.schema`), expands the compact ``crank:`` form, applies per-cylinder
+overrides, derives the lumped masses from parts where parts are given, and checks that the
+geometry can exist, so that the physics never sees a unit string or an impossible value.
 """
 
 from __future__ import annotations
@@ -12,7 +12,6 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
-from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -21,25 +20,27 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ValidationError
 
+from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine
 from balance.core.errors import InputError, LayoutError, Location
-from balance.core.gas import GasInput, cycle_degrees, firing_tdc, read_pressure_trace
+from balance.core.gas import GasInput, GasModel, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
 from balance.io.schema import (
     GEOMETRY_KEYS,
     LUMPED_KEYS,
     PART_KEYS,
-    BalanceSettings,
     CrankSpec,
     CylinderSpec,
     FieldProblem,
     LayoutSpec,
 )
+from balance.io.schema import (
+    BalanceSettings as BalanceSpec,
+)
+from balance.io.traces import read_pressure_trace
 from balance.io.units import UnitProblem
 from balance.io.yamlsource import SourceDocument, decode_text, dotted_path, parse_yaml
 
 __all__ = [
-    "CYLINDER_FIELDS",
-    "Layout",
     "builtin_layout_names",
     "builtin_layout_path",
     "expand_layout",
@@ -49,120 +50,6 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
-
-#: The per-cylinder arrays of a :class:`Layout`, in order.
-CYLINDER_FIELDS = (
-    "throw",
-    "bank",
-    "z",
-    "crank_radius",
-    "conrod_length",
-    "offset",
-    "reciprocating_mass",
-    "rotating_mass",
-    "conrod_inertia_correction",
-)
-
-
-@dataclass(frozen=True, eq=False)
-class Layout:
-    """An engine as a table of cylinders (SI units, angles in radians).
-
-    Attributes
-    ----------
-    name : str
-        Name of the layout.
-    speed : float
-        Crank speed [rad/s].
-    throw, bank : ndarray
-        Throw angle and bank angle of each cylinder [rad], measured from +y in the direction
-        of rotation.
-    z : ndarray
-        Axial position of each cylinder's throw plane [m].
-    crank_radius, conrod_length, offset : ndarray
-        Crank radius, conrod length and desaxé offset of each cylinder [m].
-    reciprocating_mass, rotating_mass : ndarray
-        Lumped masses per cylinder [kg], reciprocating at the piston pin and rotating at the
-        crank pin radius.
-    conrod_inertia_correction : ndarray
-        The real conrod's moment of inertia about its centre of gravity less that of its
-        two-mass model [kg m^2]; zero when no ``conrod_inertia`` is given.
-    reference_z : float
-        Axial position about which moments are taken [m].
-    pitch : float
-        Cylinder pitch used to normalise moments [m]; NaN where it is undefined (all
-        cylinders in one plane).
-    bore : float
-        Cylinder bore [m], NaN if not given (needed only for displacement).
-    cycle : str
-        ``"four-stroke"`` or ``"two-stroke"``.
-    firing_order : tuple of int or None
-        Cylinder numbers (1-based) in firing order, if given.
-    balance : BalanceSettings or None
-        The ``balance:`` section, if given.
-    gas : GasInput or None
-        The ``gas:`` and ``flywheel:`` sections, resolved (pressure trace read, firing TDCs
-        placed); None for an inertia-only analysis.
-    mass_parts : MassParts or None
-        The parts behind the lumped masses of a by-part layout (None for lumped masses), so
-        that a sweep of a part or of the conrod length lumps them again.
-    """
-
-    name: str
-    speed: float
-    throw: FloatArray
-    bank: FloatArray
-    z: FloatArray
-    crank_radius: FloatArray
-    conrod_length: FloatArray
-    offset: FloatArray
-    reciprocating_mass: FloatArray
-    rotating_mass: FloatArray
-    conrod_inertia_correction: FloatArray
-    reference_z: float
-    pitch: float
-    bore: float = float("nan")
-    cycle: str = "four-stroke"
-    firing_order: tuple[int, ...] | None = None
-    description: str | None = None
-    source: str | None = None
-    path: str | None = None
-    balance: BalanceSettings | None = None
-    spec: LayoutSpec | None = field(default=None, repr=False)
-    gas: GasInput | None = field(default=None, repr=False)
-    mass_parts: MassParts | None = field(default=None, repr=False)
-
-    @property
-    def n_cylinders(self) -> int:
-        """Number of cylinders."""
-        return int(self.throw.size)
-
-    @property
-    def displacement(self) -> float:
-        """Swept volume of all cylinders [m^3] (NaN without a bore)."""
-        return float(np.sum(np.pi / 4 * self.bore**2 * 2 * self.crank_radius))
-
-    def with_speed(self, speed: float) -> Layout:
-        """The same layout at another crank speed [rad/s]."""
-        if not (math.isfinite(speed) and speed > 0):
-            raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
-        return replace(self, speed=float(speed))
-
-    def reordered(self, order: NDArray[np.intp] | list[int]) -> Layout:
-        """The same engine with its cylinders renumbered (``order`` is a permutation).
-
-        Only the numbering changes: every cylinder keeps its throw, bank and position, so
-        the crank angle origin stays where it was.  The firing order is dropped (its
-        numbers would no longer match).
-        """
-        idx = np.asarray(order, dtype=np.intp)
-        if sorted(idx.tolist()) != list(range(self.n_cylinders)):
-            raise InputError("order must be a permutation of the cylinder indices")
-        arrays = {name: getattr(self, name)[idx] for name in CYLINDER_FIELDS}
-        gas = self.gas.reordered(idx) if self.gas is not None else None
-        parts = self.mass_parts.reordered(idx) if self.mass_parts is not None else None
-        return replace(self, firing_order=None, spec=None, gas=gas, mass_parts=parts, **arrays)
-
 
 # ---------------------------------------------------------------------------------------
 # built-in layouts
@@ -209,7 +96,7 @@ def builtin_layout_path(name: str) -> Path:
 # loading
 
 
-def load_layout(source: str | Path) -> Layout:
+def load_layout(source: str | Path) -> Engine:
     """Load a layout from a file path or a built-in layout name.
 
     Parameters
@@ -220,7 +107,7 @@ def load_layout(source: str | Path) -> Layout:
 
     Returns
     -------
-    Layout
+    Engine
 
     Raises
     ------
@@ -229,6 +116,11 @@ def load_layout(source: str | Path) -> Layout:
     InputError
         If the file cannot be found or read.
     """
+    return _build(_read_document(source))[1]
+
+
+def _read_document(source: str | Path) -> SourceDocument:
+    """The parsed YAML of a layout file or built-in layout name."""
     path = Path(source)
     if (
         not path.exists()
@@ -246,18 +138,17 @@ def load_layout(source: str | Path) -> Layout:
     except OSError as exc:
         raise InputError(f"{source}: cannot read ({exc.strerror})") from None
     text = decode_text(raw, str(source))
-    return layout_from_text(text, file=str(path))
+    return parse_yaml(text, str(path))
 
 
-def layout_from_text(text: str, file: str = "<input>") -> Layout:
+def layout_from_text(text: str, file: str = "<input>") -> Engine:
     """Build a layout from YAML text (see :func:`load_layout`)."""
-    doc = parse_yaml(text, file)
-    return _build(doc)
+    return _build(parse_yaml(text, file))[1]
 
 
-def layout_from_dict(data: dict[str, Any], file: str = "<dict>") -> Layout:
+def layout_from_dict(data: dict[str, Any], file: str = "<dict>") -> Engine:
     """Build a layout from plain data shaped like a layout file."""
-    return _build(SourceDocument(data=data, file=file))
+    return _build(SourceDocument(data=data, file=file))[1]
 
 
 def _spec(doc: SourceDocument) -> LayoutSpec:
@@ -435,7 +326,8 @@ def _expand_crank(crank: CrankSpec) -> list[CylinderSpec]:
     return cylinders
 
 
-def _build(doc: SourceDocument) -> Layout:
+def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
+    """The validated file and the engine it describes."""
     spec = _spec(doc)
     cylinders, prefix = _cylinders(spec)
     n = len(cylinders)
@@ -498,7 +390,7 @@ def _build(doc: SourceDocument) -> Layout:
     pitch = _pitch(spec, z)
     firing = _firing_order(spec, n, doc)
     gas = _gas(spec, doc, cylinders, prefix, arrays, firing) if spec.gas is not None else None
-    return Layout(
+    return spec, Engine(
         name=spec.name,
         speed=spec.speed,
         cycle=spec.cycle,
@@ -509,11 +401,22 @@ def _build(doc: SourceDocument) -> Layout:
         description=spec.description,
         source=spec.source,
         path=None if doc.file.startswith("<") else doc.file,
-        balance=spec.balance,
-        spec=spec,
+        reference_z_given=spec.reference_z is not None,
+        balance=_balance_settings(spec.balance),
         gas=gas,
         mass_parts=_mass_parts(part_rows) if part_rows else None,
         **arrays,
+    )
+
+
+def _balance_settings(section: BalanceSpec | None) -> BalanceSettings | None:
+    if section is None:
+        return None
+    return BalanceSettings(
+        counterweight_radius=section.counterweight_radius,
+        balance_factor=section.balance_factor,
+        orders=tuple(section.orders) if section.orders is not None else None,
+        strategy=section.strategy,
     )
 
 
@@ -569,7 +472,7 @@ def _gas(
     return GasInput(
         angle=angle,
         pressure=pressure,
-        model=section.model,
+        model=GasModel(**section.model.model_dump()) if section.model is not None else None,
         crankcase_pressure=section.crankcase_pressure,
         bore=float(bore),  # type: ignore[arg-type]
         firing_tdc=tdc,
@@ -692,9 +595,7 @@ def expand_layout(source: str | Path) -> str:
     """
     import yaml
 
-    layout = load_layout(source)
-    spec = layout.spec
-    assert spec is not None
+    spec, layout = _build(_read_document(source))
     cylinders, _ = _cylinders(spec)
     out: dict[str, Any] = {"name": spec.name}
     if spec.description:
@@ -818,7 +719,7 @@ def _gas_dict(gas: Any, path: str | None) -> dict[str, Any]:
     return out
 
 
-def _balance_dict(settings: BalanceSettings) -> dict[str, Any]:
+def _balance_dict(settings: BalanceSpec) -> dict[str, Any]:
     out: dict[str, Any] = {}
     if settings.counterweight_radius is not None:
         out["counterweight_radius"] = _fmt(settings.counterweight_radius, "mm", 1e3)

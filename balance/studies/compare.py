@@ -15,16 +15,17 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from balance.core.analysis import analyse, parse_orders
+from balance.api import analyse
+from balance.core.engine import Engine
 from balance.core.errors import InputError
-from balance.io.layout_file import Layout
+from balance.io.fields import parse_orders
 
 __all__ = ["compare", "compare_json", "compare_table", "markdown_table", "scale_layout"]
 
 _PER_LAYOUT_DIMS = {"order", "rotation", "roll_order"}
 
 
-def scale_layout(layout: Layout, factor: float) -> Layout:
+def scale_layout(layout: Engine, factor: float) -> Engine:
     """A geometrically similar engine: lengths times ``factor``, masses times its cube.
 
     Moments of inertia scale with the fifth power.  Forces at the same speed then scale
@@ -34,9 +35,7 @@ def scale_layout(layout: Layout, factor: float) -> Layout:
         raise InputError(f"scale factor must be a positive number, got {factor!r}")
     balance = layout.balance
     if balance is not None and balance.counterweight_radius is not None:
-        balance = balance.model_copy(
-            update={"counterweight_radius": balance.counterweight_radius * factor}
-        )
+        balance = replace(balance, counterweight_radius=balance.counterweight_radius * factor)
     return replace(
         layout,
         z=layout.z * factor,
@@ -54,7 +53,7 @@ def scale_layout(layout: Layout, factor: float) -> Layout:
     )
 
 
-def _label(layout: Layout, given: str, taken: set[str]) -> str:
+def _label(layout: Engine, given: str, taken: set[str]) -> str:
     base = given
     label, i = base, 2
     while label in taken:
@@ -65,7 +64,7 @@ def _label(layout: Layout, given: str, taken: set[str]) -> str:
 
 
 def compare(
-    layouts: Sequence[Layout],
+    layouts: Sequence[Engine],
     names: Sequence[str] | None = None,
     orders: int | str | Sequence[int] | NDArray[np.integer] | None = "1-4",
     *,
@@ -78,7 +77,7 @@ def compare(
 
     Parameters
     ----------
-    layouts : sequence of Layout
+    layouts : sequence of Engine
     names : sequence of str, optional
         Labels for the ``layout`` coordinate (default the layout names), made unique.
     orders : int, str or sequence of int

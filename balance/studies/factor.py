@@ -7,18 +7,18 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from balance.core.balancing import balance_factor_study, optimal_balance_factor
+from balance.core.engine import Engine
 from balance.core.kinematics import acceleration_coefficients
-from balance.io.layout_file import Layout
 
 __all__ = ["factor_study_dataset"]
 
 
-def factor_study_dataset(layout: Layout, factors: ArrayLike | None = None) -> xr.Dataset:
+def factor_study_dataset(layout: Engine, factors: ArrayLike | None = None) -> xr.Dataset:
     """Residual first-order force against balance factor, as a Dataset.
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
     factors : array_like, optional
         Balance factors [1]; default 0 to 1 in steps of 0.05.
 

@@ -52,10 +52,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import kinematics
-from balance.core.analysis import FreePhasors, free_phasors_of, parse_orders, speed_squared
+from balance.core.analysis import FreePhasors, free_phasors_of, speed_squared
+from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import AnalysisError, InputError
 from balance.core.masses import PART_FIELDS
-from balance.io.layout_file import CYLINDER_FIELDS, Layout
+from balance.io.fields import parse_orders
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -82,7 +83,7 @@ ComplexArray = NDArray[np.complex128]
 #: Grid points per chunk by default (about 100 MB of temporaries for a V12 at orders 1-8).
 DEFAULT_CHUNK_SIZE = 50_000
 
-# field name -> (Layout attribute, unit kind); "parts.X" is a MassParts array
+# field name -> (Engine attribute, unit kind); "parts.X" is a MassParts array
 _CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
     "throw": ("throw", "angle"),
     "bank": ("bank", "angle"),
@@ -150,7 +151,7 @@ class Field:
         return _UNITS[self.kind]
 
     def to_layout_units(self, values: ArrayLike) -> FloatArray:
-        """Values in the unit of the Layout attribute (radians for angles, radius for stroke)."""
+        """Values in the unit of the Engine attribute (radians for angles, radius for stroke)."""
         v = np.asarray(values, dtype=np.float64)
         if self.kind == "angle":
             return np.radians(v)
@@ -166,7 +167,7 @@ def _valid_fields() -> str:
     )
 
 
-def parse_field(text: str, layout: Layout, option: str = "--vary") -> Field:
+def parse_field(text: str, layout: Engine, option: str = "--vary") -> Field:
     """Read a field name (see the module notes).
 
     Raises
@@ -214,7 +215,7 @@ def parse_field(text: str, layout: Layout, option: str = "--vary") -> Field:
     return Field(name, key, attribute, kind, key, None)
 
 
-def _check_parts(layout: Layout, attribute: str, name: str, option: str) -> None:
+def _check_parts(layout: Engine, attribute: str, name: str, option: str) -> None:
     if attribute.startswith("parts.") and layout.mass_parts is None:
         raise InputError(
             f"{option}: '{name}' is a part of the moving masses, but this layout gives them "
@@ -280,7 +281,7 @@ class Vary:
         return self.field.name
 
 
-def parse_vary(text: str, layout: Layout) -> Vary:
+def parse_vary(text: str, layout: Engine) -> Vary:
     """Read ``FIELD=VALUES`` (see :func:`parse_field`, :func:`parse_values`)."""
     if "=" not in text:
         raise InputError(
@@ -292,7 +293,7 @@ def parse_vary(text: str, layout: Layout) -> Vary:
     return Vary(field, parse_values(spec, field))
 
 
-def _as_varies(layout: Layout, vary: Mapping[str, Any] | Sequence[Vary | str]) -> list[Vary]:
+def _as_varies(layout: Engine, vary: Mapping[str, Any] | Sequence[Vary | str]) -> list[Vary]:
     out: list[Vary] = []
     if isinstance(vary, Mapping):
         for name, values in vary.items():
@@ -329,19 +330,19 @@ def _check_values(v: Vary) -> None:
         raise InputError(f"--vary: {v.field.text}: masses cannot be negative, got {low:g}")
 
 
-def variant(layout: Layout, values: Mapping[str, float]) -> Layout:
+def variant(layout: Engine, values: Mapping[str, float]) -> Engine:
     """The layout with some fields set (SI values, degrees for angles), as a sweep sees it.
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
         The base layout.
     values : mapping of str to float
         Field name (see the module notes) to value.
 
     Returns
     -------
-    Layout
+    Engine
         As loading the layout file with those values written in would give it: for masses
         given by part, a changed part or conrod length is lumped again
         (:func:`balance.core.masses.two_mass_split`), and a lumped mass set here wins over the
@@ -397,7 +398,7 @@ def variant(layout: Layout, values: Mapping[str, float]) -> Layout:
 
 
 def lumped_again(
-    layout: Layout, conrod_length: ArrayLike, parts: Mapping[str, ArrayLike], problem: str
+    layout: Engine, conrod_length: ArrayLike, parts: Mapping[str, ArrayLike], problem: str
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Lumped masses of a by-part layout with some parts (arrays that broadcast) or the
     conrod length changed, as loading the file would give them.
@@ -431,9 +432,8 @@ def _set_one(array: FloatArray, field: Field, value: float) -> FloatArray:
     return out
 
 
-def _auto_reference(layout: Layout) -> bool:
-    spec = layout.spec
-    return spec is None or spec.reference_z is None
+def _auto_reference(layout: Engine) -> bool:
+    return not layout.reference_z_given
 
 
 # ---------------------------------------------------------------------------------------
@@ -474,7 +474,7 @@ def chunk_slices(shape: Sequence[int], chunk_size: int) -> list[tuple[slice, ...
 class _Plan:
     """Everything a chunk needs (picklable, for Dask workers)."""
 
-    layout: Layout
+    layout: Engine
     varies: tuple[Vary, ...]
     orders: NDArray[np.intp]
     model: str
@@ -492,7 +492,7 @@ class _Plan:
 
 
 def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
-    """Layout arrays for one chunk: grid dims leading, cylinders last; broadcastable.
+    """Engine arrays for one chunk: grid dims leading, cylinders last; broadcastable.
 
     The same rules as :func:`variant`, over a grid: parts and conrod lengths are lumped
     again for a by-part layout, then the varied lumped masses are set.
@@ -655,7 +655,7 @@ _VARIABLES: dict[str, tuple[tuple[str, ...], str, str]] = {
 
 
 def _plan(
-    layout: Layout,
+    layout: Engine,
     vary: Mapping[str, Any] | Sequence[Vary | str],
     orders: int | str | Sequence[int] | None,
     model: str,
@@ -795,7 +795,7 @@ class _Progress:
 
 
 def sweep_arrays(
-    layout: Layout,
+    layout: Engine,
     vary: Mapping[str, Any] | Sequence[Vary | str],
     orders: int | str | Sequence[int] | None = None,
     *,
@@ -854,7 +854,7 @@ def _options(
 
 
 def sweep(
-    layout: Layout,
+    layout: Engine,
     vary: Mapping[str, Any] | Sequence[Vary | str],
     orders: int | str | Sequence[int] | None = None,
     *,
@@ -870,7 +870,7 @@ def sweep(
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
         The base layout.
     vary : mapping or sequence
         ``{field: values}`` with values an array (SI, degrees for angles) or text such as
@@ -922,7 +922,7 @@ FORMATS = {".nc": "netcdf", ".nc4": "netcdf", ".zarr": "zarr"}
 
 
 def sweep_to_file(
-    layout: Layout,
+    layout: Engine,
     vary: Mapping[str, Any] | Sequence[Vary | str],
     path: str | Path,
     orders: int | str | Sequence[int] | None = None,

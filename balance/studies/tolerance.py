@@ -28,12 +28,12 @@ from balance.core.analysis import (
     balance_engine,
     compute,
     free_phasors_of,
-    parse_orders,
     speed_squared,
 )
 from balance.core.balancing import proposal_phasors
+from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import AnalysisError, InputError
-from balance.io.layout_file import CYLINDER_FIELDS, Layout
+from balance.io.fields import parse_orders
 from balance.studies.sweep import Field, lumped_again, parse_field
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -54,7 +54,7 @@ class Scatter:
     tolerance: float
 
 
-def parse_scatter(text: str, layout: Layout) -> Scatter:
+def parse_scatter(text: str, layout: Engine) -> Scatter:
     """Read ``FIELD=±TOL`` (e.g. ``masses.reciprocating=±3g``).
 
     Raises
@@ -130,7 +130,7 @@ class ToleranceResult:
 
 
 def tolerance(
-    layout: Layout,
+    layout: Engine,
     scatter: Sequence[Scatter | str],
     *,
     samples: int = 100_000,
@@ -144,7 +144,7 @@ def tolerance(
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
         The nominal engine.
     scatter : sequence of Scatter or str
         Scattered fields (``"reciprocating=±3g"``...).

@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core import phasors as _phasors
 from balance.core.analysis import Balanced, Phasors
-from balance.io.layout_file import Layout
+from balance.core.engine import Engine
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.torque import TorqueResult
@@ -97,7 +97,7 @@ def _safe_ratio(values: Any, scale: float) -> Any:
 
 
 def build_dataset(
-    layout: Layout,
+    layout: Engine,
     result: Phasors,
     balanced: Balanced | None = None,
     torque: TorqueResult | None = None,
@@ -106,7 +106,7 @@ def build_dataset(
 
     Parameters
     ----------
-    layout : Layout
+    layout : Engine
         The engine analysed.
     result : Phasors
         The phasors from :func:`balance.core.analysis.compute`.

@@ -33,7 +33,8 @@ Kinds (:data:`PLOT_KINDS`):
     (without a ``gas:`` section the figure says so and draws nothing).
 ``forces``
     With gas forces: the forces on one cylinder's crank train over the cycle, P, N, S, T, K
-    (seed 001's force diagrams; a note without gas).
+    (the force diagrams of Kolchin and Demidov, *Design of Automotive Engines*, Mir 1984;
+    a note without gas).
 
 The force and moment drawn are by default the *free* ones: reciprocating inertia plus the
 centrifugal force of the rotating masses (``source="free"``; see
@@ -1087,7 +1088,10 @@ FORCE_NAMES = (
 def plot_forces(
     ds: xr.Dataset, *, cylinder: int = 1, ax: AxesArg = None, title: str | None = None
 ) -> Figure:
-    """Forces on one cylinder's crank train over the cycle: P, N, S, T and K (seed 001).
+    """Forces on one cylinder's crank train over the cycle: P, N, S, T and K.
+
+    These are the force diagrams of the dynamics of the crank mechanism in Kolchin and
+    Demidov, *Design of Automotive Engines*, Mir 1984.
 
     The cycle angle is counted from the cylinder's firing TDC.  :math:`P` is split into the
     gas and the inertia force in the first panel.

@@ -1,0 +1,164 @@
+"""The engine: a table of cylinders in plain frozen dataclasses, SI units.
+
+Everything in :mod:`balance.core` computes on an :class:`Engine`; the layout file reader
+(:mod:`balance.io.layout_file`) builds one, after checking every value, so that the physics
+never sees a unit string or an impossible value.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from balance.core.errors import InputError
+from balance.core.gas import GasInput
+from balance.core.masses import MassParts
+
+__all__ = ["CYLINDER_FIELDS", "STRATEGIES", "BalanceSettings", "Engine"]
+
+FloatArray = NDArray[np.float64]
+
+#: Counterweight strategies of a balancing proposal.
+STRATEGIES = ("two-plane", "per-throw")
+
+
+@dataclass(frozen=True)
+class BalanceSettings:
+    """The ``balance:`` section: settings of the balancing proposal (SI units).
+
+    Attributes
+    ----------
+    counterweight_radius : float or None
+        Radius of the counterweights' centre of gravity [m]; None: the crank radius.
+    balance_factor : float or None
+        Share of the reciprocating mass put on the crank as counterweight [1].
+    orders : tuple of int or None
+        Orders the proposal cancels; None: 1 and 2.
+    strategy : {'two-plane', 'per-throw'}
+        Counterweights at the crank ends, or on every throw.
+    """
+
+    counterweight_radius: float | None = None
+    balance_factor: float | None = None
+    orders: tuple[int, ...] | None = None
+    strategy: str = "two-plane"
+
+
+#: The per-cylinder arrays of a :class:`Engine`, in order.
+CYLINDER_FIELDS = (
+    "throw",
+    "bank",
+    "z",
+    "crank_radius",
+    "conrod_length",
+    "offset",
+    "reciprocating_mass",
+    "rotating_mass",
+    "conrod_inertia_correction",
+)
+
+
+@dataclass(frozen=True, eq=False)
+class Engine:
+    """An engine as a table of cylinders (SI units, angles in radians).
+
+    Attributes
+    ----------
+    name : str
+        Name of the layout.
+    speed : float
+        Crank speed [rad/s].
+    throw, bank : ndarray
+        Throw angle and bank angle of each cylinder [rad], measured from +y in the direction
+        of rotation.
+    z : ndarray
+        Axial position of each cylinder's throw plane [m].
+    crank_radius, conrod_length, offset : ndarray
+        Crank radius, conrod length and desaxé offset of each cylinder [m].
+    reciprocating_mass, rotating_mass : ndarray
+        Lumped masses per cylinder [kg], reciprocating at the piston pin and rotating at the
+        crank pin radius.
+    conrod_inertia_correction : ndarray
+        The real conrod's moment of inertia about its centre of gravity less that of its
+        two-mass model [kg m^2]; zero when no ``conrod_inertia`` is given.
+    reference_z : float
+        Axial position about which moments are taken [m].
+    pitch : float
+        Cylinder pitch used to normalise moments [m]; NaN where it is undefined (all
+        cylinders in one plane).
+    bore : float
+        Cylinder bore [m], NaN if not given (needed only for displacement).
+    cycle : str
+        ``"four-stroke"`` or ``"two-stroke"``.
+    firing_order : tuple of int or None
+        Cylinder numbers (1-based) in firing order, if given.
+    reference_z_given : bool
+        Whether ``reference_z`` was given (otherwise it is the midpoint of the cylinders'
+        ``z``, and a study that moves a cylinder moves it too).
+    balance : BalanceSettings or None
+        The ``balance:`` section, if given.
+    gas : GasInput or None
+        The ``gas:`` and ``flywheel:`` sections, resolved (pressure trace read, firing TDCs
+        placed); None for an inertia-only analysis.
+    mass_parts : MassParts or None
+        The parts behind the lumped masses of a by-part layout (None for lumped masses), so
+        that a sweep of a part or of the conrod length lumps them again.
+    """
+
+    name: str
+    speed: float
+    throw: FloatArray
+    bank: FloatArray
+    z: FloatArray
+    crank_radius: FloatArray
+    conrod_length: FloatArray
+    offset: FloatArray
+    reciprocating_mass: FloatArray
+    rotating_mass: FloatArray
+    conrod_inertia_correction: FloatArray
+    reference_z: float
+    pitch: float
+    bore: float = float("nan")
+    cycle: str = "four-stroke"
+    firing_order: tuple[int, ...] | None = None
+    description: str | None = None
+    source: str | None = None
+    path: str | None = None
+    reference_z_given: bool = False
+    balance: BalanceSettings | None = None
+    gas: GasInput | None = field(default=None, repr=False)
+    mass_parts: MassParts | None = field(default=None, repr=False)
+
+    @property
+    def n_cylinders(self) -> int:
+        """Number of cylinders."""
+        return int(self.throw.size)
+
+    @property
+    def displacement(self) -> float:
+        """Swept volume of all cylinders [m^3] (NaN without a bore)."""
+        return float(np.sum(np.pi / 4 * self.bore**2 * 2 * self.crank_radius))
+
+    def with_speed(self, speed: float) -> Engine:
+        """The same layout at another crank speed [rad/s]."""
+        if not (math.isfinite(speed) and speed > 0):
+            raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
+        return replace(self, speed=float(speed))
+
+    def reordered(self, order: NDArray[np.intp] | list[int]) -> Engine:
+        """The same engine with its cylinders renumbered (``order`` is a permutation).
+
+        Only the numbering changes: every cylinder keeps its throw, bank and position, so
+        the crank angle origin stays where it was.  The firing order is dropped (its
+        numbers would no longer match).
+        """
+        idx = np.asarray(order, dtype=np.intp)
+        if sorted(idx.tolist()) != list(range(self.n_cylinders)):
+            raise InputError("order must be a permutation of the cylinder indices")
+        arrays = {name: getattr(self, name)[idx] for name in CYLINDER_FIELDS}
+        gas = self.gas.reordered(idx) if self.gas is not None else None
+        parts = self.mass_parts.reordered(idx) if self.mass_parts is not None else None
+        return replace(self, firing_order=None, gas=gas, mass_parts=parts, **arrays)
