@@ -11,10 +11,10 @@ import math
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
-from balance.core import accuracy
-from balance.core.analysis import balance_engine, compute
+from balance.core.analysis import compute
 from balance.core.engine import Engine
 from balance.core.errors import InputError
+from balance.core.result import Request
 from balance.io.fields import parse_orders
 from balance.io.layout_file import builtin_layout_names, load_layout
 
@@ -92,38 +92,23 @@ def analyse(
     """
     from balance.views.dataset import build_dataset
 
-    if speed is not None:
-        if not (math.isfinite(speed) and speed > 0):
-            raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
-        layout = layout.with_speed(speed)
-    if tolerance is not None:
-        r = layout.crank_radius
-        model, terms, _ = accuracy.choose_model(
-            tolerance, r / layout.conrod_length, layout.offset / r
-        )
-    result = compute(
-        layout,
+    if speed is not None and not (math.isfinite(speed) and speed > 0):
+        raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
+    request = Request.of(
         parse_orders(orders),
         model=model,
         terms=terms,
         samples=samples,
+        tolerance=tolerance,
+        speed=speed,
         moments=moments,
         roll=roll,
+        proposal=proposal,
+        cancel=None if cancel is None else tuple(int(k) for k in cancel),
+        strategy=strategy,
+        balance_factor=balance_factor,
+        counterweight_radius=counterweight_radius,
+        cancel_roll=cancel_roll,
     )
-    balanced = None
-    if proposal and moments and roll:
-        balanced = balance_engine(
-            layout,
-            result,
-            cancel=cancel,
-            strategy=strategy,
-            balance_factor=balance_factor,
-            counterweight_radius=counterweight_radius,
-            cancel_roll=cancel_roll,
-        )
-    torque = None
-    if layout.gas is not None:
-        from balance.core.torque import compute_torque
-
-        torque = compute_torque(layout, result.orders)
-    return build_dataset(layout, result, balanced, torque=torque)
+    result = compute(layout, request)
+    return build_dataset(result.engine, result.phasors, result.balanced, torque=result.torque)

@@ -147,10 +147,7 @@ def _emit_text(text: str, output: Path | None, force: bool) -> None:
         return
     from balance.io.atomic import write_atomic
 
-    def write(tmp: Path) -> None:
-        tmp.write_text(text, encoding="utf-8")
-
-    write_atomic(output, write, force=force)
+    write_atomic(output, text.encode("utf-8"), force=force)
     sys.stderr.write(f"balance: wrote {output}\n")
 
 

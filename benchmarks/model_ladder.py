@@ -39,7 +39,7 @@ import numpy as np
 import balance
 from balance.api import Layout, analyse
 from balance.core import kinematics
-from balance.core.analysis import balance_engine, compute
+from balance.core.analysis import balance_engine, compute_phasors
 from balance.views.dataset import build_dataset
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -102,7 +102,7 @@ def best_time(func, repeat: int = 5, target: float = 0.2) -> float:
 def per_million(model: str, lam: float, options: dict[str, int]) -> tuple[float, bool]:
     if model == "time":
         return best_time(
-            lambda: compute(single(lam), ORDERS, model="time", moments=False, roll=False, **options)
+            lambda: compute_phasors(single(lam), ORDERS, model="time", moments=False, roll=False, **options)
         ) * 1e6, True
     rng = np.random.default_rng(1)
     chunk = 100_000
@@ -121,10 +121,10 @@ def ladder() -> list[dict[str, object]]:
         ref = reference(lam)
         layout = single(lam)
         for model, options in MODELS:
-            result = compute(layout, ORDERS, model=model, moments=False, roll=False, **options)
+            result = compute_phasors(layout, ORDERS, model=model, moments=False, roll=False, **options)
             error = float(np.abs(result.acceleration_coefficients[0] - ref).max())
             per_analysis = best_time(
-                lambda m=model, o=options, lay=layout: compute(
+                lambda m=model, o=options, lay=layout: compute_phasors(
                     lay, ORDERS, model=m, moments=False, roll=False, **o
                 )
             )
@@ -157,11 +157,11 @@ def v12(rounds: int = 30, number: int = 20) -> dict[str, float]:
     median (with 10th and 90th percentile) of the per-round ratios.
     """
     layout = balance.load_layout("v12-60")
-    result = compute(layout)
+    result = compute_phasors(layout)
     balanced = balance_engine(layout, result)
     funcs = {
         "analyse": lambda: analyse(layout),
-        "compute": lambda: compute(layout),
+        "compute": lambda: compute_phasors(layout),
         "dataset": lambda: build_dataset(layout, result, balanced),
     }
     times: dict[str, list[float]] = {name: [] for name in funcs}

@@ -9,7 +9,7 @@ Variants per second of :func:`balance.studies.sweep.sweep_arrays` (in-process, t
 one core) for the
 inline-4 and the V12 at orders 1-2 and 1-8, with moments and roll, against a loop of
 :func:`balance.analyse` over variants and against the brute-force time-domain computation
-(``compute(..., model="time")``, 256 crank angles), both timed on a sample of variants.
+(``compute_phasors(..., model="time")``, 256 crank angles), both timed on a sample of variants.
 Two grids: one with speed (speed x conrod_length x engine-wide reciprocating mass, 10**6
 points; the unit-speed phasor sums are formed once per (rod, mass) variant and multiplied
 by omega**2) and a per-cylinder one (conrod_length x cylinders[1].reciprocating x
@@ -31,7 +31,7 @@ import numpy as np
 
 import balance
 from balance.api import analyse
-from balance.core.analysis import compute
+from balance.core.analysis import compute_phasors
 from balance.studies.search import search
 from balance.studies.sweep import sweep_arrays, variant
 from balance.studies.tolerance import tolerance
@@ -65,7 +65,7 @@ def loop_rate(layout, orders: str, model: str, count: int) -> float:
     for length in lengths:
         v = variant(layout, {"conrod_length": float(length)})
         if model == "time":
-            compute(v, orders, model="time", samples=256)
+            compute_phasors(v, orders, model="time", samples=256)
         else:
             analyse(v, orders)
     return count / (time.perf_counter() - t)
@@ -134,7 +134,7 @@ def main() -> None:
         f"Measured with `python benchmarks/sweep.py --write-docs` on {date.today()}, "
         f"Python {platform.python_version()}, {platform.machine()}, one process pinned to one "
         "core, all in one run. Loops are timed over 200 variants (conrod length varied); the "
-        "time-domain rate is `compute(..., model='time', samples=256)` per variant."
+        "time-domain rate is `compute_phasors(..., model='time', samples=256)` per variant."
     )
     text = "\n".join([header, "", *lines, "", *search_lines, "", *tol_lines]) + "\n"
     print(text)

@@ -17,7 +17,7 @@ from balance.api import Layout, analyse
 from balance.core import accuracy
 from balance.core import kinematics as kin
 from balance.core import sampled as td
-from balance.core.analysis import compute
+from balance.core.analysis import compute_phasors
 from balance.core.errors import AnalysisError
 
 ORDERS = np.arange(1, 9)
@@ -73,13 +73,13 @@ def test_each_model_within_its_bound(lam, eps):
 def test_time_model_within_its_bound(lam, eps, samples):
     layout = engine([0], spacing=0.0, stroke=0.08, conrod_length=0.04 / lam)
     layout = dataclasses.replace(layout, offset=np.full(1, eps * 0.04))
-    result = compute(layout, ORDERS, model="time", samples=samples, moments=False, roll=False)
+    result = compute_phasors(layout, ORDERS, model="time", samples=samples, moments=False, roll=False)
     got = result.acceleration_coefficients[0]
     error = float(np.abs(got - reference(lam, eps)).max())
     assert error <= result.error_bound
     # and the forces the time model synthesises carry that accuracy
     f1 = result.reference_force
-    exact = compute(layout, ORDERS, moments=False, roll=False)
+    exact = compute_phasors(layout, ORDERS, moments=False, roll=False)
     assert (
         np.abs(result.force_forward - exact.force_forward).max()
         <= (result.error_bound + 1e-13) * f1
@@ -167,7 +167,7 @@ def _random_layout(n: int, rng: np.random.Generator, **over: object) -> Layout:
 def test_speed_mass_and_order_extremes(name, over, orders, rng):
     layout = _random_layout(6, rng, **over)
     ks = np.arange(1, orders + 1)
-    result = compute(layout, ks)
+    result = compute_phasors(layout, ks)
     theta = td.crank_angles(4 * 1024)
     fwd, bwd = td.phasors_from_samples(td.reciprocating_force_samples(layout, theta), ks)
     scale = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
@@ -178,7 +178,7 @@ def test_speed_mass_and_order_extremes(name, over, orders, rng):
 
 def test_sixty_four_cylinders(rng):
     layout = _random_layout(64, rng)
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     theta = td.crank_angles(1024)
     fwd, _ = td.phasors_from_samples(td.reciprocating_force_samples(layout, theta, True), ORDERS)
     scale = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)

@@ -14,7 +14,7 @@ from test_phasors import random_layouts
 from balance.api import Layout, analyse, builtin_layout_names, load_layout
 from balance.core import kinematics as kin
 from balance.core import sampled as td
-from balance.core.analysis import balance_engine, compute
+from balance.core.analysis import balance_engine, compute_phasors
 from balance.core.balancing import balance_factor_study, optimal_balance_factor
 from balance.studies.factor import factor_study_dataset
 
@@ -55,7 +55,7 @@ def test_every_builtin_proposal_cancels_what_it_sets_out_to(name, strategy):
     """Issue 3: orders 1 and 2 (forward and backward, force and moment) vanish in the
     residual to 1e-9 of m_rec r w^2 (forces) and m_rec r w^2 a (moments), by time domain."""
     layout = load_layout(name)
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     balanced = balance_engine(layout, result, strategy=strategy, cancel=[1, 2])
     residual = _time_domain_residual(layout, balanced.proposal)
     f_unit, m_unit = _units(layout)
@@ -78,7 +78,7 @@ def test_every_builtin_proposal_cancels_what_it_sets_out_to(name, strategy):
 
 @given(layout=random_layouts(max_cylinders=8), per_throw=st.booleans())
 def test_random_layout_proposals_cancel_orders_one_to_three(layout, per_throw):
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     strategy = "per-throw" if per_throw else "two-plane"
     balanced = balance_engine(layout, result, strategy=strategy, cancel=[1, 2, 3])
     residual = _time_domain_residual(layout, balanced.proposal)
@@ -99,7 +99,7 @@ def test_inline4_lanchester_pair():
     """Two shafts, +2w and -2w, each with the unbalance A2 m_rec r / 2 (m_rec per
     cylinder): each cancels half of the 4 A2 m_rec r w^2 second-order force at (2w)^2."""
     layout = engine([0, 180, 180, 0])
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     proposal = balance_engine(layout, result).proposal
     assert proposal.counterweights == ()
     assert sorted(s.speed_ratio for s in proposal.shafts) == [-2, 2]
@@ -116,7 +116,7 @@ def test_inline4_lanchester_pair():
 
 def test_crossplane_v8_end_counterweights_only():
     layout = engine([0, 90, 270, 180], banks=[-45, 45])
-    proposal = balance_engine(layout, compute(layout, ORDERS)).proposal
+    proposal = balance_engine(layout, compute_phasors(layout, ORDERS)).proposal
     assert proposal.shafts == ()
     assert len(proposal.counterweights) == 2
     zs = sorted(c.z for c in proposal.counterweights)
@@ -125,7 +125,7 @@ def test_crossplane_v8_end_counterweights_only():
 
 def test_inline3_counterweights_and_one_backward_shaft():
     layout = engine([0, 240, 120])
-    proposal = balance_engine(layout, compute(layout, ORDERS), cancel=[1]).proposal
+    proposal = balance_engine(layout, compute_phasors(layout, ORDERS), cancel=[1]).proposal
     assert len(proposal.counterweights) == 2
     assert [s.speed_ratio for s in proposal.shafts] == [-1]
     shaft = proposal.shafts[0]
@@ -155,8 +155,8 @@ def test_nothing_to_cancel_gets_no_proposal(name):
 @given(layout=random_layouts(max_cylinders=6), seed=st.integers(0, 2**32 - 1))
 def test_proposal_invariant_to_cylinder_numbering(layout, seed):
     order = np.random.default_rng(seed).permutation(layout.n_cylinders)
-    a = balance_engine(layout, compute(layout, ORDERS)).proposal
-    b = balance_engine(layout.reordered(order), compute(layout.reordered(order), ORDERS)).proposal
+    a = balance_engine(layout, compute_phasors(layout, ORDERS)).proposal
+    b = balance_engine(layout.reordered(order), compute_phasors(layout.reordered(order), ORDERS)).proposal
     f_unit = float(np.sum((layout.reciprocating_mass + layout.rotating_mass) * layout.crank_radius))
 
     def key(values):
@@ -221,7 +221,7 @@ def test_lanchester_pair_placed_to_cancel_second_order_roll():
     """A Lanchester pair at two heights also cancels the inline-4's 2nd-order roll (checked
     with the Newton-Euler roll of the engine and the shafts' sampled torque)."""
     layout = load_layout("inline-4")
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     balanced = balance_engine(layout, result, cancel_roll=True)
     k2 = 1  # index of order 2
     assert balanced.roll[k2] == 0.0
@@ -243,7 +243,7 @@ def test_lanchester_pair_placed_to_cancel_second_order_roll():
 
 def test_shaft_roll_is_reported_and_checked_in_the_time_domain():
     layout = load_layout("single")
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     balanced = balance_engine(layout, result)
     theta = td.crank_angles(1024)
     torque = td.roll_newton_euler(layout, theta) + td.proposal_roll_samples(

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from balance.api import Layout, analyse, load_layout
 from balance.core import kinematics as kin
 from balance.core import sampled as td
-from balance.core.analysis import compute
+from balance.core.analysis import compute_phasors
 
 ORDERS = np.arange(1, 9)
 
@@ -177,7 +177,7 @@ def _scale(layout: Layout) -> float:
 def test_phasors_equal_fft_of_sampled_forces(layout):
     """Issue 2: for random layouts (throws, banks, z, offsets, lambda up to 0.5) the phasors
     from the analysis equal those of the sampled exact force, to 1e-9 of m_rec r w^2."""
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     theta = td.crank_angles(1024)
     scale = _scale(layout)
     fwd, bwd = td.phasors_from_samples(td.reciprocating_force_samples(layout, theta), ORDERS)
@@ -202,7 +202,7 @@ def test_sum_of_phasors_rebuilds_the_force_at_any_angle(layout):
     # of the conrod term; take enough orders for the truncation to fall below 1e-12
     lam = layout.crank_radius / layout.conrod_length
     a = float(np.min(np.arccosh(1 / lam - np.abs(layout.offset / layout.crank_radius))))
-    result = compute(layout, min(int(np.ceil(36 / a)) + 20, 3000))
+    result = compute_phasors(layout, min(int(np.ceil(36 / a)) + 20, 3000))
     theta = np.array([0.123, 1.0, 2.5, 4.4, 6.0])
     k = result.orders[None, :]
     rebuilt = (
@@ -222,8 +222,8 @@ def test_crank_angle_origin_changes_phases_only(layout, shift):
     order-k phasor is multiplied by exp(i k delta) forwards and exp(-i k delta) backwards."""
     delta = math.radians(shift)
     turned = dataclasses.replace(layout, throw=layout.throw + delta)
-    a = compute(layout, ORDERS)
-    b = compute(turned, ORDERS)
+    a = compute_phasors(layout, ORDERS)
+    b = compute_phasors(turned, ORDERS)
     tol = 1e-12 * _scale(layout)
     np.testing.assert_allclose(
         b.force_forward, a.force_forward * np.exp(1j * ORDERS * delta), atol=tol
@@ -238,8 +238,8 @@ def test_crank_angle_origin_changes_phases_only(layout, shift):
 @given(layout=random_layouts(), seed=st.integers(0, 2**32 - 1))
 def test_renumbering_cylinders_changes_nothing(layout, seed):
     order = np.random.default_rng(seed).permutation(layout.n_cylinders)
-    a = compute(layout, ORDERS)
-    b = compute(layout.reordered(order), ORDERS)
+    a = compute_phasors(layout, ORDERS)
+    b = compute_phasors(layout.reordered(order), ORDERS)
     tol = 1e-12 * _scale(layout)
     for name in ("force_forward", "force_backward", "moment_forward", "moment_backward", "roll"):
         np.testing.assert_allclose(getattr(b, name), getattr(a, name), atol=tol)
@@ -256,8 +256,8 @@ def test_forces_scale_with_speed_squared_and_mass(layout, speed_factor, mass_fac
         rotating_mass=layout.rotating_mass * mass_factor,
         conrod_inertia_correction=layout.conrod_inertia_correction * mass_factor,
     )
-    a = compute(layout, ORDERS)
-    b = compute(scaled, ORDERS)
+    a = compute_phasors(layout, ORDERS)
+    b = compute_phasors(scaled, ORDERS)
     factor = speed_factor**2 * mass_factor
     tol = 1e-11 * _scale(layout) * factor
     np.testing.assert_allclose(b.force_forward, a.force_forward * factor, atol=tol)
@@ -295,7 +295,7 @@ def test_mirror_symmetric_crank_has_no_free_moments(half):
         reference_z=0.0,
         pitch=0.1,
     )
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     assert np.all(result.moment_forward == 0) and np.all(result.moment_backward == 0)
     assert result.rotating_moment == 0
 

@@ -18,7 +18,7 @@ from helpers import engine, image_compare
 
 import balance
 from balance.core import sampled as timedomain
-from balance.core.analysis import balance_engine, compute
+from balance.core.analysis import balance_engine, compute_phasors
 from balance.core.errors import InputError
 from balance.views import plots
 from balance.views import signals as synthesis
@@ -87,7 +87,7 @@ def test_free_and_residual_signals_match_the_sampled_forces(name, rng):
     """'free' adds the rotating masses, 'residual' every proposed mass as well."""
     layout = LAYOUTS[name]()
     ds = balance.analyse(layout, orders=ORDERS)
-    proposal = balance_engine(layout, compute(layout, ORDERS)).proposal
+    proposal = balance_engine(layout, compute_phasors(layout, ORDERS)).proposal
     theta_deg = rng.uniform(0.0, 360.0, 50)
     theta = np.radians(theta_deg)
     for quantity, lever in (("force", False), ("moment", True)):

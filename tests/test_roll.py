@@ -13,7 +13,7 @@ from test_phasors import random_layouts
 
 from balance.api import analyse
 from balance.core import sampled as td
-from balance.core.analysis import compute
+from balance.core.analysis import compute_phasors
 
 ORDERS = np.arange(1, 9)
 
@@ -30,7 +30,7 @@ def test_roll_equals_newton_euler(layout):
     """The roll phasors (from the balance of angular momentum, with offset and the conrod
     inertia correction) equal the FFT of the block torque found by solving piston and rigid
     rod by Newton-Euler at each crank angle, to 1e-9 of m_rec r^2 w^2."""
-    result = compute(layout, ORDERS)
+    result = compute_phasors(layout, ORDERS)
     theta = td.crank_angles(1024)
     sampled = td.roll_phasors_from_samples(td.roll_newton_euler(layout, theta), ORDERS)
     np.testing.assert_allclose(result.roll, sampled, rtol=0, atol=1e-9 * _roll_scale(layout))
@@ -62,8 +62,8 @@ def test_inline4_second_order_roll_textbook():
 def test_roll_with_conrod_inertia_differs_and_is_checked():
     layout = engine([0, 180, 180, 0])
     heavy = dataclasses.replace(layout, conrod_inertia_correction=np.full(4, -2e-3))
-    a = compute(layout, ORDERS).roll
-    b = compute(heavy, ORDERS).roll
+    a = compute_phasors(layout, ORDERS).roll
+    b = compute_phasors(heavy, ORDERS).roll
     assert np.abs(b - a).max() > 1.0  # N m: the correction matters
     theta = td.crank_angles(512)
     sampled = td.roll_phasors_from_samples(td.roll_newton_euler(heavy, theta), ORDERS)

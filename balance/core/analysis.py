@@ -10,15 +10,19 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import accuracy, kinematics, phasors
-from balance.core.balancing import Proposal, proposal_phasors, propose
+from balance.core.balancing import proposal_phasors, propose
 from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import InputError
+from balance.core.result import Balanced, Phasors, Request, Result
+
+if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.torque import TorqueResult
 
 __all__ = [
     "Balanced",
@@ -26,6 +30,7 @@ __all__ = [
     "Phasors",
     "balance_engine",
     "compute",
+    "compute_phasors",
     "free_phasors",
     "free_phasors_of",
     "speed_squared",
@@ -35,48 +40,7 @@ __all__ = [
 ComplexArray = NDArray[np.complex128]
 
 
-@dataclass(frozen=True)
-class Phasors:
-    """Complex phasors of one analysis (SI: N, N m).
-
-    ``*_forward`` and ``*_backward`` have one entry per order; the rotating phasors are
-    scalars (order 1, forward only); ``roll`` has one entry per order.
-    """
-
-    orders: NDArray[np.intp]
-    force_forward: ComplexArray
-    force_backward: ComplexArray
-    moment_forward: ComplexArray
-    moment_backward: ComplexArray
-    rotating_force: complex
-    rotating_moment: complex
-    roll: ComplexArray
-    acceleration_coefficients: ComplexArray
-    model: str
-    terms: int
-    reference_force: float
-    reference_z: float
-    samples: int = 0
-    error_bound: float = float("nan")
-
-
-@dataclass(frozen=True)
-class Balanced:
-    """A balancing proposal and the residual with every proposed mass added.
-
-    The residual phasors are per order of the analysis: reciprocating + rotating +
-    counterweights + shafts (N, N m); ``roll`` is the engine's roll plus the shafts'.
-    """
-
-    proposal: Proposal
-    force_forward: ComplexArray
-    force_backward: ComplexArray
-    moment_forward: ComplexArray
-    moment_backward: ComplexArray
-    roll: ComplexArray
-
-
-def compute(
+def compute_phasors(
     layout: Engine,
     orders: int | Iterable[int] | None = None,
     *,
@@ -471,7 +435,7 @@ def balance_engine(
     if np.all(np.isin(needed, result.orders)) and not np.isnan(result.moment_forward).any():
         source = result
     else:
-        source = compute(
+        source = compute_phasors(
             layout,
             needed,
             model=result.model,
@@ -541,3 +505,99 @@ def balance_engine(
         moment_backward=clean(result.moment_backward + added.moment_backward, force_scale * span),
         roll=clean(result.roll + added.roll, roll_scale),
     )
+
+
+def compute(engine: Engine, request: Request) -> Result:
+    """Analyse an engine: what the request asks for, and nothing else.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine (:func:`balance.load_layout`).
+    request : Request
+        Orders, model and which quantities to compute (:class:`balance.core.result.Request`).
+
+    Returns
+    -------
+    Result
+        Complex phasors with their references, the proposal and residual if asked, the
+        gas torque and roll if the engine has gas forces.
+    """
+    if request.speed is not None:
+        engine = engine.with_speed(request.speed)
+    model, terms = request.model, request.terms
+    if request.tolerance is not None:
+        r = engine.crank_radius
+        model, terms, _ = accuracy.choose_model(
+            request.tolerance, r / engine.conrod_length, engine.offset / r
+        )
+        request = replace(request, model=model, terms=terms)
+    ks = np.asarray(request.orders, dtype=np.intp)
+    phasors_ = compute_phasors(
+        engine,
+        ks,
+        model=model,
+        terms=terms,
+        samples=request.samples,
+        moments=request.moments,
+        roll=request.roll,
+    )
+    balanced = None
+    if request.proposal and request.moments and request.roll:
+        balanced = balance_engine(
+            engine,
+            phasors_,
+            cancel=request.cancel,
+            strategy=request.strategy,
+            balance_factor=request.balance_factor,
+            counterweight_radius=request.counterweight_radius,
+            cancel_roll=request.cancel_roll,
+        )
+    torque = None
+    if engine.gas is not None and request.torque:
+        from balance.core.torque import compute_torque
+
+        torque = compute_torque(engine, phasors_.orders)
+    roll_orders = ks.astype(np.float64)
+    roll_ = residual_roll = None
+    if request.roll:
+        roll_ = phasors_.roll
+        residual_roll = balanced.roll if balanced is not None else None
+        if torque is not None:
+            roll_orders, roll_, residual_roll = _roll_with_gas(torque, phasors_, balanced)
+    f1 = phasors_.reference_force
+    pitch = engine.pitch
+    return Result(
+        engine=engine,
+        request=request,
+        phasors=phasors_,
+        balanced=balanced,
+        torque=torque,
+        roll_orders=roll_orders,
+        roll=roll_,
+        residual_roll=residual_roll,
+        reference_force=f1,
+        pitch=pitch,
+        reference_moment=f1 * pitch if math.isfinite(pitch) else math.nan,
+        reference_roll=float(np.mean(engine.reciprocating_mass) * np.mean(engine.crank_radius) ** 2)
+        * (engine.speed**2),
+    )
+
+
+def _roll_with_gas(
+    torque: TorqueResult, result: Phasors, balanced: Balanced | None
+) -> tuple[NDArray[np.float64], ComplexArray, ComplexArray | None]:
+    """The roll with gas forces (half orders for a four-stroke) and, with a proposal, with
+    the shafts' roll (integer orders only) added."""
+    ks = torque.roll_orders
+    roll = torque.roll
+    if balanced is None:
+        return ks, roll, None
+    residual = roll.copy()
+    shafts = balanced.roll - result.roll  # the shafts' roll, integer orders only
+    for j, k in enumerate(result.orders):
+        at = np.flatnonzero(np.isclose(ks, float(k)))
+        if at.size:
+            residual[at[0]] += shafts[j]
+    scale = float(np.sum(np.abs(roll)) + np.sum(np.abs(shafts)))
+    return ks, roll, phasors.cancel_to_zero(residual, scale, 64)

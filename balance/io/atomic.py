@@ -1,23 +1,58 @@
 """Writing results safely: whole files or nothing.
 
-Output goes to a temporary file beside the target and is renamed into place, so an
-interrupted or failed run leaves any previous file intact.  An existing file is only
-replaced when asked to (``force``).
+An existing file is only replaced when asked to (``force``), and the target path only ever
+holds the previous file or the complete new one, never a part of either.  What is promised
+when a write is interrupted:
+
+* **An exception, SIGINT or SIGTERM** (the command line turns SIGTERM into ``SystemExit``):
+  no temporary file or directory is left behind, whatever the moment.  The temporary's
+  name is chosen and registered *before* it is created, so there is no moment at which it
+  exists without the code that removes it knowing its name.  (Blocking the signals around
+  the creation is not enough: a signal mask is per thread, and a process-directed signal
+  is taken by any thread that does not block it, such as the OpenBLAS workers numpy
+  starts, after which Python runs the handler in the main thread at once.)  Removal runs
+  from the exception handler and again at interpreter exit, in case a second signal
+  interrupted the first attempt.
+* **SIGKILL or a crash** (no code runs): the target is still the previous file or the
+  complete new one.  Output given as bytes is written to an anonymous ``O_TMPFILE`` file
+  (Linux, on file systems that support it) and linked into place only when complete, so
+  no partial file ever has a name.  Output written by a library through a path (netCDF,
+  Zarr, figures saved by matplotlib) goes to a hidden temporary beside the target, named
+  ``.<target>.<owner>.<random>.part``, where ``<owner>`` names the writing process (its
+  pid and start time, and a key for this machine's boot and pid namespace).  Such a file
+  cannot be mistaken for output, and the next write into the same directory removes every
+  temporary whose owner is no longer running.  (Replacing an existing file needs a link to
+  a temporary name and a rename, two system calls; a SIGKILL between them leaves a
+  *complete* hidden temporary, removed the same way.)
+
+A directory (a Zarr store) replaces an existing one with one atomic exchange
+(``renameat2(RENAME_EXCHANGE)``) where the system has it, so the target never goes
+missing; elsewhere the old store is moved aside first, and a write killed between the two
+renames is rolled back by the next write.
+
+Durability across a power cut (``fsync``) is not attempted.
 """
 
 from __future__ import annotations
 
+import atexit
+import contextlib
+import errno
+import hashlib
 import os
+import re
+import secrets
 import shutil
-import signal
-import tempfile
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+import sys
+from collections.abc import Callable
+from functools import cache
 from pathlib import Path
 
 from balance.core.errors import InputError
 
 __all__ = ["check_directory_target", "check_target", "write_atomic", "write_atomic_directory"]
+
+Writer = Callable[[Path], None]
 
 
 def _check_parent(target: Path) -> None:
@@ -48,31 +83,201 @@ def check_target(path: str | Path, force: bool = False) -> Path:
     return target
 
 
-def _umask() -> int:
-    umask = os.umask(0)
-    os.umask(umask)
-    return umask
+# --------------------------------------------------------------------------- temporaries
+
+#: ``.<target name>.<key>-<pid>-<start>.<random>.<part|old>``
+_TEMPORARY = re.compile(
+    r"^\.(?P<target>.+)\.(?P<key>[0-9a-f]{8})-(?P<pid>[0-9]+)-(?P<start>[0-9]+)"
+    r"\.[0-9a-f]{12}\.(?P<kind>part|old)$"
+)
 
 
-@contextmanager
-def _signals_blocked() -> Iterator[None]:
-    """No SIGINT or SIGTERM lands between creating a temporary and knowing its name."""
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+def _read(path: str) -> str | None:
     try:
-        yield
+        with open(path, encoding="ascii", errors="replace") as f:
+            return f.read()
+    except OSError:
+        return None
+
+
+def _start_time(pid: int) -> int | None:
+    """When process ``pid`` started (clock ticks after boot), or None if it is not running.
+
+    A zombie (killed, not yet reaped) is not running: it holds no files and writes nothing.
+    """
+    stat = _read(f"/proc/{pid}/stat")
+    if stat is None:
+        return None
+    fields = stat[stat.rfind(")") + 2 :].split()  # after "pid (command) "
+    if len(fields) < 20 or fields[0] in ("Z", "X", "x"):
+        return None
+    return int(fields[19])
+
+
+@cache
+def _machine_key() -> str | None:
+    """Eight hex digits naming this boot of this machine and this pid namespace, or None
+    where processes cannot be looked up (no /proc): temporaries are then never removed by
+    others, because nobody can tell whether their owner still runs."""
+    boot = _read("/proc/sys/kernel/random/boot_id")
+    if boot is None or _start_time(os.getpid()) is None:
+        return None
+    try:
+        namespace = os.stat("/proc/self/ns/pid").st_ino
+    except OSError:
+        namespace = 0
+    return hashlib.sha256(f"{boot.strip()} {namespace}".encode()).hexdigest()[:8]
+
+
+@cache
+def _owner(pid: int) -> str:
+    """This process in a temporary's name (cached per pid, so a forked child is new)."""
+    key = _machine_key()
+    start = _start_time(pid) if key is not None else None
+    return f"{key or 'ffffffff'}-{pid}-{start if start is not None else 0}"
+
+
+def _temporary(target: Path, kind: str) -> Path:
+    name = f".{target.name}.{_owner(os.getpid())}.{secrets.token_hex(6)}.{kind}"
+    return target.parent / name
+
+
+def _discard(path: Path) -> None:
+    """Remove a temporary file or directory, if it is there."""
+    with contextlib.suppress(OSError):
+        if path.is_dir() and not path.is_symlink():
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            path.unlink(missing_ok=True)
+
+
+def _settle_old(old: Path, target: Path) -> None:
+    """Finish with a directory that holds a target moved aside (``old / 'previous'``):
+    put it back if the target is missing (the new one never arrived), else delete it."""
+    previous = old / "previous"
+    if os.path.lexists(previous) and not os.path.lexists(target):
+        with contextlib.suppress(OSError):
+            os.replace(previous, target)
+    _discard(old)
+
+
+#: Temporaries of this process that exist or are about to, with how to remove each
+#: (keyed by path; the pid guards against a forked child removing its parent's files).
+_PENDING: dict[Path, tuple[int, Callable[[], None]]] = {}
+
+
+def _register(path: Path, cleanup: Callable[[], None]) -> None:
+    _PENDING[path] = (os.getpid(), cleanup)
+
+
+def _unregister(path: Path) -> None:
+    _PENDING.pop(path, None)
+
+
+@atexit.register
+def _clean_up_at_exit() -> None:
+    for path, (pid, cleanup) in list(_PENDING.items()):
+        if pid == os.getpid():
+            cleanup()
+        _PENDING.pop(path, None)
+
+
+def _remove_orphans(directory: str | Path) -> list[Path]:
+    """Remove the temporaries in ``directory`` left by writes whose process was killed.
+
+    Only temporaries of this machine (and pid namespace) whose owner is no longer running
+    are touched; a target that a killed directory write had moved aside is put back.
+    Every write calls this for its directory first.
+
+    Returns
+    -------
+    list of Path
+        What was removed (or put back).
+    """
+    key = _machine_key()
+    if key is None:
+        return []
+    removed = []
+    try:
+        entries = list(os.scandir(directory))
+    except OSError:
+        return []
+    for entry in entries:
+        match = _TEMPORARY.match(entry.name)
+        if match is None or match["key"] != key:
+            continue
+        if _start_time(int(match["pid"])) == int(match["start"]):
+            continue  # its writer is still at work
+        path = Path(entry.path)
+        if match["kind"] == "old":
+            _settle_old(path, path.parent / match["target"])
+        else:
+            _discard(path)
+        removed.append(path)
+    return removed
+
+
+# --------------------------------------------------------------------------- files
+
+
+def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: bool) -> bool:
+    """Write ``data`` to an anonymous file and link it in as ``target``.
+
+    Returns False (nothing done) where O_TMPFILE or linking through /proc is unavailable.
+    """
+    flag = getattr(os, "O_TMPFILE", 0)
+    if not flag:
+        return False
+    try:
+        fd = os.open(target.parent, flag | os.O_WRONLY | os.O_CLOEXEC, 0o666)
+    except OSError:
+        return False
+    try:
+        view = memoryview(data).cast("B")
+        while view:
+            view = view[os.write(fd, view) :]
+        source = f"/proc/self/fd/{fd}"
+        if not os.path.lexists(target):
+            try:
+                os.link(source, target)  # linkat(AT_SYMLINK_FOLLOW): appears whole
+                return True
+            except FileExistsError:
+                if not force:
+                    raise InputError(f"{target}: file exists; use --force to replace it") from None
+            except OSError:
+                return False
+        tmp = _temporary(target, "part")
+        _register(tmp, lambda: _discard(tmp))
+        try:
+            try:
+                os.link(source, tmp)
+            except OSError:
+                return False
+            os.replace(tmp, target)
+        except BaseException:
+            _discard(tmp)
+            raise
+        finally:
+            _unregister(tmp)
+        return True
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        os.close(fd)
 
 
-def write_atomic(path: str | Path, write: Callable[[Path], None], force: bool = False) -> Path:
-    """Write a file through ``write(temporary_path)`` and rename it into place.
+def write_atomic(
+    path: str | Path, write: Writer | bytes | bytearray | memoryview, force: bool = False
+) -> Path:
+    """Write a whole file, or nothing: through ``write(temporary_path)``, or given its bytes.
+
+    The file gets the usual permissions (0666 less the umask).
 
     Parameters
     ----------
     path : str or Path
         The target file.
-    write : callable
-        Writes the complete file at the temporary path it is given.
+    write : callable or bytes
+        Either the file's contents, or a function that writes the complete file at the
+        temporary path it is given (and closes it) before returning.
     force : bool
         Replace an existing file.
 
@@ -82,23 +287,33 @@ def write_atomic(path: str | Path, write: Callable[[Path], None], force: bool = 
         The target path.
     """
     target = check_target(path, force)
-    tmp: Path | None = None
+    _remove_orphans(target.parent)
+    writer: Writer
+    if isinstance(write, (bytes, bytearray, memoryview)):
+        data = write
+        if _link_anonymous(target, data, force):
+            return target
+
+        def writer(tmp: Path) -> None:
+            tmp.write_bytes(data)
+
+    else:
+        writer = write
+    tmp = _temporary(target, "part")
+    _register(tmp, lambda: _discard(tmp))  # before the file exists: no unknown temporary
     try:
-        with _signals_blocked():
-            handle, tmp_name = tempfile.mkstemp(
-                prefix=f".{target.name}.", suffix=".part", dir=target.parent
-            )
-            tmp = Path(tmp_name)
-            os.close(handle)
-            # mkstemp makes the file private; results are ordinary files (0666 & ~umask)
-            os.chmod(tmp, 0o666 & ~_umask())
-        write(tmp)
+        os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, 0o666))
+        writer(tmp)
         os.replace(tmp, target)
     except BaseException:
-        if tmp is not None:
-            tmp.unlink(missing_ok=True)
+        _discard(tmp)
         raise
+    finally:
+        _unregister(tmp)
     return target
+
+
+# --------------------------------------------------------------------------- directories
 
 
 def check_directory_target(
@@ -126,44 +341,66 @@ def check_directory_target(
     return target
 
 
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths atomically (``renameat2(RENAME_EXCHANGE)``); False if unsupported."""
+    if not sys.platform.startswith("linux"):
+        return False
+    import ctypes
+
+    try:
+        renameat2 = ctypes.CDLL(None, use_errno=True).renameat2
+    except (AttributeError, OSError):
+        return False
+    renameat2.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p]
+    renameat2.argtypes += [ctypes.c_uint]
+    at_fdcwd, rename_exchange = -100, 2
+    if renameat2(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP, errno.ENOTSUP):
+        return False
+    raise OSError(code, os.strerror(code), str(a), None, str(b))
+
+
 def write_atomic_directory(
     path: str | Path,
-    write: Callable[[Path], None],
+    write: Writer,
     force: bool = False,
     is_replaceable: Callable[[Path], bool] = lambda p: False,
 ) -> Path:
     """Write a directory (a Zarr store) through ``write(temporary_dir)``, then move it in.
 
     An existing target is replaced only with ``force`` and only if it is a file or a
-    directory that ``is_replaceable`` accepts (a Zarr store, not any directory): it is
-    moved aside, the new directory moved in, and the old one deleted.  A failed or
-    interrupted write leaves the old target as it was.
+    directory that ``is_replaceable`` accepts (a Zarr store, not any directory): the two
+    are exchanged in one step and the old one deleted.  A failed or interrupted write
+    leaves the old target as it was.
     """
     target = check_directory_target(path, force, is_replaceable)
-    tmp: Path | None = None
+    _remove_orphans(target.parent)
+    tmp = _temporary(target, "part")
+    _register(tmp, lambda: _discard(tmp))
     try:
-        with _signals_blocked():
-            tmp = Path(
-                tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
-            )
-            os.chmod(tmp, 0o777 & ~_umask())
+        os.mkdir(tmp, 0o777)
         write(tmp)
-        if target.exists():
-            old = Path(
-                tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".old", dir=target.parent)
-            )
-            os.replace(target, old / "previous")
-            try:
+        # after an exchange tmp holds the previous target, which the finally removes
+        if not (os.path.lexists(target) and _exchange(tmp, target)):
+            if os.path.lexists(target):
+                _replace_by_moving_aside(tmp, target)
+            else:
                 os.replace(tmp, target)
-            except BaseException:
-                os.replace(old / "previous", target)
-                raise
-            finally:
-                shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, target)
-    except BaseException:
-        if tmp is not None:
-            shutil.rmtree(tmp, ignore_errors=True)
-        raise
+    finally:
+        _discard(tmp)
+        _unregister(tmp)
     return target
+
+
+def _replace_by_moving_aside(tmp: Path, target: Path) -> None:
+    old = _temporary(target, "old")
+    _register(old, lambda: _settle_old(old, target))
+    try:
+        os.mkdir(old, 0o700)
+        os.replace(target, old / "previous")
+        os.replace(tmp, target)
+    finally:
+        _settle_old(old, target)
+        _unregister(old)

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from balance.core.analysis import (
     balance_engine,
-    compute,
+    compute_phasors,
     free_phasors_of,
     speed_squared,
 )
@@ -176,7 +176,7 @@ def tolerance(
     if samples < 1:
         raise InputError("--samples: must be at least 1")
     ks = parse_orders(orders)
-    nominal = compute(layout, ks, model=model, roll=False)
+    nominal = compute_phasors(layout, ks, model=model, roll=False)
     balanced = balance_engine(layout, nominal)
     added = proposal_phasors(balanced.proposal, layout, ks)
     rng = np.random.default_rng(seed)

@@ -37,8 +37,8 @@ import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import phasors as _phasors
-from balance.core.analysis import Balanced, Phasors
 from balance.core.engine import Engine
+from balance.core.result import Balanced, Phasors
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.torque import TorqueResult

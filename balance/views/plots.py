@@ -78,7 +78,6 @@ __all__ = [
     "plot_spectrum",
     "plot_torque",
     "proposal_summary",
-    "readable_file_writer",
     "save_plots",
 ]
 
@@ -1242,18 +1241,5 @@ def save_plots(
         check_target(target, force)
     for kind, target in zip(chosen, targets, strict=True):
         data = figure_bytes(PLOT_KINDS[kind](ds), fmt)
-        write_atomic(target, readable_file_writer(data), force)
+        write_atomic(target, data, force)
     return targets
-
-
-def readable_file_writer(data: bytes) -> Callable[[Path], None]:
-    """A writer for :func:`balance.io.atomic.write_atomic` that also gives the file the usual
-    permissions (0666 less the umask; the temporary file is created private)."""
-
-    def write(tmp: Path) -> None:
-        tmp.write_bytes(data)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-
-    return write

@@ -681,9 +681,8 @@ def write_report(
         If the file exists (without ``force``) or its directory cannot be written.
     """
     from balance.io.atomic import check_target, write_atomic
-    from balance.views.plots import readable_file_writer
 
     target = Path(path)
     check_target(target, force)  # fail before the figures are drawn
     data = render_report(ds, figures=figures).encode("utf-8")
-    return write_atomic(target, readable_file_writer(data), force)
+    return write_atomic(target, data, force)
