@@ -710,7 +710,7 @@ def _coords(plan: _Plan) -> dict[str, tuple[tuple[str, ...], Any, dict[str, str]
 
 
 def _attrs(plan: _Plan) -> dict[str, Any]:
-    from balance import __version__
+    from balance._version import __version__
 
     return {
         "schema": "balance.sweep/1",

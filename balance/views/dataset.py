@@ -120,7 +120,7 @@ def build_dataset(
     -------
     xarray.Dataset
     """
-    from balance import __version__
+    from balance._version import __version__
 
     ks = result.orders
     f1 = result.reference_force

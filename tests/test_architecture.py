@@ -1,0 +1,157 @@
+"""The package's layers, read from the source: what may import what, and no cycles.
+
+``balance/core`` is the physics on numpy and the standard library; ``io`` reads inputs,
+``views`` writes outputs, ``studies`` runs many analyses; ``api`` and ``cli`` sit on top.
+Arrows point down only (docs/architecture.md).  Every import counts: module level, inside
+functions and under ``TYPE_CHECKING``.
+"""
+
+from __future__ import annotations
+
+import ast
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "balance"
+
+#: Layer of each part of the package: a module may import its own layer or lower ones.
+RANK = {"core": 0, "io": 1, "views": 2, "studies": 2, "api": 3, "cli": 4, "__main__": 5}
+#: Third-party packages each layer may import (besides numpy and the standard library).
+ALLOWED = {
+    "core": set(),
+    "io": {"pint", "pydantic", "pydantic_core", "yaml"},
+    "views": {"xarray", "pandas", "matplotlib", "rich", "netCDF4", "zarr"},
+    "studies": {"xarray", "pandas", "dask", "distributed", "zarr", "netCDF4"},
+    "api": {"xarray"},
+    "cli": {"typer", "click", "rich", "distributed"},
+    "__main__": set(),
+}
+#: Never in io, whatever else it may use.
+NOT_IN_IO = {"xarray", "matplotlib", "typer", "rich", "pandas"}
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports(path: Path) -> set[str]:
+    """Every module the file imports (absolute names), at any depth of the file."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    name = _module_name(path)
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - node.level + 1]
+                module = ".".join([*base, node.module] if node.module else base)
+            else:
+                module = node.module or ""
+            found.add(module)
+            # "from balance.core import kinematics" imports balance.core.kinematics
+            for alias in node.names:
+                candidate = f"{module}.{alias.name}"
+                if (PACKAGE.parent / Path(*candidate.split("."))).with_suffix(".py").is_file():
+                    found.add(candidate)
+    return found
+
+
+MODULES = {_module_name(p): p for p in sorted(PACKAGE.rglob("*.py"))}
+GRAPH = {name: _imports(path) for name, path in MODULES.items()}
+
+
+def _layer(module: str) -> str | None:
+    parts = module.split(".")
+    if parts[0] != "balance" or len(parts) < 2:
+        return None
+    return parts[1] if parts[1] in RANK else None
+
+
+def test_the_layers_are_the_folders():
+    for layer in ("core", "io", "views", "studies"):
+        assert (PACKAGE / layer / "__init__.py").is_file(), layer
+    loose = {p.stem for p in PACKAGE.glob("*.py")} - {"__init__", "__main__", "_version"}
+    assert loose == {"api", "cli"}, f"modules outside the four layers: {sorted(loose)}"
+
+
+@pytest.mark.parametrize("module", sorted(m for m in MODULES if _layer(m)))
+def test_imports_point_down(module):
+    layer = _layer(module)
+    assert layer is not None
+    for imported in GRAPH[module]:
+        top = imported.split(".")[0]
+        if top == "balance":
+            target = _layer(imported)
+            if imported in {"balance", "balance._version"}:
+                assert imported == "balance._version" or layer == "__main__", (
+                    f"{module} imports the package root (import balance._version instead)"
+                )
+                continue
+            assert target is not None, f"{module} imports {imported}, outside the layers"
+            assert RANK[target] <= RANK[layer], f"{module} ({layer}) imports up: {imported}"
+            if RANK[target] == RANK[layer]:
+                assert target == layer, f"{module} ({layer}) imports its sibling {imported}"
+        elif top in sys.stdlib_module_names or top in {"numpy", "__future__"}:
+            continue
+        else:
+            assert top in ALLOWED[layer], f"{module} ({layer}) imports {imported}"
+            if layer == "io":
+                assert top not in NOT_IN_IO, f"{module} imports {imported}"
+
+
+def test_core_is_numpy_and_the_standard_library_only():
+    for module in (m for m in MODULES if _layer(m) == "core"):
+        for imported in GRAPH[module]:
+            top = imported.split(".")[0]
+            assert (
+                top in sys.stdlib_module_names
+                or top in {"numpy", "__future__"}
+                or imported.startswith("balance.core")
+            ), f"{module} imports {imported}"
+
+
+def test_no_import_cycle():
+    internal = {m: {i for i in GRAPH[m] if i in MODULES and i != m} for m in MODULES}
+    # the package __init__ is imported by every submodule's import machinery; its own
+    # imports (lazy attributes) are not edges of the layered graph
+    internal["balance"] = {i for i in internal["balance"] if i == "balance._version"}
+    state: dict[str, int] = {}
+    stack: list[str] = []
+
+    def visit(node: str) -> None:
+        state[node] = 1
+        stack.append(node)
+        for nxt in sorted(internal[node]):
+            if state.get(nxt) == 1:
+                cycle = [*stack[stack.index(nxt) :], nxt]
+                raise AssertionError("import cycle: " + " -> ".join(cycle))
+            if nxt not in state:
+                visit(nxt)
+        stack.pop()
+        state[node] = 2
+
+    for module in sorted(internal):
+        if module not in state:
+            visit(module)
+
+
+def test_the_checker_sees_a_cycle_and_an_upward_import(tmp_path):
+    """The rules above could pass by reading nothing: show that they read imports."""
+    assert "balance.core.engine" in GRAPH["balance.core.analysis"]
+    assert "balance.core.kinematics" in GRAPH["balance.core.analysis"]
+    fake = tmp_path / "balance" / "core" / "fake.py"
+    fake.parent.mkdir(parents=True)
+    fake.write_text("from balance.views import table\nimport xarray\n")
+    global PACKAGE
+    saved = PACKAGE
+    PACKAGE = tmp_path / "balance"
+    try:
+        assert _imports(fake) >= {"balance.views", "xarray"}
+    finally:
+        PACKAGE = saved
