@@ -111,4 +111,4 @@ def analyse(
         cancel_roll=cancel_roll,
     )
     result = compute(layout, request)
-    return build_dataset(result.engine, result.phasors, result.balanced, torque=result.torque)
+    return build_dataset(result)

@@ -15,11 +15,15 @@ import sys
 from collections.abc import Callable
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Any, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 
 from balance.core.errors import BalanceError, InputError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.engine import Engine
+    from balance.core.result import Request, Result
 
 __all__ = ["app", "main"]
 
@@ -103,14 +107,9 @@ class Model(StrEnum):
 
 def _parse_speed(text: str | None) -> float | None:
     """The ``--speed`` option in rad/s (None when it is not given)."""
-    if text is None:
-        return None
-    from balance.io.units import UnitProblem, parse_quantity
+    from balance.io.fields import parse_speed
 
-    try:
-        return parse_quantity(text, "speed")
-    except UnitProblem as exc:
-        raise InputError(f"--speed: {exc}; {exc.valid}") from None
+    return parse_speed(text)
 
 
 def _console() -> Any:
@@ -131,6 +130,35 @@ def _check_output(output: Path | None, force: bool, binary: bool) -> None:
         check_target(output, force)
     elif binary:
         raise InputError("--format netcdf writes a binary file; give -o PATH")
+
+
+def _prepare(
+    layout: str,
+    orders: str,
+    speed: str | None,
+    *,
+    output: Path | None = None,
+    force: bool = False,
+    binary: bool = False,
+    **settings: Any,
+) -> tuple[Engine, Request]:
+    """The preamble of a command that analyses one layout, written once.
+
+    Reads ``--orders`` and ``--speed`` (each checked here, once), refuses an output that
+    cannot be written (``output``/``force``; ``binary``: a format that needs ``-o``) before
+    any work is done, loads the layout and builds the
+    :class:`~balance.core.result.Request` with ``settings`` (its other fields).  A command
+    with another kind of output (a directory of figures) checks it before calling this.
+    """
+    from balance.core.result import Request
+    from balance.io.fields import parse_orders
+    from balance.io.layout_file import load_layout
+
+    order_list = parse_orders(orders)
+    speed_value = _parse_speed(speed)
+    _check_output(output, force, binary)
+    engine = load_layout(layout)
+    return engine, Request.of(order_list, speed=speed_value, **settings)
 
 
 def _write_netcdf(ds: Any, output: Path, force: bool) -> None:
@@ -197,21 +225,19 @@ def analyse_command(
     ] = False,
 ) -> None:
     """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
-    from balance.api import analyse
-    from balance.io.fields import parse_orders
-    from balance.io.layout_file import load_layout
+    from balance.core.analysis import compute
 
-    order_list = parse_orders(orders)
-    speed_value = _parse_speed(speed)
-    _check_output(output, force, binary=format is Format.netcdf)
     if tolerance is not None and model is not None:
         raise InputError("give --model or --tolerance, not both")
     if tolerance is not None and not (tolerance > 0 and tolerance < 1):
         raise InputError(f"--tolerance: {tolerance!r} is not between 0 and 1, e.g. 1e-6")
-    ds = analyse(
-        load_layout(layout),
-        order_list,
-        speed=speed_value,
+    engine, request = _prepare(
+        layout,
+        orders,
+        speed,
+        output=output,
+        force=force,
+        binary=format is Format.netcdf,
         model=(model or Model.exact).value,
         terms=terms,
         samples=samples,
@@ -220,29 +246,41 @@ def analyse_command(
         roll=not no_roll,
         proposal=not (no_proposal or no_moments or no_roll),
     )
-    _write(ds, format, output, force)
+    _write(compute(engine, request), format, output, force)
 
 
 def _write(
-    ds: Any, format: Format, output: Path | None, force: bool, proposal_only: bool = False
+    result: Result,
+    format: Format,
+    output: Path | None,
+    force: bool,
+    proposal_only: bool = False,
+    factor_study: Any = None,
 ) -> None:
+    """Hand the result to the view of ``format`` (``factor_study``: a balance-factor study
+    Dataset of ``propose --factor-study``)."""
     if format is Format.json:
         from balance.views.json import to_json
 
-        _emit_text(to_json(ds), output, force)
+        _emit_text(to_json(result, factor_study=factor_study), output, force)
     elif format is Format.csv:
         from balance.views.csv import to_csv
 
-        _emit_text(to_csv(ds), output, force)
+        _emit_text(to_csv(result), output, force)
     elif format is Format.netcdf:
+        from balance.views.dataset import build_dataset
+
         assert output is not None
-        _write_netcdf(ds, output, force)
+        ds = build_dataset(result)
+        _write_netcdf(ds if factor_study is None else ds.merge(factor_study), output, force)
     else:
         from rich.console import Console, Group
 
-        from balance.views.table import render, render_proposal
+        from balance.views.table import render
 
-        renderable = Group(*_proposal_table(ds, render_proposal)) if proposal_only else render(ds)
+        renderable = (
+            Group(*_proposal_table(result, factor_study)) if proposal_only else render(result)
+        )
         if output is not None:
             console = Console(record=True, width=140, file=io.StringIO())
             console.print(renderable)
@@ -251,17 +289,17 @@ def _write(
             _console().print(renderable)
 
 
-def _proposal_table(ds: Any, render_proposal: Any) -> list[Any]:
+def _proposal_table(result: Result, factor_study: Any = None) -> list[Any]:
     from rich.text import Text
 
-    from balance.views.table import render_factor_study
+    from balance.views.polar import speed_rpm
+    from balance.views.table import render_factor_study, render_proposal
 
-    parts: list[Any] = [
-        Text(f"{ds.attrs['layout']} at {ds.attrs['speed_rpm']:.0f} rpm", style="bold")
-    ]
-    parts += render_proposal(ds)
-    if "study_factor" in ds:
-        parts += render_factor_study(ds)
+    engine = result.engine
+    parts: list[Any] = [Text(f"{engine.name} at {speed_rpm(engine.speed):.0f} rpm", style="bold")]
+    parts += render_proposal(result)
+    if factor_study is not None:
+        parts += render_factor_study(factor_study)
     return parts
 
 
@@ -336,39 +374,36 @@ def propose_command(
     ] = False,
 ) -> None:
     """Propose counterweights and balance shafts, and show what remains."""
-    from balance.api import analyse
+    from balance.core.analysis import compute
     from balance.io.fields import parse_orders
-    from balance.io.layout_file import load_layout
 
-    order_list = parse_orders(orders)
-    cancel_list = parse_orders(cancel).tolist() if cancel is not None else None
+    cancel_orders = tuple(parse_orders(cancel).tolist()) if cancel is not None else None
     factor = _parse_fraction(balance_factor, "--balance-factor") if balance_factor else None
     radius = (
         _parse_length(counterweight_radius, "--counterweight-radius")
         if counterweight_radius
         else None
     )
-    speed_value = _parse_speed(speed)
-    _check_output(output, force, binary=format is Format.netcdf)
-    engine = load_layout(layout)
-    ds = analyse(
-        engine,
-        order_list,
-        speed=speed_value,
-        cancel=cancel_list,
+    engine, request = _prepare(
+        layout,
+        orders,
+        speed,
+        output=output,
+        force=force,
+        binary=format is Format.netcdf,
+        cancel=cancel_orders,
         strategy=strategy.value if strategy is not None else None,
         balance_factor=factor,
         counterweight_radius=radius,
         cancel_roll=cancel_roll,
     )
-    if factor_study:
+    result = compute(engine, request)
+    study = None
+    if factor_study:  # the study is a Dataset: xarray for this option only
         from balance.studies.factor import factor_study_dataset
 
-        study = factor_study_dataset(
-            engine if speed_value is None else engine.with_speed(speed_value)
-        )
-        ds = ds.merge(study)
-    _write(ds, format, output, force, proposal_only=True)
+        study = factor_study_dataset(result.engine)
+    _write(result, format, output, force, proposal_only=True, factor_study=study)
 
 
 class CompareFormat(StrEnum):
@@ -436,7 +471,15 @@ def compare_command(
 
     from balance.io.fields import parse_orders
     from balance.io.layout_file import load_layout
-    from balance.studies.compare import compare, compare_json, compare_table, markdown_table
+    from balance.studies.compare import compare_results
+    from balance.views.compare import (
+        compare_csv,
+        compare_json,
+        compare_table,
+        comparison_dataset,
+        markdown_table,
+        render_table,
+    )
 
     names = _expand_layout_args(layouts or [], all_builtin)
     order_list = parse_orders(orders)
@@ -454,8 +497,15 @@ def compare_command(
     _check_output(output, force, binary=format is CompareFormat.netcdf)
     engines = [load_layout(name) for name in names]
     labels = [Path(n).stem if n.endswith((".yaml", ".yml")) else n for n in names]
-    ds = compare(
+    compared = compare_results(
         engines, labels, order_list, speed=speed_value, displacement=volume, model=model.value
+    )
+    ds = comparison_dataset(
+        [c.result for c in compared],
+        [c.label for c in compared],
+        [c.scale_factor for c in compared],
+        speed=speed_value,
+        displacement=volume,
     )
     if format is CompareFormat.netcdf:
         assert output is not None
@@ -468,23 +518,11 @@ def compare_command(
     if format is CompareFormat.markdown:
         _emit_text(markdown_table(headers, rows), output, force)
     elif format is CompareFormat.csv:
-        import csv
-
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(headers)
-        writer.writerows(rows)
-        _emit_text(buffer.getvalue(), output, force)
+        _emit_text(compare_csv(headers, rows), output, force)
     else:
         from rich.console import Console
-        from rich.table import Table
 
-        kind = "absolute" if absolute else "normalised per F1 = m_rec r w^2 and pitch a"
-        table = Table(title=f"Comparison ({kind}; model {model.value})", title_justify="left")
-        for i, header in enumerate(headers):
-            table.add_column(header, justify="left" if i == 0 else "right")
-        for row in rows:
-            table.add_row(*row)
+        table = render_table(headers, rows, absolute=absolute, model=model.value)
         if output is not None:
             console = Console(record=True, width=240, file=io.StringIO())
             console.print(table)
@@ -525,22 +563,17 @@ def plot_command(
     force: Annotated[bool, typer.Option("--force", help="Replace existing files.")] = False,
 ) -> None:
     """Draw the design-review figures of a layout into a directory."""
-    from balance.api import analyse
-    from balance.io.fields import parse_orders
-    from balance.io.layout_file import load_layout
+    from balance.core.analysis import compute
 
-    order_list = parse_orders(orders)
-    speed_value = _parse_speed(speed)
     if not output_dir.is_dir():
         raise InputError(f"{output_dir}: no such directory; create it first")
-    engine = load_layout(layout)
-    ds = analyse(engine, order_list, speed=speed_value)
+    result = compute(*_prepare(layout, orders, speed))
     from balance.views.plots import save_plots
 
     stem = Path(layout).stem if layout.endswith((".yaml", ".yml")) else layout
     kinds = [k.replace("-", "_") for k in kind] if kind else None
     written = save_plots(
-        ds, output_dir, kinds=kinds, fmt=format.value, prefix=f"{stem}-", force=force
+        result, output_dir, kinds=kinds, fmt=format.value, prefix=f"{stem}-", force=force
     )
     for path in written:
         sys.stderr.write(f"balance: wrote {path}\n")
@@ -556,18 +589,12 @@ def report_command(
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
 ) -> None:
     """Write a self-contained HTML design review (tables, figures, proposal, accuracy)."""
-    from balance.api import analyse
-    from balance.io.atomic import check_target
-    from balance.io.fields import parse_orders
-    from balance.io.layout_file import load_layout
+    from balance.core.analysis import compute
 
-    order_list = parse_orders(orders)
-    speed_value = _parse_speed(speed)
-    check_target(output, force)
-    ds = analyse(load_layout(layout), order_list, speed=speed_value)
+    result = compute(*_prepare(layout, orders, speed, output=output, force=force))
     from balance.views.report import write_report
 
-    write_report(ds, output, force=force)
+    write_report(result, output, force=force)
     sys.stderr.write(f"balance: wrote {output}\n")
 
 
@@ -617,12 +644,14 @@ def sweep_command(
         raise InputError("give --scheduler or --workers, not both")
     base = load_layout(layout)
     show = sys.stderr.isatty() if progress is None else progress
+    if show:
+        from balance.views.progress import ProgressBar
     kwargs: dict[str, Any] = {
         "model": model,
         "moments": not no_moments,
         "roll": not no_roll,
         "chunk_size": chunk_size,
-        "progress": show,
+        "progress": ProgressBar() if show else None,
         "force": force,
     }
     if scheduler is None and workers is None:
@@ -688,24 +717,9 @@ def search_command(
         rod_ratio=rod_ratio,
         top=top,
     )
-    out = sys.stdout
-    out.write(
-        f"{result.enumerated} arrangements enumerated, {result.evaluated} distinct evaluated "
-        f"in {result.seconds:.3f} s; objective {result.objective}, orders "
-        f"{','.join(map(str, result.orders))} (normalised, after counterweights)\n"
-    )
-    for rank, a in enumerate(result.best, 1):
-        throws = "/".join(f"{t:g}" for t in a.throws)
-        split = "" if not any(a.splits) else " split " + "/".join(f"{s:g}" for s in a.splits)
-        firing = "-".join(map(str, a.firing_order)) if a.firing_order else "uneven"
-        peaks = " ".join(
-            f"F{k}={f:.3g} M{k}={m:.3g}"
-            for k, f, m in zip(result.orders, a.force_peaks, a.moment_peaks, strict=True)
-        )
-        out.write(
-            f"{rank}. throws {throws}{split}: score {a.score:.4g}, shafts {a.shafts}, "
-            f"{peaks}, firing {firing}\n"
-        )
+    from balance.views.studies import search_text
+
+    sys.stdout.write(search_text(result))
 
 
 @app.command("tolerance")
@@ -729,7 +743,7 @@ def tolerance_command(
 ) -> None:
     """Monte Carlo over part-mass and geometry scatter: percentiles of the residuals."""
     from balance.io.layout_file import load_layout
-    from balance.studies.tolerance import PERCENTILES, histogram, tolerance
+    from balance.studies.tolerance import PERCENTILES, tolerance
 
     if plot is not None:
         from balance.io.atomic import check_target
@@ -743,21 +757,13 @@ def tolerance_command(
         distribution=distribution,
         seed=seed,
     )
-    table = result.percentiles()
-    out = sys.stdout
-    out.write(
-        f"{samples} samples in {result.seconds:.2f} s; peaks per order, percentiles "
-        f"{', '.join(f'{q:g}' for q in PERCENTILES)}\n"
-    )
-    for key, values in table.items():
-        unit = "N" if key.startswith("force") else "N m"
-        for col, k in enumerate(result.orders):
-            cells = " ".join(f"{v:10.4g}" for v in values[:, col])
-            out.write(f"{key:16s} order {int(k)} [{unit}]: {cells}\n")
+    from balance.views.studies import tolerance_histogram, tolerance_text
+
+    sys.stdout.write(tolerance_text(result, PERCENTILES))
     if plot is not None:
         from balance.io.atomic import write_atomic
 
-        fig = histogram(result)
+        fig = tolerance_histogram(result)
         fmt = plot.suffix.lstrip(".") or "png"
         write_atomic(plot, lambda tmp: fig.savefig(tmp, format=fmt), force=force)
         sys.stderr.write(f"balance: wrote {plot}\n")

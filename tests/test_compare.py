@@ -12,7 +12,21 @@ from typer.testing import CliRunner
 
 from balance.cli import app
 from balance.io.layout_file import builtin_layout_names, builtin_layout_path, load_layout
-from balance.studies.compare import compare, compare_table, scale_layout
+from balance.studies.compare import compare_results, scale_layout
+from balance.views.compare import compare_table, comparison_dataset
+
+
+def compare(layouts, names=None, orders="1-4", *, speed=None, displacement=None, **kw):
+    """The comparison Dataset, as ``balance compare`` builds it."""
+    done = compare_results(layouts, names, orders, speed=speed, displacement=displacement, **kw)
+    return comparison_dataset(
+        [c.result for c in done],
+        [c.label for c in done],
+        [c.scale_factor for c in done],
+        speed=speed,
+        displacement=displacement,
+    )
+
 
 runner = CliRunner()
 

@@ -9,8 +9,10 @@ from typer.testing import CliRunner
 import balance
 from balance.api import analyse
 from balance.cli import app
+from balance.io.fields import parse_scatter
 from balance.studies.sweep import variant
-from balance.studies.tolerance import histogram, parse_scatter, tolerance
+from balance.studies.tolerance import tolerance
+from balance.views.studies import tolerance_histogram as histogram
 
 runner = CliRunner()
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import subprocess
 import sys
 from functools import cache
+from typing import Any
 
 import numpy as np
 import pytest
@@ -18,8 +19,10 @@ from helpers import engine, image_compare
 
 import balance
 from balance.core import sampled as timedomain
-from balance.core.analysis import balance_engine, compute_phasors
+from balance.core.analysis import balance_engine, compute, compute_phasors
+from balance.core.engine import Engine
 from balance.core.errors import InputError
+from balance.core.result import Request, Result
 from balance.views import plots
 from balance.views import signals as synthesis
 
@@ -27,9 +30,14 @@ ORDERS = 40
 REL = 1e-9
 
 
+def computed(layout: Engine, orders: int = 8, **settings: Any) -> Result:
+    """The Result of orders 1 to ``orders`` (what the views read)."""
+    return compute(layout, Request.of(range(1, orders + 1), **settings))
+
+
 @cache
 def analysed(name: str, orders: int = 8, proposal: bool = True):
-    return balance.analyse(balance.load_layout(name), orders=orders, proposal=proposal)
+    return computed(balance.load_layout(name), orders, proposal=proposal)
 
 
 def offset_engine():
@@ -62,22 +70,15 @@ def _relative_error(got, expected):
 def test_sum_of_phasors_is_the_sampled_reciprocating_force(name, quantity, rng):
     """With 40 orders the phasors sum back to the brute-force force at any crank angle."""
     layout = LAYOUTS[name]()
-    ds = balance.analyse(layout, orders=ORDERS, proposal=False)
+    result = computed(layout, ORDERS, proposal=False)
     theta_deg = np.concatenate([[0.0, 90.0, 360.0], rng.uniform(-720.0, 720.0, 60)])
-    orders, fwd, bwd = synthesis.dataset_phasors(ds, quantity, "reciprocating")
-    got = synthesis.phasor_signal(
-        np.abs(fwd),
-        np.degrees(np.angle(fwd)),
-        np.abs(bwd),
-        np.degrees(np.angle(bwd)),
-        orders,
-        theta_deg,
-    )
+    orders, fwd, bwd = synthesis.phasors_of(result, quantity, "reciprocating")
+    got = synthesis.phasor_signal(fwd, bwd, orders, theta_deg)
     expected = timedomain.reciprocating_force_samples(
         layout, np.radians(theta_deg), lever=quantity == "moment"
     )
-    if np.max(np.abs(expected)) < 1e-9 * float(ds["reference_force"]):
-        assert np.max(np.abs(got)) < 1e-9 * float(ds["reference_force"])
+    if np.max(np.abs(expected)) < 1e-9 * result.reference_force:
+        assert np.max(np.abs(got)) < 1e-9 * result.reference_force
     else:
         assert _relative_error(got, expected) < REL
 
@@ -86,7 +87,7 @@ def test_sum_of_phasors_is_the_sampled_reciprocating_force(name, quantity, rng):
 def test_free_and_residual_signals_match_the_sampled_forces(name, rng):
     """'free' adds the rotating masses, 'residual' every proposed mass as well."""
     layout = LAYOUTS[name]()
-    ds = balance.analyse(layout, orders=ORDERS)
+    result = computed(layout, ORDERS)
     proposal = balance_engine(layout, compute_phasors(layout, ORDERS)).proposal
     theta_deg = rng.uniform(0.0, 360.0, 50)
     theta = np.radians(theta_deg)
@@ -96,9 +97,9 @@ def test_free_and_residual_signals_match_the_sampled_forces(name, rng):
         residual = free + timedomain.proposal_force_samples(proposal, layout, theta, lever)
         # relative to the force or moment, or to F1 (times the longest lever) where that is 0
         lever_arm = float(np.max(np.abs(layout.z - layout.reference_z))) if lever else 1.0
-        scale = max(float(np.max(np.abs(free))), float(ds["reference_force"]) * lever_arm)
-        got_free = synthesis.dataset_signal(ds, theta_deg, quantity, "free")
-        got_residual = synthesis.dataset_signal(ds, theta_deg, quantity, "residual")
+        scale = max(float(np.max(np.abs(free))), result.reference_force * lever_arm)
+        got_free = synthesis.signal_of(result, theta_deg, quantity, "free")
+        got_residual = synthesis.signal_of(result, theta_deg, quantity, "residual")
         assert np.max(np.abs(got_free - free)) <= REL * scale
         assert np.max(np.abs(got_residual - residual)) <= REL * scale
 
@@ -106,27 +107,28 @@ def test_free_and_residual_signals_match_the_sampled_forces(name, rng):
 @pytest.mark.parametrize("name", ["inline-4", "v8-crossplane", "offset-v8"])
 def test_roll_signal_is_the_newton_euler_roll(name, rng):
     layout = LAYOUTS[name]()
-    ds = balance.analyse(layout, orders=ORDERS, proposal=False)
+    result = computed(layout, ORDERS, proposal=False)
     theta_deg = rng.uniform(0.0, 360.0, 40)
-    orders, amplitude, phase = synthesis.dataset_roll(ds)
-    got = synthesis.roll_signal(amplitude, phase, orders, theta_deg)
+    orders, roll = synthesis.roll_of(result)
+    got = synthesis.roll_signal(roll, orders, theta_deg)
     expected = timedomain.roll_newton_euler(layout, np.radians(theta_deg))
     assert _relative_error(got, expected) < REL
 
 
 def test_inline4_second_order_is_a_vertical_line():
-    ds = analysed("inline-4")
+    result = analysed("inline-4")
     theta = synthesis.crank_angle_grid(361)
-    per_order = synthesis.dataset_signal(ds, theta, "force", per_order=True)
+    per_order = synthesis.signal_of(result, theta, "force", per_order=True)
     x, y = synthesis.transverse_components(per_order[1])
     assert np.max(np.abs(x)) < 1e-9 * np.max(np.abs(y))
-    assert np.max(y) == pytest.approx(float(ds["reciprocating_force_peak"].sel(order=2)))
+    _, forward, backward = synthesis.phasors_of(result, "force", "reciprocating")
+    assert np.max(y) == pytest.approx(synthesis.peaks(forward, backward)[1])
 
 
 def test_crossplane_v8_first_order_moment_is_a_circle_turning_with_the_crank():
-    ds = analysed("v8-crossplane")
+    result = analysed("v8-crossplane")
     theta = synthesis.crank_angle_grid(73)
-    first = synthesis.dataset_signal(ds, theta, "moment", per_order=True)[0]
+    first = synthesis.signal_of(result, theta, "moment", per_order=True)[0]
     radius = np.abs(first)
     assert np.ptp(radius) < 1e-9 * radius.max()
     # forward: the angle grows with the crank angle, one turn per revolution
@@ -135,8 +137,8 @@ def test_crossplane_v8_first_order_moment_is_a_circle_turning_with_the_crank():
 
 
 def test_complex_plane_convention():
-    """(x, y) is y + i x: a forward phasor at phase 90 deg points along +x at theta 0."""
-    q = synthesis.phasor_signal([1.0], [90.0], [0.0], [0.0], [1], [0.0, 90.0])
+    """(x, y) is y + i x: a forward phasor at phase 90 deg (i) points along +x at theta 0."""
+    q = synthesis.phasor_signal([1j], [0.0], [1], [0.0, 90.0])
     x, y = synthesis.transverse_components(q)
     np.testing.assert_allclose(x, [1.0, 0.0], atol=1e-15)
     np.testing.assert_allclose(y, [0.0, -1.0], atol=1e-15)
@@ -146,11 +148,15 @@ def test_complex_plane_convention():
 
 def test_synthesis_checks_its_input():
     with pytest.raises(ValueError, match="one entry per order"):
-        synthesis.phasor_signal([1.0, 2.0], [0.0, 0.0], [1.0], [0.0], [1, 2], [0.0])
+        synthesis.phasor_signal([1.0, 2.0], [1.0], [1, 2], [0.0])
+    with pytest.raises(ValueError, match="one entry per order"):
+        synthesis.roll_signal([1.0, 2.0], [1.0], [0.0])
     with pytest.raises(ValueError, match="proposal"):
-        synthesis.dataset_phasors(analysed("inline-4", proposal=False), "force", "residual")
+        synthesis.phasors_of(analysed("inline-4", proposal=False), "force", "residual")
+    with pytest.raises(ValueError, match="proposal"):
+        synthesis.roll_of(analysed("inline-4", proposal=False), residual=True)
     with pytest.raises(ValueError, match="quantity"):
-        synthesis.dataset_phasors(analysed("inline-4"), "torque", "free")  # type: ignore[arg-type]
+        synthesis.phasors_of(analysed("inline-4"), "torque", "free")  # type: ignore[arg-type]
     assert synthesis.roll_span_deg([1.0, 2.0]) == 360.0
     assert synthesis.roll_span_deg([0.5, 1.0]) == 720.0
 
@@ -227,38 +233,42 @@ def test_every_kind_draws_every_builtin_layout():
 @pytest.mark.parametrize("options", [{"moments": False}, {"roll": False}, {"model": "time"}])
 def test_every_kind_draws_what_was_computed(options):
     """Without moments or roll the figures say so instead of failing; balance needs both."""
-    ds = balance.analyse(balance.load_layout("v8-crossplane"), **options)
+    result = computed(balance.load_layout("v8-crossplane"), **options)
     for kind, function in plots.PLOT_KINDS.items():
-        if kind == "balance" and not synthesis.has_proposal(ds):
+        if kind == "balance" and not synthesis.has_proposal(result):
             continue
-        plots.figure_bytes(function(ds), "png")
+        plots.figure_bytes(function(result), "png")
     if "moments" in options:
-        _, forward, backward = synthesis.dataset_phasors(ds, "moment")
+        _, forward, backward = synthesis.phasors_of(result, "moment")
         assert np.isnan(forward).all() and np.isnan(backward).all()
     if "roll" in options:
-        assert synthesis.dataset_roll(ds)[0].size == 0
+        assert synthesis.roll_of(result)[0].size == 0
 
 
 def test_plots_leave_global_state_alone():
     import matplotlib as mpl
 
     before = dict(mpl.rcParams)
-    ds = analysed("inline-3")
+    result = analysed("inline-3")
     for function in plots.PLOT_KINDS.values():
-        plots.figure_bytes(function(ds), "svg")
+        plots.figure_bytes(function(result), "svg")
     assert dict(mpl.rcParams) == before
 
 
 def test_no_pyplot_and_lazy_matplotlib():
-    """Importing balance.views.plots loads no matplotlib; drawing never loads pyplot."""
+    """Importing balance.views.plots loads no matplotlib; drawing never loads pyplot, and
+    the figures and the report read the Result: no xarray Dataset is built."""
     code = (
         "import sys, balance, balance.views.plots, balance.views.report, balance.views.signals\n"
+        "from balance.core.analysis import compute\n"
+        "from balance.core.result import Request\n"
         "assert 'matplotlib' not in sys.modules, 'matplotlib imported at import time'\n"
-        "ds = balance.analyse(balance.load_layout('inline-3'))\n"
+        "result = compute(balance.load_layout('inline-3'), Request())\n"
         "for f in balance.views.plots.PLOT_KINDS.values():\n"
-        "    balance.views.plots.figure_bytes(f(ds), 'png')\n"
-        "balance.views.report.render_report(ds)\n"
+        "    balance.views.plots.figure_bytes(f(result), 'png')\n"
+        "balance.views.report.render_report(result)\n"
         "assert 'matplotlib.pyplot' not in sys.modules, 'pyplot imported'\n"
+        "assert 'xarray' not in sys.modules, 'xarray imported'\n"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr
@@ -285,14 +295,14 @@ def test_drawing_into_given_axes():
 
 
 def test_orders_must_exist():
-    with pytest.raises(ValueError, match="not in the Dataset"):
+    with pytest.raises(ValueError, match="not in the result"):
         plots.plot_locus(analysed("inline-4"), orders=[9])
 
 
 @pytest.mark.parametrize("fmt", plots.FORMATS)
 def test_save_plots_writes_whole_files(tmp_path, fmt):
-    ds = analysed("inline-3")
-    written = plots.save_plots(ds, tmp_path / "figures", fmt=fmt, prefix="i3-")
+    result = analysed("inline-3")
+    written = plots.save_plots(result, tmp_path / "figures", fmt=fmt, prefix="i3-")
     assert [p.name for p in written] == [f"i3-{kind}.{fmt}" for kind in plots.PLOT_KINDS]
     assert sorted(p.name for p in (tmp_path / "figures").iterdir()) == sorted(
         p.name for p in written
@@ -301,8 +311,8 @@ def test_save_plots_writes_whole_files(tmp_path, fmt):
     for path in written:
         assert path.read_bytes().startswith(magic)
     with pytest.raises(InputError, match="exists"):
-        plots.save_plots(ds, tmp_path / "figures", kinds=["locus"], fmt=fmt, prefix="i3-")
-    again = plots.save_plots(ds, tmp_path / "figures", ["locus"], fmt, prefix="i3-", force=True)
+        plots.save_plots(result, tmp_path / "figures", kinds=["locus"], fmt=fmt, prefix="i3-")
+    again = plots.save_plots(result, tmp_path / "figures", ["locus"], fmt, prefix="i3-", force=True)
     assert again[0].read_bytes() == written[3].read_bytes()  # deterministic
 
 

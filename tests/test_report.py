@@ -11,7 +11,9 @@ from pathlib import Path
 import pytest
 
 import balance
+from balance.core.analysis import compute
 from balance.core.errors import InputError
+from balance.core.result import Request
 from balance.views.report import SECTIONS, accuracy_statement, render_report, write_report
 
 CHROMIUM = Path("/usr/bin/chromium")
@@ -30,7 +32,7 @@ FIGURE_KINDS = ("crank_star", "spectrum", "locus", "phasors", "crank_angle", "ro
 
 @cache
 def analysed(name: str, proposal: bool = True):
-    return balance.analyse(balance.load_layout(name), proposal=proposal)
+    return compute(balance.load_layout(name), Request(proposal=proposal))
 
 
 @cache
@@ -94,10 +96,10 @@ def test_report_parses_and_has_every_section(name):
     body = " ".join(document.text)
     for _, heading in SECTIONS:
         assert heading in body
-    ds = analysed(name)
-    assert ds.attrs["layout"] in body
-    assert accuracy_statement(ds) in body
-    assert f"model {ds.attrs['model']}" in body
+    result = analysed(name)
+    assert result.engine.name in body
+    assert accuracy_statement(result) in body
+    assert f"model {result.phasors.model}" in body
 
 
 @pytest.mark.parametrize("name", ["inline-4", "v8-crossplane"])
@@ -124,14 +126,16 @@ def test_every_figure_is_an_inline_svg():
     assert sorted(figure_ids) == sorted(f"figure-{k}" for k in FIGURE_KINDS)
 
 
-def test_tables_hold_the_dataset_numbers():
+def test_tables_hold_the_result_numbers():
     from balance.views.table import format_number
 
-    ds = analysed("v8-crossplane")
+    result = analysed("v8-crossplane")
     body = " ".join(parse(report("v8-crossplane")).text)
-    peak = format_number(float(ds["reciprocating_moment_peak"].sel(order=1)))
+    p = result.phasors
+    peak = format_number(float(abs(p.moment_forward[0]) + abs(p.moment_backward[0])))
     assert peak in body
-    assert format_number(float(ds["counterweight_mass"][0])) in body
+    assert result.balanced is not None
+    assert format_number(result.balanced.proposal.counterweights[0].mass) in body
     assert "Counterweights" in body and "Residual with the proposal" in body
 
 
@@ -145,8 +149,8 @@ def test_report_without_a_proposal():
 
 
 def test_report_without_moments_or_roll():
-    ds = balance.analyse(balance.load_layout("inline-3"), moments=False, roll=False)
-    document = parse(render_report(ds))
+    result = compute(balance.load_layout("inline-3"), Request(moments=False, roll=False))
+    document = parse(render_report(result))
     assert document.errors == []
     body = " ".join(document.text)
     assert "Moments were not computed" in body
@@ -158,11 +162,18 @@ def test_report_without_moments_or_roll():
 
 
 def test_every_text_is_escaped():
-    ds = analysed("inline-4").copy()
-    ds.attrs["layout"] = '<script>alert("x")</script> & <b>bold</b> --> "q"'
-    ds.attrs["proposal_notes"] = "<img src=http://example.com/x.png>"
-    ds.attrs["source_file"] = '"><script>1</script>'
-    text = render_report(ds, figures=True)
+    from dataclasses import replace
+
+    result = analysed("inline-4")
+    assert result.balanced is not None
+    engine = replace(
+        result.engine,
+        name='<script>alert("x")</script> & <b>bold</b> --> "q"',
+        path='"><script>1</script>',
+    )
+    proposal = replace(result.balanced.proposal, notes=("<img src=http://example.com/x.png>",))
+    result = replace(result, engine=engine, balanced=replace(result.balanced, proposal=proposal))
+    text = render_report(result, figures=True)
     document = parse(text)
     assert document.errors == []
     assert not any(tag in {"script", "img", "b"} for tag, _ in document.elements)
@@ -172,33 +183,33 @@ def test_every_text_is_escaped():
 
 def test_accuracy_statement_per_model():
     layout = balance.load_layout("inline-4")
-    series = accuracy_statement(balance.analyse(layout, model="series", terms=2, proposal=False))
+    series = accuracy_statement(compute(layout, Request(model="series", terms=2, proposal=False)))
     assert "2 terms" in series and "λ^3" in series
-    textbook = accuracy_statement(balance.analyse(layout, model="textbook", proposal=False))
+    textbook = accuracy_statement(compute(layout, Request(model="textbook", proposal=False)))
     assert "cos 2β" in textbook and "orders 4, 6" in textbook
     assert "machine precision" in accuracy_statement(analysed("inline-4"))
-    time = accuracy_statement(balance.analyse(layout, model="time", proposal=False))
+    time = accuracy_statement(compute(layout, Request(model="time", proposal=False)))
     assert "crank angles per revolution" in time
 
 
 def test_write_report_is_atomic_and_refuses_to_overwrite(tmp_path):
-    ds = analysed("inline-4")
+    result = analysed("inline-4")
     target = tmp_path / "review.html"
-    assert write_report(ds, target, figures=False) == target
-    assert target.read_text(encoding="utf-8") == render_report(ds, figures=False)
+    assert write_report(result, target, figures=False) == target
+    assert target.read_text(encoding="utf-8") == render_report(result, figures=False)
     with pytest.raises(InputError, match="exists"):
-        write_report(ds, target, figures=False)
+        write_report(result, target, figures=False)
     target.write_text("old")
-    write_report(ds, target, force=True, figures=False)
+    write_report(result, target, force=True, figures=False)
     assert target.read_text(encoding="utf-8").startswith("<!DOCTYPE html>")
     assert [p.name for p in tmp_path.iterdir()] == ["review.html"]  # no temporary file left
     with pytest.raises(InputError, match="does not exist"):
-        write_report(ds, tmp_path / "missing" / "review.html")
+        write_report(result, tmp_path / "missing" / "review.html")
 
 
 def test_report_is_deterministic():
-    ds = analysed("inline-3")
-    assert render_report(ds) == report("inline-3")
+    result = analysed("inline-3")
+    assert render_report(result) == report("inline-3")
 
 
 @pytest.mark.skipif(
@@ -239,3 +250,30 @@ def test_report_renders_in_a_headless_browser(name, tmp_path):
     assert all(width > 100 and height > 100 for width, height in boxes), boxes
     assert headings == len(SECTIONS)
     assert (tmp_path / f"{name}.png").stat().st_size > 10_000
+
+
+def test_report_and_plot_commands_build_no_dataset(tmp_path: Path) -> None:
+    """``balance report`` and ``balance plot`` hand the Result to the views: no xarray."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys\n"
+        "from balance.cli import main\n"
+        "sys.argv = ['balance', *sys.argv[1:]]\n"
+        "try:\n"
+        "    main()\n"
+        "except SystemExit as stop:\n"
+        "    assert not stop.code, stop.code\n"
+        "assert 'xarray' not in sys.modules, 'xarray imported'\n"
+    )
+    for args in (
+        ["report", "inline-3", "-o", str(tmp_path / "r.html")],
+        ["plot", "inline-3", "-k", "locus", "-k", "roll", "-o", str(tmp_path)],
+    ):
+        done = subprocess.run(
+            [sys.executable, "-c", code, *args], capture_output=True, text=True, check=False
+        )
+        assert done.returncode == 0, done.stderr
+    assert (tmp_path / "r.html").stat().st_size > 0
+    assert (tmp_path / "inline-3-locus.png").exists() and (tmp_path / "inline-3-roll.png").exists()

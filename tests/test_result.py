@@ -1,21 +1,33 @@
-"""The result Dataset: units, names, JSON and CSV as views of it."""
+"""The Result and its views: the Dataset, JSON, CSV and table read it directly."""
 
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 import balance
+from balance.core.analysis import compute
+from balance.core.result import Request
 from balance.views.csv import to_csv
-from balance.views.dataset import phase_deg
+from balance.views.dataset import build_dataset
 from balance.views.json import to_dict
+from balance.views.polar import phase_deg
+
+HEAVY = ("xarray", "pandas", "pint", "matplotlib")
 
 
 @pytest.fixture(scope="module")
-def ds():
-    return balance.analyse(balance.load_layout("v8-crossplane"))
+def result():
+    return compute(balance.load_layout("v8-crossplane"), Request())
+
+
+@pytest.fixture(scope="module")
+def ds(result):
+    return build_dataset(result)
 
 
 def test_every_variable_has_units_and_long_name(ds):
@@ -29,8 +41,40 @@ def test_dataset_records_model_and_schema(ds):
     assert ds.attrs["model"] == "exact"
 
 
-def test_json_is_a_view_of_the_dataset(ds):
-    data = to_dict(ds)
+def test_api_analyse_is_the_dataset_view_of_compute(ds):
+    api = balance.analyse(balance.load_layout("v8-crossplane"))
+    assert api.identical(ds)
+
+
+def test_dataset_uses_the_stored_references(result, ds):
+    assert float(ds.reference_force) == result.reference_force
+    assert float(ds.reference_moment) == result.reference_moment
+    np.testing.assert_array_equal(
+        ds.roll_amplitude_normalised.values, np.abs(result.roll) / result.reference_roll
+    )
+
+
+def test_dataset_reports_the_gas_roll_of_the_result():
+    result = compute(balance.load_layout("inline-4-gas"), Request())
+    ds = build_dataset(result)
+    assert result.torque is not None and result.residual_roll is not None
+    np.testing.assert_array_equal(ds.roll_order.values, result.roll_orders)
+    np.testing.assert_array_equal(ds.residual_roll_amplitude.values, np.abs(result.residual_roll))
+    assert "with gas forces" in ds.roll_amplitude.attrs["long_name"]
+
+
+def test_what_was_not_asked_is_not_in_the_views():
+    result = compute(balance.load_layout("inline-4"), Request(moments=False, roll=False))
+    ds = build_dataset(result)
+    assert not any(name.startswith(("roll", "reciprocating_moment")) for name in ds.variables)
+    data = to_dict(result)
+    assert "roll" not in data and "moment" not in data["reciprocating"]
+    assert "proposal" not in data
+    assert "moment" not in to_csv(result) and "roll" not in to_csv(result)
+
+
+def test_json_is_a_view_of_the_result(result, ds):
+    data = to_dict(result)
     for entry in data["reciprocating"]["moment"]:
         k = entry["order"]
         for rotation in ("forward", "backward"):
@@ -40,8 +84,8 @@ def test_json_is_a_view_of_the_dataset(ds):
     json.dumps(data, allow_nan=False)
 
 
-def test_csv_is_a_view_of_the_dataset(ds):
-    rows = to_csv(ds).strip().splitlines()
+def test_csv_is_a_view_of_the_result(result, ds):
+    rows = to_csv(result).strip().splitlines()
     header = rows[0].split(",")
     first = dict(zip(header, rows[1].split(","), strict=True))
     assert float(first["moment_peak [N m]"]) == float(ds.reciprocating_moment_peak.sel(order=1))
@@ -54,10 +98,38 @@ def test_phase_convention():
 
 
 def test_import_is_cheap():
-    import subprocess
-    import sys
-
     heavy = "('xarray', 'pint', 'matplotlib', 'pydantic', 'dask')"
     code = f"import sys, balance; print(' '.join(m for m in {heavy} if m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == ""
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["analyse", "inline-4"],
+        ["analyse", "inline-4", "--format", "json"],
+        ["analyse", "inline-4", "--format", "csv"],
+        ["analyse", "inline-4-gas", "--format", "json"],
+        ["propose", "inline-4"],
+        ["propose", "inline-4", "--format", "json"],
+    ],
+)
+def test_printing_a_result_imports_no_data_frame_units_or_plot_library(args):
+    """The table, JSON and CSV views read the Result: the command imports none of xarray,
+    pandas, pint or matplotlib (``-X importtime`` lists every module the process imported)."""
+    proc = subprocess.run(
+        [sys.executable, "-X", "importtime", "-m", "balance", *args],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    imported = {
+        line.rsplit("|", 1)[-1].strip()
+        for line in proc.stderr.splitlines()
+        if line.startswith("import time:")
+    }
+    assert "balance.core.analysis" in imported  # the listing is complete
+    heavy = sorted(m for m in imported if m.split(".")[0] in HEAVY)
+    assert heavy == [], f"{' '.join(args)} imported {heavy}"

@@ -17,8 +17,9 @@ import balance
 from balance.api import analyse
 from balance.cli import app
 from balance.core.errors import InputError
+from balance.io.fields import parse_field
 from balance.io.layout_file import builtin_layout_path
-from balance.studies.sweep import chunk_slices, parse_field, sweep, variant
+from balance.studies.sweep import chunk_slices, sweep, variant
 
 runner = CliRunner()
 

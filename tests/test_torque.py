@@ -13,9 +13,10 @@ from helpers import engine, image_compare
 
 import balance
 from balance.core import sampled as timedomain
-from balance.core.analysis import compute_phasors
+from balance.core.analysis import compute, compute_phasors
 from balance.core.gas import GasInput
 from balance.core.kinematics import piston_position
+from balance.core.result import Request
 from balance.core.torque import compute_torque
 from balance.io.layout_file import builtin_layout_path
 from balance.io.traces import read_pressure_trace
@@ -220,7 +221,7 @@ def test_flywheel_inertia_and_speed_fluctuation_are_inverse():
 
 
 def test_json_torque_and_half_order_roll():
-    data = to_dict(balance.analyse(gas_layout()))
+    data = to_dict(compute(gas_layout(), Request()))
     assert set(data["torque"]) == {
         "mean_Nm",
         "max_Nm",
@@ -232,7 +233,7 @@ def test_json_torque_and_half_order_roll():
     orders = [entry["order"] for entry in data["roll"]]
     assert orders[:4] == [0.5, 1, 1.5, 2] and orders[-1] == 8
     json.dumps(data, allow_nan=False)
-    assert "torque" not in to_dict(balance.analyse(balance.load_layout("inline-4")))
+    assert "torque" not in to_dict(compute(balance.load_layout("inline-4"), Request()))
 
 
 def test_without_gas_the_analysis_is_unchanged():
@@ -261,22 +262,22 @@ def test_dataset_variables_have_units_and_long_names():
 
 
 def test_gas_plots_without_gas_draw_only_a_note():
-    ds = balance.analyse(balance.load_layout("inline-4"))
+    result = compute(balance.load_layout("inline-4"), Request())
     for function in (plots.plot_torque, plots.plot_forces):
-        fig = function(ds)
+        fig = function(result)
         assert not fig.axes[0].lines
 
 
 @image_compare
 def test_image_torque():
-    return plots.plot_torque(balance.analyse(gas_layout()))
+    return plots.plot_torque(compute(gas_layout(), Request()))
 
 
 @image_compare
 def test_image_forces():
-    return plots.plot_forces(balance.analyse(gas_layout()))
+    return plots.plot_forces(compute(gas_layout(), Request()))
 
 
 @image_compare
 def test_image_roll_half_orders():
-    return plots.plot_roll(balance.analyse(balance.load_layout("v8-crossplane-gas")))
+    return plots.plot_roll(compute(balance.load_layout("v8-crossplane-gas"), Request()))

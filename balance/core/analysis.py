@@ -20,6 +20,7 @@ from balance.core.balancing import proposal_phasors, propose
 from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import InputError
 from balance.core.result import Balanced, Phasors, Request, Result
+from balance.core.speed import speed_squared
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.torque import TorqueResult
@@ -115,17 +116,6 @@ def _orders_array(orders: int | Iterable[int] | None) -> NDArray[np.intp]:
     if isinstance(orders, int | np.integer):
         return np.arange(1, int(orders) + 1, dtype=np.intp)
     return np.asarray(sorted({int(k) for k in orders}), dtype=np.intp)
-
-
-def speed_squared(speed: ArrayLike) -> NDArray[np.float64]:
-    r""":math:`\omega^2` as ``speed * speed`` [rad²/s²].
-
-    Written as a product, not a power: ``x ** 2`` on a Python float calls the C library's
-    ``pow``, which need not round like the product that numpy computes for an array, and
-    a sweep and a single analysis must scale by the same number.
-    """
-    w = np.asarray(speed, dtype=np.float64)
-    return np.asarray(w * w)
 
 
 @dataclass(frozen=True)

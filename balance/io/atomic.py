@@ -199,16 +199,16 @@ def _remove_orphans(directory: str | Path) -> list[Path]:
         return []
     removed = []
     try:
-        entries = list(os.scandir(directory))
+        names = os.listdir(directory)
     except OSError:
         return []
-    for entry in entries:
-        match = _TEMPORARY.match(entry.name)
+    for name in names:
+        match = _TEMPORARY.match(name)
         if match is None or match["key"] != key:
             continue
         if _start_time(int(match["pid"])) == int(match["start"]):
             continue  # its writer is still at work
-        path = Path(entry.path)
+        path = Path(directory, name)
         if match["kind"] == "old":
             _settle_old(path, path.parent / match["target"])
         else:
@@ -229,17 +229,26 @@ def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: b
     if not flag:
         return False
     try:
+        fds = os.open("/proc/self/fd", os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    except OSError:
+        return False
+    try:
         fd = os.open(target.parent, flag | os.O_WRONLY | os.O_CLOEXEC, 0o666)
     except OSError:
+        os.close(fds)
         return False
     try:
         view = memoryview(data).cast("B")
         while view:
             view = view[os.write(fd, view) :]
-        source = f"/proc/self/fd/{fd}"
+
+        def link(name: Path) -> None:
+            # linkat(AT_SYMLINK_FOLLOW) on /proc/self/fd/N: the file gets its first name
+            os.link(str(fd), name, src_dir_fd=fds, follow_symlinks=True)
+
         if not os.path.lexists(target):
             try:
-                os.link(source, target)  # linkat(AT_SYMLINK_FOLLOW): appears whole
+                link(target)  # appears whole, at once
                 return True
             except FileExistsError:
                 if not force:
@@ -250,7 +259,7 @@ def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: b
         _register(tmp, lambda: _discard(tmp))
         try:
             try:
-                os.link(source, tmp)
+                link(tmp)
             except OSError:
                 return False
             os.replace(tmp, target)
@@ -262,6 +271,7 @@ def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: b
         return True
     finally:
         os.close(fd)
+        os.close(fds)
 
 
 def write_atomic(

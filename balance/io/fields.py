@@ -1,20 +1,75 @@
-"""The grammar of field specifications on the command line: ``--orders``.
+r"""The grammar of field specifications on the command line: ``--orders``, ``--speed``,
+and the fields and values of ``--vary`` and ``--scatter``.
 
 Every function here checks what it reads and raises :class:`~balance.core.errors.InputError`
-with what would be valid.
+with what would be valid; the studies (:mod:`balance.studies`) receive checked numbers.
+
+Fields
+------
+Engine-wide fields set the value for every cylinder (replacing per-cylinder overrides):
+
+========================================  =======  =====================================
+field                                     kind     meaning
+========================================  =======  =====================================
+``speed``                                 speed    crank speed
+``stroke`` (``geometry.stroke``)          length   twice the crank radius
+``crank_radius``                          length   crank radius
+``conrod_length``                         length   conrod length
+``offset``                                length   desaxé offset
+``reciprocating`` (``masses.…``)          mass     reciprocating mass per cylinder
+``rotating`` (``masses.…``)               mass     rotating mass per cylinder
+``reference_z``                           length   where moments are taken
+========================================  =======  =====================================
+
+(``geometry.`` and ``masses.`` prefixes are optional.)  One cylinder's field is written
+``cylinders[3].reciprocating`` or ``cylinders.3.reciprocating`` (cylinders numbered from 1,
+as in the layout file's error messages); per-cylinder fields are ``throw`` and ``bank``
+(angles), ``z``, ``stroke``, ``crank_radius``, ``conrod_length``, ``offset`` (lengths),
+``reciprocating`` and ``rotating`` (masses), and for masses given by part the parts
+(``piston_group``, ``conrod``, ``conrod_cg_to_big_end``, ``conrod_inertia``,
+``crank_unbalance``).  A scatter (``--scatter``) may also move ``throw``, ``bank`` and ``z``
+of every cylinder.
+
+Values
+------
+``start:stop:count`` with units on the ends (``130mm:160mm:31``: 31 values, both ends
+included) or a list ``a,b,c`` (``0.4kg,0.5kg,0.7kg``); plain numbers are SI (degrees for
+angles), as in layout files.  A tolerance is ``±TOL`` (``+-`` and ``+/-`` also accepted).
 """
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from balance.core.errors import InputError
+from balance.core.masses import PART_FIELDS
 
-__all__ = ["DEFAULT_ORDERS", "MAX_ORDER", "parse_orders"]
+if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.engine import Engine
+
+__all__ = [
+    "DEFAULT_ORDERS",
+    "MAX_ORDER",
+    "Field",
+    "Scatter",
+    "Vary",
+    "check_speed",
+    "parse_field",
+    "parse_orders",
+    "parse_scatter",
+    "parse_speed",
+    "parse_values",
+    "parse_vary",
+]
+
+FloatArray = NDArray[np.float64]
 
 #: Orders reported when none are asked for: 1 to this.
 DEFAULT_ORDERS = 8
@@ -56,3 +111,338 @@ def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -
     if min(values) < 1 or max(values) > MAX_ORDER:
         raise InputError(f"orders: every order must be between 1 and {MAX_ORDER}")
     return np.asarray(sorted(set(values)), dtype=np.intp)
+
+
+def check_speed(speed: float) -> float:
+    """A crank speed [rad/s] that every analysis can use: finite and above zero.
+
+    Raises
+    ------
+    InputError
+        Otherwise.
+    """
+    if not (math.isfinite(speed) and speed > 0):
+        raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
+    return float(speed)
+
+
+def parse_speed(text: str | None, option: str = "--speed") -> float | None:
+    """The crank speed of a command-line option in rad/s (None when it is not given):
+    read with its unit (``7000rpm``, ``733rad/s``; a plain number is rad/s) and checked
+    (:func:`check_speed`).
+
+    Raises
+    ------
+    InputError
+        If the text is no speed, or the speed is not a finite number above zero.
+    """
+    if text is None:
+        return None
+    from balance.io.units import UnitProblem, parse_quantity
+
+    try:
+        value = parse_quantity(text, "speed")
+    except UnitProblem as exc:
+        raise InputError(f"{option}: {exc}; {exc.valid}") from None
+    return check_speed(value)
+
+
+# ---------------------------------------------------------------------------------------
+# the fields of --vary and --scatter
+
+# field name -> (Engine attribute, unit kind); "parts.X" is a MassParts array
+CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
+    "throw": ("throw", "angle"),
+    "bank": ("bank", "angle"),
+    "z": ("z", "length"),
+    "stroke": ("crank_radius", "length"),
+    "crank_radius": ("crank_radius", "length"),
+    "conrod_length": ("conrod_length", "length"),
+    "offset": ("offset", "length"),
+    "reciprocating": ("reciprocating_mass", "mass"),
+    "rotating": ("rotating_mass", "mass"),
+    "piston_group": ("parts.piston_group", "mass"),
+    "conrod": ("parts.conrod", "mass"),
+    "conrod_cg_to_big_end": ("parts.conrod_cg_to_big_end", "length"),
+    "conrod_inertia": ("parts.conrod_inertia", "inertia"),
+    "crank_unbalance": ("parts.crank_unbalance", "mass"),
+}
+# engine-wide: the speed, every per-cylinder field but the crank's own angles and
+# positions, and where moments are taken
+ENGINE_FIELDS: dict[str, tuple[str, str]] = {
+    "speed": ("speed", "speed"),
+    **{k: v for k, v in CYLINDER_FIELDS.items() if k not in {"throw", "bank", "z"}},
+    "reference_z": ("reference_z", "length"),
+}
+# fields of every cylinder that only a scatter may move (a sweep sets them one at a time)
+_SCATTER_ONLY = {"throw", "bank", "z"}
+_SECTION = {
+    "geometry": {"stroke", "crank_radius", "conrod_length", "offset"},
+    "masses": {"reciprocating", "rotating", *PART_FIELDS},
+}
+_UNITS = {"speed": "rad/s", "length": "m", "mass": "kg", "angle": "deg", "inertia": "kg m^2"}
+_CYLINDER = re.compile(r"^cylinders(?:\[(\d+)\]|\.(\d+))\.([a-z_]+)$")
+#: Most grid points a sweep may have.
+MAX_POINTS = 10**12
+
+
+@dataclass(frozen=True)
+class Field:
+    """A numeric layout field that a sweep or a tolerance study may change.
+
+    Attributes
+    ----------
+    text : str
+        The field as the user wrote it.
+    name : str
+        A canonical name, usable as a dimension name (``conrod_length``,
+        ``cylinder3_reciprocating``).
+    attribute : str
+        The :class:`~balance.core.engine.Engine` attribute it sets (``parts.X``: the
+        :class:`~balance.core.masses.MassParts` array ``X``).
+    kind : str
+        Unit kind (:data:`balance.io.units.KINDS`): ``speed``, ``length``, ``mass``, ``angle``.
+    key : str
+        The field's own name (``stroke``, ``throw``...).
+    cylinder : int or None
+        0-based index of the cylinder, or None for every cylinder.
+    """
+
+    text: str
+    name: str
+    attribute: str
+    kind: str
+    key: str
+    cylinder: int | None = None
+
+    @property
+    def unit(self) -> str:
+        """SI unit of the values (degrees for angles)."""
+        return _UNITS[self.kind]
+
+    def to_layout_units(self, values: ArrayLike) -> FloatArray:
+        """Values in the unit of the Engine attribute (radians for angles, radius for stroke)."""
+        v = np.asarray(values, dtype=np.float64)
+        if self.kind == "angle":
+            return np.radians(v)
+        if self.key == "stroke":
+            return v / 2
+        return v
+
+
+def _valid_fields() -> str:
+    return (
+        f"valid: {', '.join(ENGINE_FIELDS)}, or cylinders[N].FIELD with FIELD one of "
+        f"{', '.join(CYLINDER_FIELDS)}"
+    )
+
+
+def parse_field(text: str, layout: Engine, option: str = "--vary") -> Field:
+    """Read a field name (see the module notes).
+
+    Raises
+    ------
+    InputError
+        If there is no such numeric field, or the cylinder does not exist.
+    """
+    import difflib
+
+    name = text.strip()
+    match = _CYLINDER.match(name)
+    if match:
+        number = int(match.group(1) or match.group(2))
+        key = match.group(3)
+        if key not in CYLINDER_FIELDS:
+            hint = difflib.get_close_matches(key, list(CYLINDER_FIELDS), n=1)
+            more = f"did you mean '{hint[0]}'? " if hint else ""
+            raise InputError(
+                f"{option}: '{name}' is not a numeric per-cylinder field; {more}"
+                f"valid: {', '.join(CYLINDER_FIELDS)}"
+            )
+        if not 1 <= number <= layout.n_cylinders:
+            raise InputError(
+                f"{option}: '{name}': the layout has cylinders 1 to {layout.n_cylinders}"
+            )
+        attribute, kind = CYLINDER_FIELDS[key]
+        _check_parts(layout, attribute, name, option)
+        return Field(name, f"cylinder{number}_{key}", attribute, kind, key, number - 1)
+    key = name
+    for section, keys in _SECTION.items():
+        if name.startswith(section + "."):
+            key = name[len(section) + 1 :]
+            if key not in keys:
+                key = "?"
+    if key not in ENGINE_FIELDS:
+        hint = difflib.get_close_matches(
+            name, [*ENGINE_FIELDS, "masses.reciprocating", "geometry.conrod_length"], n=1
+        )
+        more = f"did you mean '{hint[0]}'? " if hint else ""
+        raise InputError(
+            f"{option}: '{name}' is not a numeric layout field; {more}{_valid_fields()}"
+        )
+    attribute, kind = ENGINE_FIELDS[key]
+    _check_parts(layout, attribute, name, option)
+    return Field(name, key, attribute, kind, key, None)
+
+
+def _check_parts(layout: Engine, attribute: str, name: str, option: str) -> None:
+    if attribute.startswith("parts.") and layout.mass_parts is None:
+        raise InputError(
+            f"{option}: '{name}' is a part of the moving masses, but this layout gives them "
+            "lumped; vary masses.reciprocating or masses.rotating"
+        )
+
+
+def _quantity(text: str, field: Field, option: str) -> float:
+    from balance.io.units import UnitProblem, parse_quantity
+
+    try:
+        return parse_quantity(text.strip(), field.kind)
+    except UnitProblem as exc:
+        raise InputError(f"{option}: {field.text}: {exc}; {exc.valid}") from None
+
+
+def parse_values(text: str, field: Field, option: str = "--vary") -> FloatArray:
+    """Values of a field from ``start:stop:count`` or ``a,b,c`` (SI, degrees for angles).
+
+    Raises
+    ------
+    InputError
+        If the range or list is malformed or a value has the wrong unit.
+    """
+    spec = text.strip()
+    if not spec:
+        raise InputError(f"{option}: {field.text}: no values; write start:stop:count or a,b,c")
+    if ":" in spec:
+        parts = spec.split(":")
+        if len(parts) != 3 or not all(p.strip() for p in parts):
+            raise InputError(
+                f"{option}: {field.text}: cannot read range {spec!r}; write start:stop:count, "
+                "e.g. 130mm:160mm:31"
+            )
+        start = _quantity(parts[0], field, option)
+        stop = _quantity(parts[1], field, option)
+        try:
+            count = int(parts[2])
+        except ValueError:
+            count = 0
+        if count < 1 or str(count) != parts[2].strip():
+            raise InputError(
+                f"{option}: {field.text}: count {parts[2].strip()!r} is not a whole number above 0"
+            )
+        if count == 1 and start != stop:
+            raise InputError(f"{option}: {field.text}: one value from {start} to {stop}?")
+        values = np.linspace(start, stop, count)
+    else:
+        values = np.array([_quantity(p, field, option) for p in spec.split(",")])
+    return values
+
+
+@dataclass(frozen=True)
+class Vary:
+    """One varied field and its values (SI, degrees for angles)."""
+
+    field: Field
+    values: FloatArray
+
+    @property
+    def dim(self) -> str:
+        """The grid dimension's name."""
+        return self.field.name
+
+
+def parse_vary(text: str, layout: Engine) -> Vary:
+    """Read ``FIELD=VALUES`` (see :func:`parse_field`, :func:`parse_values`)."""
+    if "=" not in text:
+        raise InputError(
+            f"--vary: cannot read {text!r}; write FIELD=start:stop:count, e.g. "
+            "conrod_length=130mm:160mm:31"
+        )
+    name, _, spec = text.partition("=")
+    field = parse_field(name, layout)
+    return Vary(field, parse_values(spec, field))
+
+
+def check_varies(varies: list[Vary]) -> list[Vary]:
+    """Check the fields of a sweep together: each once, finite values in range, a grid
+    of at most :data:`MAX_POINTS` points.
+
+    Raises
+    ------
+    InputError
+        Otherwise.
+    """
+    names = [v.dim for v in varies]
+    for name in names:
+        if names.count(name) > 1:
+            raise InputError(f"--vary: {name} is varied twice; give it once")
+    if not varies:
+        raise InputError("--vary: give at least one field to vary")
+    for v in varies:
+        if v.values.ndim != 1 or v.values.size == 0 or not np.all(np.isfinite(v.values)):
+            raise InputError(f"--vary: {v.field.text}: values must be finite numbers")
+        _check_values(v)
+    total = math.prod(v.values.size for v in varies)
+    if total > MAX_POINTS:
+        raise InputError(f"--vary: {total:.3g} grid points; at most {MAX_POINTS:.0e}")
+    return varies
+
+
+def _check_values(v: Vary) -> None:
+    low = float(v.values.min())
+    key = v.field.key
+    positive = {"speed", "stroke", "crank_radius", "conrod_length"}
+    if key in positive and low <= 0:
+        raise InputError(f"--vary: {v.field.text}: values must be above zero, got {low:g}")
+    if key in {"reciprocating", "rotating"} and low < 0:
+        raise InputError(f"--vary: {v.field.text}: masses cannot be negative, got {low:g}")
+
+
+@dataclass(frozen=True)
+class Scatter:
+    """A scattered field and its tolerance (SI, degrees for angles)."""
+
+    field: Field
+    tolerance: float
+
+
+def parse_scatter(text: str, layout: Engine) -> Scatter:
+    """Read ``FIELD=±TOL`` (e.g. ``masses.reciprocating=±3g``).
+
+    Raises
+    ------
+    InputError
+        If the field is not a numeric per-cylinder field or the tolerance is malformed.
+    """
+    from balance.io.units import UnitProblem, parse_quantity
+
+    if "=" not in text:
+        raise InputError(
+            f"--scatter: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
+        )
+    name, _, spec = text.partition("=")
+    key = name.strip()
+    if key in _SCATTER_ONLY:
+        attribute, kind = CYLINDER_FIELDS[key]
+        field = Field(key, key, attribute, kind, key, None)
+    else:
+        field = parse_field(name, layout, option="--scatter")
+    if field.attribute in {"speed", "reference_z"}:
+        raise InputError(
+            f"--scatter: '{name.strip()}' is not a part or geometry field of a cylinder; "
+            "scatter masses, stroke, conrod_length, offset, z, throw or bank"
+        )
+    spec = spec.strip()
+    for prefix in ("±", "+-", "+/-"):
+        if spec.startswith(prefix):
+            spec = spec[len(prefix) :]
+            break
+    else:
+        raise InputError(f"--scatter: {field.text}: write the tolerance as ±TOL, e.g. ±3g")
+    try:
+        tol = parse_quantity(spec.strip(), field.kind)
+    except UnitProblem as exc:
+        raise InputError(f"--scatter: {field.text}: {exc}; {exc.valid}") from None
+    if not tol >= 0:
+        raise InputError(f"--scatter: {field.text}: the tolerance must not be negative")
+    return Scatter(field, tol)

@@ -8,69 +8,44 @@ the others), these arrays broadcast against the per-cylinder arrays of the engin
 :mod:`balance.core.phasors` sums are called once per chunk.  The acceleration coefficients
 are therefore computed once per distinct rod ratio and offset ratio, not once per variant.
 
-Fields
-------
-Engine-wide fields set the value for every cylinder (replacing per-cylinder overrides):
-
-========================================  =======  =====================================
-field                                     kind     meaning
-========================================  =======  =====================================
-``speed``                                 speed    crank speed
-``stroke`` (``geometry.stroke``)          length   twice the crank radius
-``crank_radius``                          length   crank radius
-``conrod_length``                         length   conrod length
-``offset``                                length   desaxé offset
-``reciprocating`` (``masses.…``)          mass     reciprocating mass per cylinder
-``rotating`` (``masses.…``)               mass     rotating mass per cylinder
-``reference_z``                           length   where moments are taken
-========================================  =======  =====================================
-
-(``geometry.`` and ``masses.`` prefixes are optional.)  One cylinder's field is written
-``cylinders[3].reciprocating`` or ``cylinders.3.reciprocating`` (cylinders numbered from 1,
-as in the layout file's error messages); per-cylinder fields are ``throw`` and ``bank``
-(angles), ``z``, ``stroke``, ``crank_radius``, ``conrod_length``, ``offset`` (lengths),
-``reciprocating`` and ``rotating`` (masses).  When the layout file gives no
-``reference_z``, it stays midway between the outermost cylinders as their ``z`` vary.
-
-Values
-------
-``start:stop:count`` with units on the ends (``130mm:160mm:31``: 31 values, both ends
-included) or a list ``a,b,c`` (``0.4kg,0.5kg,0.7kg``); plain numbers are SI (degrees for
-angles), as in layout files.
+The fields and their values are written as :mod:`balance.io.fields` describes
+(``conrod_length=130mm:160mm:31``, ``cylinders[3].reciprocating=0.4kg,0.5kg``); each
+variant is the engine :func:`balance.studies.changes.apply_changes` gives, the same rules
+as for a single :func:`variant` and a tolerance study's samples.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from balance.core import kinematics
 from balance.core.analysis import FreePhasors, free_phasors_of, speed_squared
 from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import AnalysisError, InputError
-from balance.core.masses import PART_FIELDS
-from balance.io.fields import parse_orders
+from balance.io.fields import (
+    Vary,
+    check_varies,
+    parse_field,
+    parse_orders,
+    parse_values,
+    parse_vary,
+)
+from balance.studies.changes import Change, apply_changes
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
 
 __all__ = [
     "DEFAULT_CHUNK_SIZE",
-    "Field",
-    "Vary",
     "check_output",
     "chunk_slices",
-    "lumped_again",
-    "parse_field",
-    "parse_values",
-    "parse_vary",
     "sweep",
     "sweep_arrays",
     "sweep_to_file",
@@ -82,215 +57,6 @@ ComplexArray = NDArray[np.complex128]
 
 #: Grid points per chunk by default (about 100 MB of temporaries for a V12 at orders 1-8).
 DEFAULT_CHUNK_SIZE = 50_000
-
-# field name -> (Engine attribute, unit kind); "parts.X" is a MassParts array
-_CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
-    "throw": ("throw", "angle"),
-    "bank": ("bank", "angle"),
-    "z": ("z", "length"),
-    "stroke": ("crank_radius", "length"),
-    "crank_radius": ("crank_radius", "length"),
-    "conrod_length": ("conrod_length", "length"),
-    "offset": ("offset", "length"),
-    "reciprocating": ("reciprocating_mass", "mass"),
-    "rotating": ("rotating_mass", "mass"),
-    "piston_group": ("parts.piston_group", "mass"),
-    "conrod": ("parts.conrod", "mass"),
-    "conrod_cg_to_big_end": ("parts.conrod_cg_to_big_end", "length"),
-    "conrod_inertia": ("parts.conrod_inertia", "inertia"),
-    "crank_unbalance": ("parts.crank_unbalance", "mass"),
-}
-# engine-wide: the speed, every per-cylinder field but the crank's own angles and
-# positions, and where moments are taken
-_ENGINE_FIELDS: dict[str, tuple[str, str]] = {
-    "speed": ("speed", "speed"),
-    **{k: v for k, v in _CYLINDER_FIELDS.items() if k not in {"throw", "bank", "z"}},
-    "reference_z": ("reference_z", "length"),
-}
-_SECTION = {
-    "geometry": {"stroke", "crank_radius", "conrod_length", "offset"},
-    "masses": {"reciprocating", "rotating", *PART_FIELDS},
-}
-_UNITS = {"speed": "rad/s", "length": "m", "mass": "kg", "angle": "deg", "inertia": "kg m^2"}
-_LUMPED = {"reciprocating_mass", "rotating_mass"}
-_CYLINDER = re.compile(r"^cylinders(?:\[(\d+)\]|\.(\d+))\.([a-z_]+)$")
-_MAX_POINTS = 10**12
-
-
-@dataclass(frozen=True)
-class Field:
-    """A numeric layout field that a sweep or a tolerance study may change.
-
-    Attributes
-    ----------
-    text : str
-        The field as the user wrote it.
-    name : str
-        A canonical name, usable as a dimension name (``conrod_length``,
-        ``cylinder3_reciprocating``).
-    attribute : str
-        The :class:`~balance.io.layout_file.Layout` attribute it sets.
-    kind : str
-        Unit kind (:data:`balance.io.units.KINDS`): ``speed``, ``length``, ``mass``, ``angle``.
-    key : str
-        The field's own name (``stroke``, ``throw``...).
-    cylinder : int or None
-        0-based index of the cylinder, or None for every cylinder.
-    """
-
-    text: str
-    name: str
-    attribute: str
-    kind: str
-    key: str
-    cylinder: int | None = None
-
-    @property
-    def unit(self) -> str:
-        """SI unit of the values (degrees for angles)."""
-        return _UNITS[self.kind]
-
-    def to_layout_units(self, values: ArrayLike) -> FloatArray:
-        """Values in the unit of the Engine attribute (radians for angles, radius for stroke)."""
-        v = np.asarray(values, dtype=np.float64)
-        if self.kind == "angle":
-            return np.radians(v)
-        if self.key == "stroke":
-            return v / 2
-        return v
-
-
-def _valid_fields() -> str:
-    return (
-        f"valid: {', '.join(_ENGINE_FIELDS)}, or cylinders[N].FIELD with FIELD one of "
-        f"{', '.join(_CYLINDER_FIELDS)}"
-    )
-
-
-def parse_field(text: str, layout: Engine, option: str = "--vary") -> Field:
-    """Read a field name (see the module notes).
-
-    Raises
-    ------
-    InputError
-        If there is no such numeric field, or the cylinder does not exist.
-    """
-    import difflib
-
-    name = text.strip()
-    match = _CYLINDER.match(name)
-    if match:
-        number = int(match.group(1) or match.group(2))
-        key = match.group(3)
-        if key not in _CYLINDER_FIELDS:
-            hint = difflib.get_close_matches(key, list(_CYLINDER_FIELDS), n=1)
-            more = f"did you mean '{hint[0]}'? " if hint else ""
-            raise InputError(
-                f"{option}: '{name}' is not a numeric per-cylinder field; {more}"
-                f"valid: {', '.join(_CYLINDER_FIELDS)}"
-            )
-        if not 1 <= number <= layout.n_cylinders:
-            raise InputError(
-                f"{option}: '{name}': the layout has cylinders 1 to {layout.n_cylinders}"
-            )
-        attribute, kind = _CYLINDER_FIELDS[key]
-        _check_parts(layout, attribute, name, option)
-        return Field(name, f"cylinder{number}_{key}", attribute, kind, key, number - 1)
-    key = name
-    for section, keys in _SECTION.items():
-        if name.startswith(section + "."):
-            key = name[len(section) + 1 :]
-            if key not in keys:
-                key = "?"
-    if key not in _ENGINE_FIELDS:
-        hint = difflib.get_close_matches(
-            name, [*_ENGINE_FIELDS, "masses.reciprocating", "geometry.conrod_length"], n=1
-        )
-        more = f"did you mean '{hint[0]}'? " if hint else ""
-        raise InputError(
-            f"{option}: '{name}' is not a numeric layout field; {more}{_valid_fields()}"
-        )
-    attribute, kind = _ENGINE_FIELDS[key]
-    _check_parts(layout, attribute, name, option)
-    return Field(name, key, attribute, kind, key, None)
-
-
-def _check_parts(layout: Engine, attribute: str, name: str, option: str) -> None:
-    if attribute.startswith("parts.") and layout.mass_parts is None:
-        raise InputError(
-            f"{option}: '{name}' is a part of the moving masses, but this layout gives them "
-            "lumped; vary masses.reciprocating or masses.rotating"
-        )
-
-
-def _quantity(text: str, field: Field, option: str) -> float:
-    from balance.io.units import UnitProblem, parse_quantity
-
-    try:
-        return parse_quantity(text.strip(), field.kind)
-    except UnitProblem as exc:
-        raise InputError(f"{option}: {field.text}: {exc}; {exc.valid}") from None
-
-
-def parse_values(text: str, field: Field, option: str = "--vary") -> FloatArray:
-    """Values of a field from ``start:stop:count`` or ``a,b,c`` (SI, degrees for angles).
-
-    Raises
-    ------
-    InputError
-        If the range or list is malformed or a value has the wrong unit.
-    """
-    spec = text.strip()
-    if not spec:
-        raise InputError(f"{option}: {field.text}: no values; write start:stop:count or a,b,c")
-    if ":" in spec:
-        parts = spec.split(":")
-        if len(parts) != 3 or not all(p.strip() for p in parts):
-            raise InputError(
-                f"{option}: {field.text}: cannot read range {spec!r}; write start:stop:count, "
-                "e.g. 130mm:160mm:31"
-            )
-        start = _quantity(parts[0], field, option)
-        stop = _quantity(parts[1], field, option)
-        try:
-            count = int(parts[2])
-        except ValueError:
-            count = 0
-        if count < 1 or str(count) != parts[2].strip():
-            raise InputError(
-                f"{option}: {field.text}: count {parts[2].strip()!r} is not a whole number above 0"
-            )
-        if count == 1 and start != stop:
-            raise InputError(f"{option}: {field.text}: one value from {start} to {stop}?")
-        values = np.linspace(start, stop, count)
-    else:
-        values = np.array([_quantity(p, field, option) for p in spec.split(",")])
-    return values
-
-
-@dataclass(frozen=True)
-class Vary:
-    """One varied field and its values (SI, degrees for angles)."""
-
-    field: Field
-    values: FloatArray
-
-    @property
-    def dim(self) -> str:
-        """The grid dimension's name."""
-        return self.field.name
-
-
-def parse_vary(text: str, layout: Engine) -> Vary:
-    """Read ``FIELD=VALUES`` (see :func:`parse_field`, :func:`parse_values`)."""
-    if "=" not in text:
-        raise InputError(
-            f"--vary: cannot read {text!r}; write FIELD=start:stop:count, e.g. "
-            "conrod_length=130mm:160mm:31"
-        )
-    name, _, spec = text.partition("=")
-    field = parse_field(name, layout)
-    return Vary(field, parse_values(spec, field))
 
 
 def _as_varies(layout: Engine, vary: Mapping[str, Any] | Sequence[Vary | str]) -> list[Vary]:
@@ -304,30 +70,7 @@ def _as_varies(layout: Engine, vary: Mapping[str, Any] | Sequence[Vary | str]) -
                 out.append(Vary(field, np.atleast_1d(np.asarray(values, dtype=np.float64))))
     else:
         out = [v if isinstance(v, Vary) else parse_vary(v, layout) for v in vary]
-    names = [v.dim for v in out]
-    for name in names:
-        if names.count(name) > 1:
-            raise InputError(f"--vary: {name} is varied twice; give it once")
-    if not out:
-        raise InputError("--vary: give at least one field to vary")
-    for v in out:
-        if v.values.ndim != 1 or v.values.size == 0 or not np.all(np.isfinite(v.values)):
-            raise InputError(f"--vary: {v.field.text}: values must be finite numbers")
-        _check_values(v)
-    total = math.prod(v.values.size for v in out)
-    if total > _MAX_POINTS:
-        raise InputError(f"--vary: {total:.3g} grid points; at most {_MAX_POINTS:.0e}")
-    return out
-
-
-def _check_values(v: Vary) -> None:
-    low = float(v.values.min())
-    key = v.field.key
-    positive = {"speed", "stroke", "crank_radius", "conrod_length"}
-    if key in positive and low <= 0:
-        raise InputError(f"--vary: {v.field.text}: values must be above zero, got {low:g}")
-    if key in {"reciprocating", "rotating"} and low < 0:
-        raise InputError(f"--vary: {v.field.text}: masses cannot be negative, got {low:g}")
+    return check_varies(out)
 
 
 def variant(layout: Engine, values: Mapping[str, float]) -> Engine:
@@ -348,92 +91,17 @@ def variant(layout: Engine, values: Mapping[str, float]) -> Engine:
         (:func:`balance.core.masses.two_mass_split`), and a lumped mass set here wins over the
         parts; ``reference_z`` is re-centred when the file gives none and a ``z`` changes.
     """
-    changes: dict[str, Any] = {}
-    parts: dict[str, FloatArray] = {}
-    lumped: list[tuple[Field, float]] = []
-    relump = False
+    changes: list[Change] = []
     for name, value in values.items():
         field = parse_field(name, layout)
-        v = float(field.to_layout_units(value))
-        attribute = field.attribute
-        if attribute in {"speed", "reference_z"}:
-            changes[attribute] = v
-        elif attribute in _LUMPED:
-            lumped.append((field, v))
-        elif attribute.startswith("parts."):
-            key = attribute.removeprefix("parts.")
-            assert layout.mass_parts is not None
-            parts[key] = _set_one(parts.get(key, getattr(layout.mass_parts, key)), field, v)
-            relump = True
-        else:
-            changes[attribute] = _set_one(
-                changes.get(attribute, getattr(layout, attribute)), field, v
-            )
-            relump |= attribute == "conrod_length" and layout.mass_parts is not None
-    if relump:
-        assert layout.mass_parts is not None
-        mass_parts = replace(layout.mass_parts, **parts)
-        length = changes.get("conrod_length", layout.conrod_length)
-        rec, rot, correction = lumped_again(layout, length, parts, _CG_BEYOND_ROD)
-        changes.update(
-            reciprocating_mass=rec,
-            rotating_mass=rot,
-            conrod_inertia_correction=correction,
-            mass_parts=mass_parts,
-        )
-    for field, v in lumped:
-        changes[field.attribute] = _set_one(
-            changes.get(field.attribute, getattr(layout, field.attribute)), field, v
-        )
-        if layout.mass_parts is not None:
-            given = field.attribute.replace("_mass", "_given")
-            parts_now = changes.get("mass_parts", layout.mass_parts)
-            changes["mass_parts"] = replace(
-                parts_now, **{given: _set_one(getattr(parts_now, given), field, v)}
-            )
-    if "reference_z" not in changes and "z" in changes and _auto_reference(layout):
-        z = changes["z"]
-        changes["reference_z"] = float(0.5 * (z.min() + z.max()))
-    return replace(layout, **changes)
-
-
-def lumped_again(
-    layout: Engine, conrod_length: ArrayLike, parts: Mapping[str, ArrayLike], problem: str
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Lumped masses of a by-part layout with some parts (arrays that broadcast) or the
-    conrod length changed, as loading the file would give them.
-
-    Raises
-    ------
-    InputError
-        With the message ``problem`` where a conrod's centre of gravity would lie beyond
-        its small end.
-    """
-    assert layout.mass_parts is not None
-    cg = parts.get("conrod_cg_to_big_end", layout.mass_parts.conrod_cg_to_big_end)
-    if np.any(np.asarray(cg) > np.asarray(conrod_length)):
-        raise InputError(problem)
-    return layout.mass_parts.lumped(conrod_length, parts)
+        changes.append((field, float(field.to_layout_units(value))))
+    return apply_changes(layout, changes, problem=_CG_BEYOND_ROD)
 
 
 _CG_BEYOND_ROD = (
     "--vary: the conrod's centre of gravity would lie beyond its small end "
     "(conrod_cg_to_big_end > conrod_length); keep it between the two ends"
 )
-
-
-def _set_one(array: FloatArray, field: Field, value: float) -> FloatArray:
-    """A copy of a per-cylinder array with one cylinder's (or every cylinder's) value set."""
-    out = np.array(array, dtype=np.float64)
-    if field.cylinder is None:
-        out[:] = value
-    else:
-        out[field.cylinder] = value
-    return out
-
-
-def _auto_reference(layout: Engine) -> bool:
-    return not layout.reference_z_given
 
 
 # ---------------------------------------------------------------------------------------
@@ -497,48 +165,17 @@ def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
     The same rules as :func:`variant`, over a grid: parts and conrod lengths are lumped
     again for a by-part layout, then the varied lumped masses are set.
     """
-    layout = plan.layout
     ndim = len(plan.varies)
-    params: dict[str, Any] = {name: getattr(layout, name) for name in CYLINDER_FIELDS}
-    params["speed"] = np.float64(layout.speed)
-    params["reference_z"] = np.float64(layout.reference_z)
-    n = layout.n_cylinders
-    parts: dict[str, Any] = {}
-    lumped: list[tuple[Field, FloatArray]] = []
-    relump = False
-
-    def put(base: Any, field: Field, column: FloatArray) -> Any:
-        if field.cylinder is None:
-            return np.broadcast_to(column, np.broadcast_shapes(column.shape, np.shape(base)))
-        return np.where(np.arange(n) == field.cylinder, column, base)
-
+    changes: list[Change] = []
     for axis, (v, sl) in enumerate(zip(plan.varies, where, strict=True)):
         values = v.field.to_layout_units(v.values[sl])
         shape = [1] * ndim
         shape[axis] = values.size
-        column = np.reshape(values, (*shape, 1))
-        f = v.field
-        if f.attribute in {"speed", "reference_z"}:
-            params[f.attribute] = column
-        elif f.attribute in _LUMPED:
-            lumped.append((f, column))
-        elif f.attribute.startswith("parts."):
-            key = f.attribute.removeprefix("parts.")
-            parts[key] = put(parts.get(key, getattr(layout.mass_parts, key)), f, column)
-            relump = True
-        else:
-            params[f.attribute] = put(params[f.attribute], f, column)
-            relump |= f.attribute == "conrod_length" and layout.mass_parts is not None
-    if relump:
-        rec, rot, correction = lumped_again(layout, params["conrod_length"], parts, _CG_BEYOND_ROD)
-        params["reciprocating_mass"] = rec
-        params["rotating_mass"] = rot
-        params["conrod_inertia_correction"] = correction
-    for f, column in lumped:
-        params[f.attribute] = put(params[f.attribute], f, column)
-    if _auto_reference(layout) and any(v.field.attribute == "z" for v in plan.varies):
-        z = params["z"]
-        params["reference_z"] = 0.5 * (z.min(axis=-1) + z.max(axis=-1))[..., None]
+        changes.append((v.field, np.reshape(values, (*shape, 1))))
+    engine = apply_changes(plan.layout, changes, problem=_CG_BEYOND_ROD)
+    params: dict[str, Any] = {name: getattr(engine, name) for name in CYLINDER_FIELDS}
+    params["speed"] = np.asarray(engine.speed, dtype=np.float64)
+    params["reference_z"] = np.asarray(engine.reference_z, dtype=np.float64)
     return params
 
 
@@ -729,16 +366,22 @@ def _run_chunks(
     plan: _Plan,
     chunks: list[tuple[slice, ...]],
     client: Any,
-    progress: bool,
+    progress: Progress | None,
 ) -> Iterator[tuple[tuple[slice, ...], dict[str, FloatArray]]]:
     """Results chunk by chunk, in-process or on a Dask client (in order of completion)."""
-    bar = _Progress(progress, math.prod(plan.shape))
-    with bar:
+
+    def points(where: tuple[slice, ...]) -> int:
+        return math.prod(s.stop - s.start for s in where)
+
+    if progress is not None:
+        progress.start(math.prod(plan.shape))
+    try:
         if client is None:
             cache: dict[Any, FreePhasors] = {}
             for where in chunks:
                 result = _chunk(plan, where, cache)
-                bar.advance(where)
+                if progress is not None:
+                    progress.advance(points(where))
                 yield where, result
             return
         from distributed import as_completed
@@ -749,49 +392,23 @@ def _run_chunks(
             where = futures.pop(future)
             result = future.result()
             future.release()
-            bar.advance(where)
+            if progress is not None:
+                progress.advance(points(where))
             yield where, result
+    finally:
+        if progress is not None:
+            progress.stop()
 
 
-class _Progress:
-    """A rich progress bar on stderr (or nothing)."""
+class Progress(Protocol):
+    """What a sweep tells about its progress: the number of grid points, then each chunk's
+    points as it is done (a view draws it: :class:`balance.views.progress.ProgressBar`)."""
 
-    def __init__(self, show: bool, total: int) -> None:
-        self.show = show
-        self.total = total
-        self._bar: Any = None
-        self._task: Any = None
+    def start(self, total: int) -> None: ...
 
-    def __enter__(self) -> _Progress:
-        if self.show:
-            from rich.console import Console
-            from rich.progress import (
-                BarColumn,
-                MofNCompleteColumn,
-                Progress,
-                TextColumn,
-                TimeRemainingColumn,
-            )
+    def advance(self, points: int) -> None: ...
 
-            self._bar = Progress(
-                TextColumn("sweep"),
-                BarColumn(),
-                MofNCompleteColumn(),
-                TimeRemainingColumn(),
-                console=Console(stderr=True),
-                transient=True,
-            )
-            self._bar.__enter__()
-            self._task = self._bar.add_task("sweep", total=self.total)
-        return self
-
-    def advance(self, where: tuple[slice, ...]) -> None:
-        if self._bar is not None:
-            self._bar.advance(self._task, math.prod(s.stop - s.start for s in where))
-
-    def __exit__(self, *exc: object) -> None:
-        if self._bar is not None:
-            self._bar.__exit__(*exc)
+    def stop(self) -> None: ...
 
 
 def sweep_arrays(
@@ -805,7 +422,7 @@ def sweep_arrays(
     roll: bool = True,
     chunk_size: int = DEFAULT_CHUNK_SIZE,
     client: Any = None,
-    progress: bool = False,
+    progress: Progress | None = None,
     sink: Callable[[tuple[slice, ...], dict[str, FloatArray]], None] | None = None,
 ) -> tuple[_Plan, dict[str, FloatArray] | None]:
     """Run a sweep chunk by chunk; hand each chunk to ``sink`` or gather it in memory.
@@ -839,7 +456,7 @@ def _options(
     roll: bool,
     chunk_size: int,
     client: Any,
-    progress: bool,
+    progress: Progress | None,
 ) -> dict[str, Any]:
     """The keyword arguments that :func:`sweep` and :func:`sweep_to_file` pass on."""
     return {
@@ -864,7 +481,7 @@ def sweep(
     roll: bool = True,
     chunk_size: int = DEFAULT_CHUNK_SIZE,
     client: Any = None,
-    progress: bool = False,
+    progress: Progress | None = None,
 ) -> xr.Dataset:
     """Analyse every combination of the varied fields' values.
 
@@ -888,8 +505,8 @@ def sweep(
         Grid points per chunk; memory is proportional to it.
     client : distributed.Client, optional
         Run the chunks on this Dask client; the result is bit for bit the same.
-    progress : bool
-        Show a progress bar on stderr.
+    progress : Progress, optional
+        Told of the progress chunk by chunk (the command line draws a bar with it).
 
     Returns
     -------
@@ -933,7 +550,7 @@ def sweep_to_file(
     roll: bool = True,
     chunk_size: int = DEFAULT_CHUNK_SIZE,
     client: Any = None,
-    progress: bool = False,
+    progress: Progress | None = None,
     force: bool = False,
     file_format: str | None = None,
 ) -> Path:

@@ -8,18 +8,21 @@ and stays as built: the residual *with balancing* is each sample's reciprocating
 phasors plus the nominal proposal's counterweights and shafts; *without* it, the engine's
 own free force and moment (reciprocating + rotating).
 
-Scatter is written ``FIELD=±TOL`` (``+-`` also accepted), with the fields of
-:mod:`balance.studies.sweep` that belong to a cylinder: ``reciprocating``, ``rotating``,
-``stroke``, ``crank_radius``, ``conrod_length``, ``offset``, ``z``, ``throw``, ``bank``.
-By default a value is uniform in ``[nominal - TOL, nominal + TOL]``; with
-``distribution="normal"`` it is normal with standard deviation ``TOL/3``.
+Scatter is written ``FIELD=±TOL`` (``+-`` also accepted; :mod:`balance.io.fields`), with
+the fields that belong to a cylinder: ``reciprocating``, ``rotating``,
+``stroke``, ``crank_radius``, ``conrod_length``, ``offset``, ``z``, ``throw``, ``bank``
+and the parts of masses given by part.  A sample is the engine
+:func:`balance.studies.changes.apply_changes` gives with the drawn scatter added, the rules
+of a sweep's variants, except that moments stay about the nominal ``reference_z``: the
+scatter is that of one engine's parts, not a new layout.  By default a value is uniform
+in ``[nominal - TOL, nominal + TOL]``; with ``distribution="normal"`` it is normal with
+standard deviation ``TOL/3``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,69 +36,14 @@ from balance.core.analysis import (
 from balance.core.balancing import proposal_phasors
 from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import AnalysisError, InputError
-from balance.io.fields import parse_orders
-from balance.studies.sweep import Field, lumped_again, parse_field
+from balance.io.fields import Scatter, parse_orders, parse_scatter
+from balance.studies.changes import Change, apply_changes
 
-if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.figure import Figure
-
-__all__ = ["PERCENTILES", "Scatter", "ToleranceResult", "histogram", "parse_scatter", "tolerance"]
+__all__ = ["PERCENTILES", "Scatter", "ToleranceResult", "parse_scatter", "tolerance"]
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 PERCENTILES = (50.0, 90.0, 99.0, 99.9, 100.0)
-
-
-@dataclass(frozen=True)
-class Scatter:
-    """A scattered field and its tolerance (SI, degrees for angles)."""
-
-    field: Field
-    tolerance: float
-
-
-def parse_scatter(text: str, layout: Engine) -> Scatter:
-    """Read ``FIELD=±TOL`` (e.g. ``masses.reciprocating=±3g``).
-
-    Raises
-    ------
-    InputError
-        If the field is not a numeric per-cylinder field or the tolerance is malformed.
-    """
-    from balance.io.units import UnitProblem, parse_quantity
-
-    if "=" not in text:
-        raise InputError(
-            f"--scatter: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
-        )
-    name, _, spec = text.partition("=")
-    from balance.studies.sweep import _CYLINDER_FIELDS
-
-    key = name.strip()
-    if key in _CYLINDER_FIELDS and key in {"throw", "bank", "z"}:
-        attribute, kind = _CYLINDER_FIELDS[key]
-        field = Field(key, key, attribute, kind, key, None)
-    else:
-        field = parse_field(name, layout, option="--scatter")
-    if field.attribute in {"speed", "reference_z"}:
-        raise InputError(
-            f"--scatter: '{name.strip()}' is not a part or geometry field of a cylinder; "
-            "scatter masses, stroke, conrod_length, offset, z, throw or bank"
-        )
-    spec = spec.strip()
-    for prefix in ("±", "+-", "+/-"):
-        if spec.startswith(prefix):
-            spec = spec[len(prefix) :]
-            break
-    else:
-        raise InputError(f"--scatter: {field.text}: write the tolerance as ±TOL, e.g. ±3g")
-    try:
-        tol = parse_quantity(spec.strip(), field.kind)
-    except UnitProblem as exc:
-        raise InputError(f"--scatter: {field.text}: {exc}; {exc.valid}") from None
-    if not tol >= 0:
-        raise InputError(f"--scatter: {field.text}: the tolerance must not be negative")
-    return Scatter(field, tol)
 
 
 @dataclass(frozen=True)
@@ -181,6 +129,8 @@ def tolerance(
     added = proposal_phasors(balanced.proposal, layout, ks)
     rng = np.random.default_rng(seed)
     n = layout.n_cylinders
+    # moments about the nominal reference: the scatter does not move the block's
+    fixed = replace(layout, reference_z_given=True)
     first = ks == 1
     w2 = speed_squared(layout.speed)
     out = {
@@ -190,44 +140,17 @@ def tolerance(
     }
     for lo in range(0, samples, chunk_size):
         m = min(chunk_size, samples - lo)
-        p = {
-            name: np.broadcast_to(getattr(layout, name), (m, n)).copy() for name in CYLINDER_FIELDS
-        }
-        parts: dict[str, FloatArray] = {}
-        deltas = []
+        changes: list[Change] = []
         for s in items:  # drawn in the order given, so a seed gives the same engines
             shape = (m, n) if s.field.cylinder is None else (m,)
             if distribution == "uniform":
                 draw = rng.uniform(-1.0, 1.0, shape) * s.tolerance
             else:
                 draw = rng.normal(0.0, s.tolerance / 3.0, shape)
-            deltas.append((s.field, s.field.to_layout_units(draw)))
-        relump = False
-        for field, delta in deltas:  # geometry and parts first, as in a sweep
-            if field.attribute in _LUMPED:
-                continue
-            if field.attribute.startswith("parts."):
-                key = field.attribute.removeprefix("parts.")
-                if key not in parts:
-                    parts[key] = np.broadcast_to(getattr(layout.mass_parts, key), (m, n)).copy()
-                _add(parts[key], field, delta)
-                relump = True
-            else:
-                _add(p[field.attribute], field, delta)
-                relump |= field.attribute == "conrod_length" and layout.mass_parts is not None
-        if relump:
-            rec, rot, _ = lumped_again(
-                layout,
-                p["conrod_length"],
-                parts,
-                "--scatter: the scatter puts a conrod's centre of gravity beyond its small "
-                "end; reduce it",
-            )
-            p["reciprocating_mass"] = np.array(np.broadcast_to(rec, (m, n)))
-            p["rotating_mass"] = np.array(np.broadcast_to(rot, (m, n)))
-        for field, delta in deltas:
-            if field.attribute in _LUMPED:
-                _add(p[field.attribute], field, delta)
+            delta = s.field.to_layout_units(draw)
+            changes.append((s.field, delta if s.field.cylinder is None else delta[:, None]))
+        drawn = apply_changes(fixed, changes, add=True, problem=_CG_BEYOND_ROD)
+        p = {name: np.broadcast_to(getattr(drawn, name), (m, n)).copy() for name in CYLINDER_FIELDS}
         if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
             raise InputError("--scatter: the scatter makes some masses negative; reduce it")
         try:
@@ -259,44 +182,11 @@ def tolerance(
     )
 
 
-_LUMPED = {"reciprocating_mass", "rotating_mass"}
-
-
-def _add(array: FloatArray, field: Field, delta: FloatArray) -> None:
-    """Add a drawn scatter to every cylinder's value, or to one cylinder's."""
-    if field.cylinder is None:
-        array += delta
-    else:
-        array[:, field.cylinder] += delta
+_CG_BEYOND_ROD = (
+    "--scatter: the scatter puts a conrod's centre of gravity beyond its small end; reduce it"
+)
 
 
 def _given(value: ComplexArray | None) -> ComplexArray:
     assert value is not None
     return value
-
-
-def histogram(result: ToleranceResult, *, bins: int = 60) -> Figure:
-    """Histograms of the residual peaks with balancing, one panel per quantity and order.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-        Built with the object-oriented API (no pyplot).
-    """
-    from matplotlib.figure import Figure
-
-    K = result.orders.size
-    fig = Figure(figsize=(4.0 * K, 6.0), layout="constrained")
-    axes = fig.subplots(2, K, squeeze=False)
-    for row, (what, table, unit) in enumerate(
-        (("force", result.force, "N"), ("moment", result.moment, "N m"))
-    ):
-        for col, k in enumerate(result.orders):
-            ax = axes[row][col]
-            values = table["balanced"][:, col]
-            ax.hist(values, bins=bins, color="tab:blue")
-            ax.set_title(f"order {int(k)}: residual {what} with balancing")
-            ax.set_xlabel(f"peak {what} [{unit}]")
-            ax.set_ylabel("samples")
-    fig.suptitle(f"tolerance study, {result.samples} samples")
-    return fig

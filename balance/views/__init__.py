@@ -1,4 +1,4 @@
-"""Views of the result Dataset: JSON, CSV, netCDF and a rich table.
+"""Views of a :class:`~balance.core.result.Result`: Dataset (API, netCDF), JSON, CSV, table...
 
-Each view only reads the Dataset built by :func:`balance.views.dataset.build_dataset`.
+Each view reads the Result directly; only :mod:`balance.views.dataset` imports xarray.
 """

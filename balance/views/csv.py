@@ -1,12 +1,18 @@
-"""CSV view: one row per order, the per-order variables of the result Dataset as columns."""
+"""CSV view of a :class:`~balance.core.result.Result`: one row per order (no xarray)."""
 
 from __future__ import annotations
 
 import csv
 import io
 import math
+from typing import TYPE_CHECKING
 
-import xarray as xr
+import numpy as np
+
+from balance.views.polar import phase_deg, safe_ratio
+
+if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.result import Result
 
 __all__ = ["to_csv"]
 
@@ -15,40 +21,45 @@ def _cell(value: float) -> str:
     return "" if not math.isfinite(value) else repr(float(value))
 
 
-def to_csv(ds: xr.Dataset) -> str:
+def to_csv(result: Result) -> str:
     """Per-order table: forward and backward magnitude and phase, peak, normalised peak.
 
     Columns carry their units in brackets, e.g. ``force_forward_magnitude [N]``.  Roll is
     joined on the same order where the roll orders match the orders.
     """
-    columns: list[tuple[str, str, dict[str, str]]] = []
-    for what in ("force", "moment"):
-        prefix = f"reciprocating_{what}"
-        if f"{prefix}_magnitude" not in ds:
-            continue  # not asked for
-        for rotation in ("forward", "backward"):
-            for part in ("magnitude", "phase"):
-                columns.append(
-                    (f"{prefix}_{part}", f"{what}_{rotation}_{part}", {"rotation": rotation})
-                )
-        columns.append((f"{prefix}_peak", f"{what}_peak", {}))
-        columns.append((f"{prefix}_peak_normalised", f"{what}_peak_normalised", {}))
+    p = result.phasors
+    parts = [("force", "N", p.force_forward, p.force_backward, result.reference_force)]
+    if result.has_moments:
+        parts.append(
+            ("moment", "N m", p.moment_forward, p.moment_backward, result.reference_moment)
+        )
+    header = ["order"]
+    blocks = []
+    for what, unit, forward, backward, reference in parts:
+        both = np.stack([forward, backward], axis=-1)
+        magnitude = np.abs(both)
+        phase = phase_deg(both)
+        peak = magnitude[..., 0] + magnitude[..., 1]
+        for j, rotation in enumerate(("forward", "backward")):
+            header += [f"{what}_{rotation}_magnitude [{unit}]", f"{what}_{rotation}_phase [deg]"]
+            blocks += [magnitude[:, j], phase[:, j]]
+        header += [f"{what}_peak [{unit}]", f"{what}_peak_normalised [1]"]
+        blocks += [peak, safe_ratio(peak, reference)]
+    roll_at: dict[float, int] = {}
+    if result.roll is not None:
+        header += ["roll_amplitude [N m]", "roll_phase [deg]"]
+        roll_at = {float(k): i for i, k in enumerate(result.roll_orders)}
+        roll_amplitude = np.abs(result.roll)
+        roll_phase = phase_deg(result.roll)
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
-    header = ["order"] + [f"{name} [{ds[var].attrs['units']}]" for var, name, _ in columns]
-    has_roll = "roll_amplitude" in ds
-    if has_roll:
-        header += [f"roll_amplitude [{ds['roll_amplitude'].attrs['units']}]", "roll_phase [deg]"]
     writer.writerow(header)
-    roll_orders = {float(k) for k in ds["roll_order"].values} if has_roll else set()
-    for k in ds["order"].values:
-        row = [str(int(k))]
-        for var, _, sel in columns:
-            row.append(_cell(float(ds[var].sel({"order": k, **sel}))))
-        if float(k) in roll_orders:
-            row.append(_cell(float(ds["roll_amplitude"].sel(roll_order=float(k)))))
-            row.append(_cell(float(ds["roll_phase"].sel(roll_order=float(k)))))
-        elif has_roll:
+    for i, k in enumerate(p.orders):
+        row = [str(int(k))] + [_cell(float(block[i])) for block in blocks]
+        at = roll_at.get(float(k))
+        if at is not None:
+            row += [_cell(float(roll_amplitude[at])), _cell(float(roll_phase[at]))]
+        elif result.roll is not None:
             row += ["", ""]
         writer.writerow(row)
     return buffer.getvalue()

@@ -34,29 +34,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import xarray as xr
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from balance.core import phasors as _phasors
-from balance.core.engine import Engine
-from balance.core.result import Balanced, Phasors
+from balance.views.polar import SCHEMA, phase_deg, safe_ratio, speed_rpm
 
 if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.result import Balanced, Result
     from balance.core.torque import TorqueResult
 
 __all__ = ["SCHEMA", "build_dataset", "phase_deg"]
-
-SCHEMA = "balance.analysis/1"
-
-
-def phase_deg(phasor: ArrayLike) -> NDArray[np.float64]:
-    """Phase of complex phasors in degrees, in [0, 360), to 1e-9 deg; 0 where the magnitude is 0."""
-    z = np.asarray(phasor, dtype=np.complex128)
-    # rounded to 1e-9 deg so that rounding noise (1e-14 deg) does not show as a phase
-    deg = np.round(np.mod(np.degrees(np.angle(z)), 360.0), 9)
-    deg = np.where(deg >= 360.0, 0.0, deg)
-    deg = np.where(np.abs(z) == 0.0, 0.0, deg)
-    deg = np.where(np.isnan(z), np.nan, deg)
-    return np.asarray(deg + 0.0, dtype=np.float64)  # + 0.0 turns -0.0 into 0.0
 
 
 def _var(dims: tuple[str, ...], data: Any, units: str, long_name: str, **attrs: Any) -> xr.Variable:
@@ -86,35 +72,15 @@ def _coord(name: str, values: Any, long_name: str) -> xr.IndexVariable:
     )
 
 
-def _safe_ratio(values: Any, scale: float) -> Any:
-    """``values / scale``: NaN where the scale is zero or not finite, and inf (without a
-    warning) where the ratio lies beyond the float range (a normalising force of a few
-    1e-300 N, as a layout with a 1e-308 kg piston has)."""
-    if not math.isfinite(scale) or scale == 0.0:
-        return np.full(np.shape(values), np.nan)
-    with np.errstate(over="ignore"):
-        return np.asarray(values) / scale
-
-
-def build_dataset(
-    layout: Engine,
-    result: Phasors,
-    balanced: Balanced | None = None,
-    torque: TorqueResult | None = None,
-) -> xr.Dataset:
-    """Assemble the result Dataset of an analysis.
+def build_dataset(result: Result) -> xr.Dataset:
+    """The result Dataset of an analysis: a view of the :class:`~balance.core.result.Result`.
 
     Parameters
     ----------
-    layout : Engine
-        The engine analysed.
-    result : Phasors
-        The phasors from :func:`balance.core.analysis.compute`.
-    balanced : Balanced, optional
-        A balancing proposal and its residual (:func:`balance.core.analysis.balance_engine`).
-    torque : TorqueResult, optional
-        Gas and inertia forces over the cycle (:func:`balance.core.torque.compute_torque`); its
-        roll (with half orders for a four-stroke) replaces the inertia-only roll.
+    result : Result
+        From :func:`balance.core.analysis.compute`; its stored references normalise, its
+        roll (with gas forces and half orders where the engine has them) is reported as is,
+        and what the request did not ask for is left out.
 
     Returns
     -------
@@ -122,19 +88,19 @@ def build_dataset(
     """
     from balance._version import __version__
 
-    ks = result.orders
+    layout = result.engine
+    phasors = result.phasors
+    ks = phasors.orders
     f1 = result.reference_force
-    pitch = layout.pitch
-    m1 = f1 * pitch if math.isfinite(pitch) else math.nan
-    rec_r2w2 = float(np.mean(layout.reciprocating_mass) * np.mean(layout.crank_radius) ** 2) * (
-        layout.speed**2
-    )
+    pitch = result.pitch
+    m1 = result.reference_moment
+    with_gas = result.torque is not None
 
     def pair(fwd: NDArray[np.complex128], bwd: NDArray[np.complex128]) -> NDArray[np.complex128]:
         return np.stack([fwd, bwd], axis=-1)
 
-    force = pair(result.force_forward, result.force_backward)
-    moment = pair(result.moment_forward, result.moment_backward)
+    force = pair(phasors.force_forward, phasors.force_backward)
+    moment = pair(phasors.moment_forward, phasors.moment_backward)
     force_mag = np.abs(force)
     moment_mag = np.abs(moment)
     # |P+| + |P-| (as the sweep forms it)
@@ -162,13 +128,13 @@ def build_dataset(
         ),
         "reciprocating_force_normalised": _var(
             ("order", "rotation"),
-            _safe_ratio(force_mag, f1),
+            safe_ratio(force_mag, f1),
             "1",
             "reciprocating force phasor magnitude per m_rec r omega^2",
         ),
         "reciprocating_force_peak_normalised": _var(
             ("order",),
-            _safe_ratio(force_peak, f1),
+            safe_ratio(force_peak, f1),
             "1",
             "peak reciprocating force per m_rec r omega^2",
         ),
@@ -192,79 +158,62 @@ def build_dataset(
         ),
         "reciprocating_moment_normalised": _var(
             ("order", "rotation"),
-            _safe_ratio(moment_mag, m1),
+            safe_ratio(moment_mag, m1),
             "1",
             "reciprocating moment phasor magnitude per m_rec r omega^2 times cylinder pitch",
         ),
         "reciprocating_moment_peak_normalised": _var(
             ("order",),
-            _safe_ratio(moment_peak, m1),
+            safe_ratio(moment_peak, m1),
             "1",
             "peak reciprocating moment per m_rec r omega^2 times cylinder pitch",
         ),
         "rotating_force_magnitude": _var(
             (),
-            np.abs(result.rotating_force),
+            np.abs(phasors.rotating_force),
             "N",
             "magnitude of the rotating (centrifugal) force, order 1 forward",
         ),
         "rotating_force_phase": _var(
             (),
-            phase_deg(result.rotating_force),
+            phase_deg(phasors.rotating_force),
             "deg",
             "phase of the rotating force at crank angle 0",
         ),
         "rotating_force_normalised": _var(
             (),
-            _safe_ratio(np.abs(result.rotating_force), f1),
+            safe_ratio(np.abs(phasors.rotating_force), f1),
             "1",
             "rotating force per m_rec r omega^2",
         ),
         "rotating_moment_magnitude": _var(
             (),
-            np.abs(result.rotating_moment),
+            np.abs(phasors.rotating_moment),
             "N m",
             "magnitude of the rotating (centrifugal) moment about reference_z, order 1 forward",
         ),
         "rotating_moment_phase": _var(
             (),
-            phase_deg(result.rotating_moment),
+            phase_deg(phasors.rotating_moment),
             "deg",
             "phase of the rotating moment at crank angle 0",
         ),
         "rotating_moment_normalised": _var(
             (),
-            _safe_ratio(np.abs(result.rotating_moment), m1),
+            safe_ratio(np.abs(phasors.rotating_moment), m1),
             "1",
             "rotating moment per m_rec r omega^2 times cylinder pitch",
         ),
-        "roll_amplitude": _var(
-            ("roll_order",),
-            np.abs(result.roll),
-            "N m",
-            "amplitude of the roll torque on the block (sum of a_k cos(k theta + phase_k))",
-        ),
-        "roll_phase": _var(
-            ("roll_order",),
-            phase_deg(result.roll),
-            "deg",
-            "phase of the roll torque, positive in the direction of rotation",
-        ),
-        "roll_amplitude_normalised": _var(
-            ("roll_order",),
-            _safe_ratio(np.abs(result.roll), rec_r2w2),
-            "1",
-            "roll torque amplitude per m_rec r^2 omega^2",
-        ),
+        **_roll_variables(result.roll, result.reference_roll, with_gas),
         "piston_acceleration_cos": _var(
             ("cylinder", "order"),
-            result.acceleration_coefficients.real,
+            phasors.acceleration_coefficients.real,
             "1",
             "a_k: cosine coefficient of -s''/r (normalised reciprocating inertia)",
         ),
         "piston_acceleration_sin": _var(
             ("cylinder", "order"),
-            -result.acceleration_coefficients.imag,
+            -phasors.acceleration_coefficients.imag,
             "1",
             "b_k: sine coefficient of -s''/r (normalised reciprocating inertia)",
         ),
@@ -309,9 +258,7 @@ def build_dataset(
             ["forward", "backward"],
             "sense of rotation of the phasor relative to the crank",
         ),
-        "roll_order": _coord(
-            "roll_order", ks.astype(np.float64), "harmonic order of the roll torque"
-        ),
+        "roll_order": _coord("roll_order", result.roll_orders, "harmonic order of the roll torque"),
         "cylinder": _coord("cylinder", np.arange(1, layout.n_cylinders + 1), "cylinder number"),
     }
     attrs = {
@@ -319,29 +266,31 @@ def build_dataset(
         "layout": layout.name,
         "source_file": layout.path or "",
         "cycle": layout.cycle,
-        "model": result.model,
-        "series_terms": result.terms if result.model == "series" else 0,
-        "time_samples": result.samples,
-        "error_bound": float(result.error_bound),
+        "model": phasors.model,
+        "series_terms": phasors.terms if phasors.model == "series" else 0,
+        "time_samples": phasors.samples,
+        "error_bound": float(phasors.error_bound),
         "error_bound_note": "bound on the normalised acceleration coefficients (force error per "
         "m_rec r omega^2) of the model used; see balance.core.accuracy",
-        # 12 significant digits: 8000 rpm read from a file stays 8000, not 7999.999999999999
-        "speed_rpm": float(f"{layout.speed * 60.0 / (2.0 * math.pi):.12g}"),
+        "speed_rpm": speed_rpm(layout.speed),
         "firing_order": ",".join(map(str, layout.firing_order or ())),
         "balance_version": __version__,
         "conventions": "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
         "direction of rotation; (x, y) as y + i x",
     }
+    balanced = result.balanced
     if balanced is not None:
-        data.update(_proposal_variables(balanced, f1, m1))
+        assert result.residual_roll is not None  # a proposal needs the roll
+        data.update(_proposal_variables(balanced, result.residual_roll, f1, m1, with_gas))
         attrs.update(_proposal_attrs(balanced))
-    if np.isnan(result.moment_forward).all():  # moments not asked for
+    if not result.has_moments:
         data = {
             k: v
             for k, v in data.items()
             if not k.startswith(("reciprocating_moment", "rotating_moment"))
         }
-    if torque is not None:
+    if result.torque is not None:
+        torque = result.torque
         data.update(_torque_variables(torque))
         coords["crank_angle"] = xr.IndexVariable(
             ("crank_angle",),
@@ -349,10 +298,7 @@ def build_dataset(
             attrs={"units": "deg", "long_name": "crank angle theta over the working cycle"},
         )
         attrs["gas_pressure_source"] = layout.gas.source if layout.gas is not None else ""
-        if not np.isnan(result.roll).all():
-            _gas_roll(data, coords, torque, result, balanced, rec_r2w2)
-    if np.isnan(result.roll).all():  # roll not asked for
-        data = {k: v for k, v in data.items() if not k.startswith("roll")}
+    if result.roll is None:  # roll not asked for
         coords = {k: v for k, v in coords.items() if k != "roll_order"}
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
 
@@ -369,7 +315,42 @@ def _proposal_attrs(balanced: Balanced) -> dict[str, Any]:
     }
 
 
-def _proposal_variables(balanced: Balanced, f1: float, m1: float) -> dict[str, xr.Variable]:
+def _roll_variables(
+    roll: NDArray[np.complex128] | None, reference_roll: float, with_gas: bool
+) -> dict[str, xr.Variable]:
+    """The roll per roll order (nothing when the roll was not asked for)."""
+    if roll is None:
+        return {}
+    gas = " with gas forces" if with_gas else ""
+    return {
+        "roll_amplitude": _var(
+            ("roll_order",),
+            np.abs(roll),
+            "N m",
+            f"amplitude of the roll torque on the block{gas} (sum of a_k cos(k theta + phase_k))",
+        ),
+        "roll_phase": _var(
+            ("roll_order",),
+            phase_deg(roll),
+            "deg",
+            "phase of the roll torque, positive in the direction of rotation",
+        ),
+        "roll_amplitude_normalised": _var(
+            ("roll_order",),
+            safe_ratio(np.abs(roll), reference_roll),
+            "1",
+            "roll torque amplitude per m_rec r^2 omega^2",
+        ),
+    }
+
+
+def _proposal_variables(
+    balanced: Balanced,
+    residual_roll: NDArray[np.complex128],
+    f1: float,
+    m1: float,
+    with_gas: bool,
+) -> dict[str, xr.Variable]:
     proposal = balanced.proposal
     cws = proposal.counterweights
     shafts = proposal.shafts
@@ -385,6 +366,7 @@ def _proposal_variables(balanced: Balanced, f1: float, m1: float) -> dict[str, x
     force_peak = np.abs(force).sum(axis=-1)
     moment_peak = np.abs(moment).sum(axis=-1)
     cw_u = np.array([c.unbalance for c in cws], dtype=np.complex128)
+    gas = "gas forces and " if with_gas else ""
     return {
         "counterweight_z": _var(
             ("counterweight",), [c.z for c in cws], "m", "axial plane of the proposed counterweight"
@@ -446,7 +428,7 @@ def _proposal_variables(balanced: Balanced, f1: float, m1: float) -> dict[str, x
             ("order",), force_peak, "N", "peak residual force (reciprocating + rotating + proposal)"
         ),
         "residual_force_peak_normalised": _var(
-            ("order",), _safe_ratio(force_peak, f1), "1", "peak residual force per m_rec r omega^2"
+            ("order",), safe_ratio(force_peak, f1), "1", "peak residual force per m_rec r omega^2"
         ),
         "residual_moment_magnitude": _var(
             ("order", "rotation"),
@@ -468,77 +450,23 @@ def _proposal_variables(balanced: Balanced, f1: float, m1: float) -> dict[str, x
         ),
         "residual_moment_peak_normalised": _var(
             ("order",),
-            _safe_ratio(moment_peak, m1),
+            safe_ratio(moment_peak, m1),
             "1",
             "peak residual moment per m_rec r omega^2 a",
         ),
         "residual_roll_amplitude": _var(
             ("roll_order",),
-            np.abs(balanced.roll),
+            np.abs(residual_roll),
             "N m",
-            "roll torque amplitude with the proposed shafts",
+            f"roll torque amplitude with {gas}the proposed shafts",
         ),
         "residual_roll_phase": _var(
             ("roll_order",),
-            phase_deg(balanced.roll),
+            phase_deg(residual_roll),
             "deg",
-            "roll torque phase with the proposed shafts",
+            f"roll torque phase with {gas}the proposed shafts",
         ),
     }
-
-
-def _gas_roll(
-    data: dict[str, xr.Variable],
-    coords: dict[str, Any],
-    torque: TorqueResult,
-    result: Phasors,
-    balanced: Balanced | None,
-    rec_r2w2: float,
-) -> None:
-    """Replace the inertia-only roll by the roll with gas forces (half orders included)."""
-    ks = torque.roll_orders
-    roll = torque.roll
-    data["roll_amplitude"] = _var(
-        ("roll_order",),
-        np.abs(roll),
-        "N m",
-        "amplitude of the roll torque on the block with gas forces "
-        "(sum of a_k cos(k theta + phase_k))",
-    )
-    data["roll_phase"] = _var(
-        ("roll_order",),
-        phase_deg(roll),
-        "deg",
-        "phase of the roll torque, positive in the direction of rotation",
-    )
-    data["roll_amplitude_normalised"] = _var(
-        ("roll_order",),
-        _safe_ratio(np.abs(roll), rec_r2w2),
-        "1",
-        "roll torque amplitude per m_rec r^2 omega^2",
-    )
-    coords["roll_order"] = _coord("roll_order", ks, "harmonic order of the roll torque")
-    if balanced is not None:
-        residual = roll.copy()
-        shafts = balanced.roll - result.roll  # the shafts' roll, integer orders only
-        for j, k in enumerate(result.orders):
-            at = np.flatnonzero(np.isclose(ks, float(k)))
-            if at.size:
-                residual[at[0]] += shafts[j]
-        scale = float(np.sum(np.abs(roll)) + np.sum(np.abs(shafts)))
-        residual = _phasors.cancel_to_zero(residual, scale, 64)
-        data["residual_roll_amplitude"] = _var(
-            ("roll_order",),
-            np.abs(residual),
-            "N m",
-            "roll torque amplitude with gas forces and the proposed shafts",
-        )
-        data["residual_roll_phase"] = _var(
-            ("roll_order",),
-            phase_deg(residual),
-            "deg",
-            "roll torque phase with gas forces and the proposed shafts",
-        )
 
 
 def _torque_variables(t: TorqueResult) -> dict[str, xr.Variable]:

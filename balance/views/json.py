@@ -1,20 +1,29 @@
-"""The contract JSON (``schema: balance.analysis/1``) of a result Dataset."""
+"""The contract JSON (``schema: balance.analysis/1``) of a :class:`~balance.core.result.Result`.
+
+Reads the Result's complex phasors and stored references directly (magnitudes with
+``np.abs``, phases with :func:`balance.views.polar.phase_deg`); no xarray.
+"""
 
 from __future__ import annotations
 
 import json
 import math
-from typing import Any
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
-import xarray as xr
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["to_dict", "to_json"]
+from balance.views.polar import SCHEMA, phase_deg, safe_ratio, speed_rpm
 
+if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.balancing import Proposal
+    from balance.core.result import Result
+    from balance.core.torque import TorqueResult
 
-def _v(ds: xr.Dataset, name: str) -> Any:
-    """A variable's values as numpy (through ``Dataset.variables``: no DataArray is built,
-    which keeps a cold start's JSON view at about a millisecond)."""
-    return ds.variables[name].values
+__all__ = ["order_entries", "to_dict", "to_json"]
+
+ComplexArray = NDArray[np.complex128]
 
 
 def _num(value: Any) -> float | None:
@@ -22,167 +31,211 @@ def _num(value: Any) -> float | None:
     return number if math.isfinite(number) else None
 
 
-def _phasor(ds: xr.Dataset, prefix: str) -> dict[str, Any]:
-    """A scalar phasor (magnitude and phase variables without dimensions)."""
-    return {
-        "magnitude": _num(_v(ds, f"{prefix}_magnitude")),
-        "phase_deg": _num(_v(ds, f"{prefix}_phase")),
-    }
-
-
-def _orders(ds: xr.Dataset, prefix: str) -> list[dict[str, Any]]:
-    """Per-order entries; reads each variable once as a numpy array (``.sel`` per value
-    would cost a cold start tens of milliseconds)."""
-    variables = ds.variables
-    magnitude = variables[f"{prefix}_magnitude"].transpose("order", "rotation").values
-    phase = variables[f"{prefix}_phase"].transpose("order", "rotation").values
-    peak = _v(ds, f"{prefix}_peak")
-    normalised = _v(ds, f"{prefix}_peak_normalised")
-    rotations = list(_v(ds, "rotation"))
-    fwd, bwd = rotations.index("forward"), rotations.index("backward")
-    return [
-        {
-            "order": int(k),
-            "forward": {"magnitude": _num(magnitude[i, fwd]), "phase_deg": _num(phase[i, fwd])},
-            "backward": {"magnitude": _num(magnitude[i, bwd]), "phase_deg": _num(phase[i, bwd])},
-            "peak": _num(peak[i]),
-            "peak_normalised": _num(normalised[i]),
-        }
-        for i, k in enumerate(_v(ds, "order"))
-    ]
-
-
-def _roll(ds: xr.Dataset, prefix: str) -> list[dict[str, Any]]:
-    amplitude = _v(ds, f"{prefix}_amplitude")
-    phase = _v(ds, f"{prefix}_phase")
-    return [
-        {"order": _order_value(k), "amplitude": _num(amplitude[i]), "phase_deg": _num(phase[i])}
-        for i, k in enumerate(_v(ds, "roll_order"))
-    ]
-
-
 def _order_value(order: float) -> float | int:
     return int(order) if float(order).is_integer() else float(order)
 
 
-def to_dict(ds: xr.Dataset) -> dict[str, Any]:
-    """The result as plain data in the contract's JSON shape (SI units, degrees)."""
-    has_moments = "reciprocating_moment_magnitude" in ds
-    whats = ("force", "moment") if has_moments else ("force",)
-    rotating = {}
-    for what in whats:
-        prefix = f"rotating_{what}"
-        rotating[what] = {
-            "forward": _phasor(ds, prefix),
-            "peak": _num(_v(ds, f"{prefix}_magnitude")),
-            "peak_normalised": _num(_v(ds, f"{prefix}_normalised")),
+def order_entries(
+    orders: ArrayLike,
+    magnitude: ArrayLike,
+    phase: ArrayLike,
+    peak: ArrayLike,
+    normalised: ArrayLike,
+) -> list[dict[str, Any]]:
+    """Per-order entries from arrays: ``magnitude`` and ``phase`` (order, rotation) with the
+    rotations forward and backward, ``peak`` and ``normalised`` per order."""
+    mag = np.asarray(magnitude)
+    ph = np.asarray(phase)
+    pk = np.asarray(peak)
+    nm = np.asarray(normalised)
+    return [
+        {
+            "order": int(k),
+            "forward": {"magnitude": _num(mag[i, 0]), "phase_deg": _num(ph[i, 0])},
+            "backward": {"magnitude": _num(mag[i, 1]), "phase_deg": _num(ph[i, 1])},
+            "peak": _num(pk[i]),
+            "peak_normalised": _num(nm[i]),
         }
+        for i, k in enumerate(np.asarray(orders))
+    ]
+
+
+def _phasor_orders(
+    orders: ArrayLike, forward: ComplexArray, backward: ComplexArray, reference: float
+) -> list[dict[str, Any]]:
+    """Per-order entries of forward and backward phasors; peak ``|P+| + |P-|``."""
+    both = np.stack([forward, backward], axis=-1)
+    magnitude = np.abs(both)
+    peak = magnitude[..., 0] + magnitude[..., 1]
+    return order_entries(orders, magnitude, phase_deg(both), peak, safe_ratio(peak, reference))
+
+
+def _roll(orders: ArrayLike, roll: ComplexArray) -> list[dict[str, Any]]:
+    amplitude = np.abs(roll)
+    phase = phase_deg(roll)
+    return [
+        {"order": _order_value(k), "amplitude": _num(amplitude[i]), "phase_deg": _num(phase[i])}
+        for i, k in enumerate(np.asarray(orders))
+    ]
+
+
+def _rotating(phasor: complex, reference: float) -> dict[str, Any]:
+    magnitude = np.abs(phasor)
+    return {
+        "forward": {"magnitude": _num(magnitude), "phase_deg": _num(phase_deg(phasor))},
+        "peak": _num(magnitude),
+        "peak_normalised": _num(safe_ratio(magnitude, reference)),
+    }
+
+
+def to_dict(result: Result, factor_study: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """The result as plain data in the contract's JSON shape (SI units, degrees).
+
+    ``factor_study``: a balance-factor study (:func:`balance.studies.factor.factor_study_dataset`,
+    or any mapping of its variable names to arrays), reported as ``balance_factor_study``.
+    """
+    p = result.phasors
+    ks = p.orders
+    rotating = {"force": _rotating(p.rotating_force, result.reference_force)}
+    reciprocating = {
+        "force": _phasor_orders(ks, p.force_forward, p.force_backward, result.reference_force)
+    }
+    if result.has_moments:
+        rotating["moment"] = _rotating(p.rotating_moment, result.reference_moment)
+        reciprocating["moment"] = _phasor_orders(
+            ks, p.moment_forward, p.moment_backward, result.reference_moment
+        )
     out: dict[str, Any] = {
-        "schema": ds.attrs["schema"],
-        "layout": ds.attrs["layout"],
-        "speed_rpm": float(ds.attrs["speed_rpm"]),
-        "reference_z_m": float(_v(ds, "reference_z")),
-        "model": ds.attrs["model"],
+        "schema": SCHEMA,
+        "layout": result.engine.name,
+        "speed_rpm": speed_rpm(result.engine.speed),
+        "reference_z_m": float(result.engine.reference_z),
+        "model": p.model,
         "accuracy": {
-            "error_bound": _num(ds.attrs.get("error_bound", float("nan"))),
-            "series_terms": int(ds.attrs.get("series_terms", 0)),
-            "time_samples": int(ds.attrs.get("time_samples", 0)),
+            "error_bound": _num(p.error_bound),
+            "series_terms": int(p.terms if p.model == "series" else 0),
+            "time_samples": int(p.samples),
         },
         "normalisation": {
-            "force_N": _num(_v(ds, "reference_force")),
-            "pitch_m": _num(_v(ds, "pitch")),
-            "moment_Nm": _num(_v(ds, "reference_moment")),
+            "force_N": _num(result.reference_force),
+            "pitch_m": _num(result.pitch),
+            "moment_Nm": _num(result.reference_moment),
         },
-        "reciprocating": {what: _orders(ds, f"reciprocating_{what}") for what in whats},
+        "reciprocating": reciprocating,
         "rotating": rotating,
     }
-    if "roll_amplitude" in ds:
-        out["roll"] = _roll(ds, "roll")
-    if "torque_mean" in ds:
-        out["torque"] = {
-            "mean_Nm": _num(_v(ds, "torque_mean")),
-            "max_Nm": _num(_v(ds, "torque_max")),
-            "min_Nm": _num(_v(ds, "torque_min")),
-            "speed_fluctuation": _num(_v(ds, "speed_fluctuation")),
-            "flywheel_inertia_kgm2": _num(_v(ds, "flywheel_inertia")),
+    if result.roll is not None:
+        out["roll"] = _roll(result.roll_orders, result.roll)
+    if result.torque is not None:
+        out.update(_torque(result.torque))
+    if result.balanced is not None:
+        assert result.residual_roll is not None  # a proposal needs the roll
+        b = result.balanced
+        out["proposal"] = _proposal(b.proposal) | {
+            "residual": {
+                "force": _residual(ks, b.force_forward, b.force_backward, result.reference_force),
+                "moment": _residual(
+                    ks, b.moment_forward, b.moment_backward, result.reference_moment
+                ),
+                "roll": _roll(result.roll_orders, result.residual_roll),
+            }
         }
-        out["gas"] = {
-            "indicated_work_J": _num(_v(ds, "indicated_work")),
-            "torque_nonuniformity": _num(_v(ds, "torque_nonuniformity")),
-            "excess_work_J": _num(_v(ds, "excess_work")),
-            "firing_tdc_deg": [_num(v) for v in _v(ds, "firing_tdc")],
-        }
-    if "counterweight_mass" in ds:
-        out["proposal"] = _proposal(ds)
-    if "study_factor" in ds:
-        out["balance_factor_study"] = {
-            "optimal_factor": _num(_v(ds, "optimal_balance_factor")),
-            "factors": [
-                {
-                    "factor": float(f),
-                    "vertical_peak": _num(_v(ds, "study_vertical_peak")[i]),
-                    "horizontal_peak": _num(_v(ds, "study_horizontal_peak")[i]),
-                    "moment_peak": _num(_v(ds, "study_moment_peak")[i]),
-                }
-                for i, f in enumerate(_v(ds, "study_factor"))
-            ],
-        }
+    if factor_study is not None:
+        out["balance_factor_study"] = _factor_study(factor_study)
     return out
 
 
-def _proposal(ds: xr.Dataset) -> dict[str, Any]:
-    counterweights = [
-        {
-            "z_m": _num(_v(ds, "counterweight_z")[i]),
-            "mass_kg": _num(_v(ds, "counterweight_mass")[i]),
-            "radius_m": _num(_v(ds, "counterweight_radius")[i]),
-            "angle_deg": _num(_v(ds, "counterweight_angle")[i]),
-        }
-        for i in range(ds.sizes.get("counterweight", 0))
-    ]
-    shafts = []
-    for i in range(ds.sizes.get("shaft", 0)):
-        planes = []
-        for j in range(ds.sizes.get("shaft_plane", 0)):
-            z = float(_v(ds, "shaft_plane_z")[i, j])
-            if math.isfinite(z):
-                planes.append(
-                    {
-                        "z_m": z,
-                        "unbalance_kgm": _num(_v(ds, "shaft_plane_unbalance")[i, j]),
-                        "angle_deg": _num(_v(ds, "shaft_plane_angle")[i, j]),
-                    }
-                )
-        shafts.append(
-            {
-                "speed_ratio": int(_v(ds, "shaft_speed_ratio")[i]),
-                "x_m": _num(_v(ds, "shaft_x")[i]),
-                "y_m": _num(_v(ds, "shaft_y")[i]),
-                "planes": planes,
-            }
-        )
-    factor = ds.attrs.get("proposal_balance_factor", "")
+def _torque(t: TorqueResult) -> dict[str, Any]:
     return {
-        "strategy": ds.attrs["proposal_strategy"],
-        "orders": [int(k) for k in str(ds.attrs["proposal_orders"]).split(",") if k],
-        "balance_factor": None if factor == "" else float(factor),
-        "notes": [n for n in str(ds.attrs.get("proposal_notes", "")).split("; ") if n],
-        "counterweights": counterweights,
-        "balance_shafts": shafts,
-        "residual": {
-            what: [
-                {"order": int(k), "peak": _num(peak[i]), "peak_normalised": _num(norm[i])}
-                for i, k in enumerate(_v(ds, "order"))
-            ]
-            for what, peak, norm in (
-                (w, _v(ds, f"residual_{w}_peak"), _v(ds, f"residual_{w}_peak_normalised"))
-                for w in ("force", "moment")
-            )
-        }
-        | {"roll": _roll(ds, "residual_roll")},
+        "torque": {
+            "mean_Nm": _num(t.mean),
+            "max_Nm": _num(t.maximum),
+            "min_Nm": _num(t.minimum),
+            "speed_fluctuation": _num(t.speed_fluctuation),
+            "flywheel_inertia_kgm2": _num(t.flywheel_inertia),
+        },
+        "gas": {
+            "indicated_work_J": _num(t.mean * 2.0 * math.pi * t.cycle_deg / 360.0),
+            "torque_nonuniformity": _num(t.nonuniformity),
+            "excess_work_J": _num(t.excess_work),
+            "firing_tdc_deg": [_num(v) for v in np.asarray(t.firing_tdc)],
+        },
     }
 
 
-def to_json(ds: xr.Dataset, indent: int | None = 2) -> str:
-    """The contract JSON text of a result Dataset."""
-    return json.dumps(to_dict(ds), indent=indent, allow_nan=False) + "\n"
+def _residual(
+    orders: ArrayLike, forward: ComplexArray, backward: ComplexArray, reference: float
+) -> list[dict[str, Any]]:
+    peak = np.abs(np.stack([forward, backward], axis=-1)).sum(axis=-1)
+    normalised = safe_ratio(peak, reference)
+    return [
+        {"order": int(k), "peak": _num(peak[i]), "peak_normalised": _num(normalised[i])}
+        for i, k in enumerate(np.asarray(orders))
+    ]
+
+
+def _proposal(proposal: Proposal) -> dict[str, Any]:
+    counterweights = [
+        {
+            "z_m": _num(c.z),
+            "mass_kg": _num(c.mass),
+            "radius_m": _num(c.radius),
+            "angle_deg": _num(c.angle_deg),
+        }
+        for c in proposal.counterweights
+    ]
+    shafts = []
+    for s in proposal.shafts:
+        unbalance = np.array([u for _, u in s.planes], dtype=np.complex128)
+        angle = phase_deg(unbalance)
+        planes = [
+            {
+                "z_m": float(z),
+                "unbalance_kgm": _num(np.abs(unbalance[j])),
+                "angle_deg": _num(angle[j]),
+            }
+            for j, (z, _) in enumerate(s.planes)
+        ]
+        shafts.append(
+            {
+                "speed_ratio": int(s.speed_ratio),
+                "x_m": _num(s.x),
+                "y_m": _num(s.y),
+                "planes": planes,
+            }
+        )
+    factor = proposal.balance_factor
+    return {
+        "strategy": proposal.strategy,
+        "orders": [int(k) for k in proposal.orders],
+        "balance_factor": None if factor is None else float(factor),
+        "notes": [n for n in proposal.notes if n],
+        "counterweights": counterweights,
+        "balance_shafts": shafts,
+    }
+
+
+def _factor_study(study: Mapping[str, Any]) -> dict[str, Any]:
+    factors = np.asarray(study["study_factor"])
+    vertical = np.asarray(study["study_vertical_peak"])
+    horizontal = np.asarray(study["study_horizontal_peak"])
+    moment = np.asarray(study["study_moment_peak"])
+    return {
+        "optimal_factor": _num(np.asarray(study["optimal_balance_factor"])),
+        "factors": [
+            {
+                "factor": float(f),
+                "vertical_peak": _num(vertical[i]),
+                "horizontal_peak": _num(horizontal[i]),
+                "moment_peak": _num(moment[i]),
+            }
+            for i, f in enumerate(factors)
+        ],
+    }
+
+
+def to_json(
+    result: Result, indent: int | None = 2, factor_study: Mapping[str, Any] | None = None
+) -> str:
+    """The contract JSON text of a result."""
+    return json.dumps(to_dict(result, factor_study), indent=indent, allow_nan=False) + "\n"

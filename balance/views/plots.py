@@ -1,7 +1,9 @@
-r"""Figures of a result Dataset: compute first (:mod:`balance.views.signals`), then draw.
+r"""Figures of a result: compute first (:mod:`balance.views.signals`), then draw.
 
-Every figure is a function ``plot_<kind>(ds, *, ax=None, ...)`` that takes the Dataset of
-:func:`balance.analyse` and returns a :class:`matplotlib.figure.Figure`.  The figures are
+Every figure is a function ``plot_<kind>(result, *, ax=None, ...)`` that takes the
+:class:`~balance.core.result.Result` of :func:`balance.core.analysis.compute` (its complex
+phasors and stored references, as they are) and returns a
+:class:`matplotlib.figure.Figure`.  The figures are
 built object-oriented (no :mod:`matplotlib.pyplot`, no global state): they work headless,
 and matplotlib is imported only when a figure is drawn.  Each function draws under a fixed
 style (:data:`STYLE`, applied with :func:`matplotlib.rc_context`) so that figures look the
@@ -59,9 +61,10 @@ from balance.views import signals as synthesis
 from balance.views.signals import Quantity, Source
 
 if TYPE_CHECKING:  # pragma: no cover
-    import xarray as xr
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+
+    from balance.core.result import Result
 
 __all__ = [
     "FORMATS",
@@ -196,18 +199,18 @@ def _finish(fig: Figure, owned: bool, title: str | None, default_title: str) -> 
     return fig
 
 
-def _layout_name(ds: xr.Dataset) -> str:
-    return str(ds.attrs.get("layout", "engine"))
+def _layout_name(result: Result) -> str:
+    return str(result.engine.name)
 
 
-def _scale(ds: xr.Dataset, quantity: Quantity, normalised: bool) -> tuple[float, str, str]:
-    """Divisor, unit and short name of the normalisation of a quantity."""
+def _scale(result: Result, quantity: Quantity, normalised: bool) -> tuple[float, str, str]:
+    """Divisor, unit and short name of the normalisation of a quantity (stored references)."""
     if quantity == "force":
-        unit, per, reference = "N", "F1", "reference_force"
+        unit, per, value = "N", "F1", result.reference_force
     else:
-        unit, per, reference = "N m", "F1 a", "reference_moment"
+        unit, per, value = "N m", "F1 a", result.reference_moment
     if normalised:
-        value = float(ds[reference]) if reference in ds else math.nan
+        value = float(value)
         if math.isfinite(value) and value > 0.0:
             return value, f"per {per}", per
     return 1.0, unit, ""
@@ -231,7 +234,7 @@ def _pick_orders(all_orders: NDArray[Any], orders: Iterable[float] | None) -> ND
     missing = [k for k in wanted if not np.any(np.isclose(all_orders, k))]
     if missing:
         raise ValueError(
-            f"orders {', '.join(f'{k:g}' for k in missing)} are not in the Dataset "
+            f"orders {', '.join(f'{k:g}' for k in missing)} are not in the result "
             f"(it has {', '.join(f'{k:g}' for k in all_orders)})"
         )
     return np.asarray(np.isin(np.round(all_orders * 2), np.round(wanted * 2)))
@@ -296,7 +299,7 @@ def _degree_axis(axes: Axes, span: float = 360.0) -> None:
 # --------------------------------------------------------------------------- kinds
 
 
-def plot_crank_star(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = None) -> Figure:
+def plot_crank_star(result: Result, *, ax: AxesArg = None, title: str | None = None) -> Figure:
     """Crank star: throws and banks seen along the crank from the front.
 
     The view is along -z: +y is up, +x to the right, and the crank turns clockwise (from +y
@@ -305,8 +308,8 @@ def plot_crank_star(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = N
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; a new figure otherwise.
     title : str, optional
@@ -318,9 +321,10 @@ def plot_crank_star(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = N
     """
     with _styled():
         fig, (axes,), owned = _new_figure(ax, 1, (6.0, 6.2), kind="crank_star")
-        throws = np.mod(np.asarray(ds["throw_angle"].values, dtype=np.float64), 360.0)
-        banks = np.mod(np.asarray(ds["bank_angle"].values, dtype=np.float64), 360.0)
-        cylinders = np.asarray(ds["cylinder"].values)
+        engine = result.engine
+        throws = np.mod(np.degrees(np.asarray(engine.throw, dtype=np.float64)), 360.0)
+        banks = np.mod(np.degrees(np.asarray(engine.bank, dtype=np.float64)), 360.0)
+        cylinders = np.arange(1, engine.n_cylinders + 1)
         circle = np.radians(np.linspace(0.0, 360.0, 361))
         axes.plot(np.sin(circle), np.cos(circle), color="0.75", lw=1.0, zorder=1)
         axes.plot([0.0], [0.0], "o", color="black", ms=6, zorder=4)
@@ -395,7 +399,7 @@ def plot_crank_star(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = N
         axes.set_xlabel("x / crank radius [1]  (towards the pin after +y)")
         axes.set_ylabel("y / crank radius [1]  (up)")
         axes.set_title("throws (solid) and banks (dashed), seen from the front")
-        return _finish(fig, owned, title, f"{_layout_name(ds)}: crank star")
+        return _finish(fig, owned, title, f"{_layout_name(result)}: crank star")
 
 
 def _signed_angle(angle_deg: float) -> str:
@@ -414,7 +418,7 @@ def _va(angle_rad: float) -> str:
 
 
 def plot_phasors(
-    ds: xr.Dataset,
+    result: Result,
     *,
     ax: AxesArg = None,
     source: Source = "free",
@@ -430,14 +434,14 @@ def plot_phasors(
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     ax : sequence of 2 polar Axes, optional
         Axes for the force and the moment; a new figure otherwise.
     source : {'free', 'reciprocating', 'residual'}
         Which force and moment (see :mod:`balance.views.signals`).
     orders : iterable of int, optional
-        Orders to draw; default every order of the Dataset (zero ones are not drawn).
+        Orders to draw; default every order of the result (zero ones are not drawn).
     normalised : bool
         Draw per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
     title : str, optional
@@ -453,8 +457,8 @@ def plot_phasors(
         fig, axes_list, owned = _new_figure(ax, 2, (10.0, 5.4), polar=True, kind="phasors")
         legend_orders: dict[int, Line2D] = {}
         for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
-            ks, fwd, bwd = synthesis.dataset_phasors(ds, quantity, source)
-            divisor, unit, _ = _scale(ds, quantity, normalised)
+            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+            divisor, unit, _ = _scale(result, quantity, normalised)
             fwd, bwd = fwd / divisor, bwd / divisor
             keep = _pick_orders(ks, orders)
             polar: Any = axes  # PolarAxes
@@ -504,12 +508,12 @@ def plot_phasors(
         ]
         fig.legend(handles=handles, loc="outside right center")
         return _finish(
-            fig, owned, title, f"{_layout_name(ds)}: phasors at θ = 0, {_source_label(source)}"
+            fig, owned, title, f"{_layout_name(result)}: phasors at θ = 0, {_source_label(source)}"
         )
 
 
 def plot_crank_angle(
-    ds: xr.Dataset,
+    result: Result,
     *,
     ax: AxesArg = None,
     source: Source = "free",
@@ -520,20 +524,20 @@ def plot_crank_angle(
 ) -> Figure:
     """Force (y and x) and the pitch and yaw couples over one revolution.
 
-    Thick black: the sum of the orders of the Dataset; thin: each non-zero order.  The
+    Thick black: the sum of the orders of the result; thin: each non-zero order.  The
     couples are :math:`M_x = -\\sum \\Delta z\\,F_y` (pitch) and
     :math:`M_y = \\sum \\Delta z\\,F_x` (yaw) about ``reference_z``.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     ax : sequence of 4 Axes, optional
         Axes for F_y, F_x, M_x and M_y; a new figure otherwise.
     source : {'free', 'reciprocating', 'residual'}
         Which force and moment (see :mod:`balance.views.signals`).
     orders : iterable of int, optional
-        Orders to include; default all of the Dataset.
+        Orders to include; default all of the result.
     normalised : bool
         Per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
     samples : int
@@ -549,9 +553,9 @@ def plot_crank_angle(
     with _styled():
         fig, axes_list, owned = _new_figure(ax, 4, (10.0, 7.0), nrows=2, kind="crank_angle")
         for row, quantity in enumerate(synthesis.QUANTITIES):
-            ks, fwd, bwd = synthesis.dataset_phasors(ds, quantity, source)
+            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
             keep = _pick_orders(ks, orders)
-            divisor, unit, _ = _scale(ds, quantity, normalised)
+            divisor, unit, _ = _scale(result, quantity, normalised)
             per_order, total = _order_signals(ks[keep], fwd[keep], bwd[keep], theta, divisor)
             split = (
                 synthesis.transverse_components
@@ -588,7 +592,7 @@ def plot_crank_angle(
                 axes.plot(theta, total_values, color=TOTAL_COLOUR, lw=2.6, label="total", zorder=1)
         _shared_legend(fig, axes_list)
         return _finish(
-            fig, owned, title, f"{_layout_name(ds)}: {_source_label(source)} over a revolution"
+            fig, owned, title, f"{_layout_name(result)}: {_source_label(source)} over a revolution"
         )
 
 
@@ -609,7 +613,7 @@ def _shared_legend(fig: Figure, axes_list: Sequence[Axes]) -> None:
 
 
 def plot_locus(
-    ds: xr.Dataset,
+    result: Result,
     *,
     ax: AxesArg = None,
     source: Source = "free",
@@ -626,14 +630,14 @@ def plot_locus(
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     ax : sequence of 2 Axes, optional
         Axes for the force and the moment; a new figure otherwise.
     source : {'free', 'reciprocating', 'residual'}
         Which force and moment (see :mod:`balance.views.signals`).
     orders : iterable of int, optional
-        Orders to include; default all of the Dataset.
+        Orders to include; default all of the result.
     normalised : bool
         Per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
     samples : int
@@ -649,9 +653,9 @@ def plot_locus(
     with _styled():
         fig, axes_list, owned = _new_figure(ax, 2, (10.5, 5.2), kind="locus")
         for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
-            ks, fwd, bwd = synthesis.dataset_phasors(ds, quantity, source)
+            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
             keep = _pick_orders(ks, orders)
-            divisor, unit, _ = _scale(ds, quantity, normalised)
+            divisor, unit, _ = _scale(result, quantity, normalised)
             per_order, total = _order_signals(ks[keep], fwd[keep], bwd[keep], theta, divisor)
             name = "force F" if quantity == "force" else "moment Σ Δz·F"
             axes.set_title(name)
@@ -686,7 +690,7 @@ def plot_locus(
             fig,
             owned,
             title,
-            f"{_layout_name(ds)}: locus of the {_source_label(source)} force and moment",
+            f"{_layout_name(result)}: locus of the {_source_label(source)} force and moment",
         )
 
 
@@ -712,7 +716,7 @@ def _direction_arrow(
 
 
 def plot_spectrum(
-    ds: xr.Dataset,
+    result: Result,
     *,
     ax: AxesArg = None,
     source: Source = "free",
@@ -726,8 +730,8 @@ def plot_spectrum(
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     ax : sequence of 2 Axes, optional
         Axes for the force and the moment; a new figure otherwise.
     source : {'free', 'reciprocating', 'residual'}
@@ -746,15 +750,15 @@ def plot_spectrum(
     with _styled():
         fig, axes_list, owned = _new_figure(ax, 2, (10.0, 4.6), kind="spectrum")
         for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
-            ks, fwd, bwd = synthesis.dataset_phasors(ds, quantity, source)
-            divisor, unit, _ = _scale(ds, quantity, normalised)
+            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+            divisor, unit, _ = _scale(result, quantity, normalised)
             peak = synthesis.peaks(fwd, bwd) / divisor
             name = "peak force" if quantity == "force" else "peak moment"
             _order_bars(axes, ks, [(peak, "C0", None)], log=log)
             axes.set_title(name)
             axes.set_ylabel(_axis_label(name, unit))
         return _finish(
-            fig, owned, title, f"{_layout_name(ds)}: order spectrum, {_source_label(source)}"
+            fig, owned, title, f"{_layout_name(result)}: order spectrum, {_source_label(source)}"
         )
 
 
@@ -799,7 +803,7 @@ def _order_bars(
 
 
 def plot_roll(
-    ds: xr.Dataset,
+    result: Result,
     *,
     ax: AxesArg = None,
     residual: bool = False,
@@ -814,8 +818,8 @@ def plot_roll(
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     ax : sequence of 2 Axes, optional
         Axes for the torque and the spectrum; a new figure otherwise.
     residual : bool
@@ -831,22 +835,19 @@ def plot_roll(
     -------
     matplotlib.figure.Figure
     """
-    ks, amplitude, phase = synthesis.dataset_roll(ds, residual=residual)
+    ks, roll = synthesis.roll_of(result, residual=residual)
     unit = "N m"
-    if normalised and not residual:
-        with np.errstate(invalid="ignore", divide="ignore"):
-            ratio = np.asarray(ds["roll_amplitude_normalised"].values) / amplitude
-        scale = ratio[np.isfinite(ratio)]
-        if scale.size:
-            amplitude = amplitude * float(scale[0])
-            unit = "per m_rec r² ω²"
+    reference = float(result.reference_roll)
+    if normalised and math.isfinite(reference) and reference > 0.0:
+        roll = roll / reference
+        unit = "per m_rec r² ω²"
+    amplitude = np.abs(roll)
     span = synthesis.roll_span_deg(ks)
     theta = synthesis.crank_angle_grid(samples, span)
     with _styled():
         fig, (torque_axes, bar_axes), owned = _new_figure(ax, 2, (10.5, 4.6), kind="roll")
-        reference = float(np.nansum(amplitude))
         per_order = _denoise(
-            synthesis.roll_signal_per_order(amplitude, phase, ks, theta), reference
+            synthesis.roll_signal_per_order(roll, ks, theta), float(np.nansum(amplitude))
         )
         shown = _significant(amplitude)
         _degree_axis(torque_axes, span)
@@ -874,11 +875,11 @@ def plot_roll(
         bar_axes.set_ylabel(_axis_label("amplitude", unit))
         _shared_legend(fig, [torque_axes])
         what = "roll with the proposed shafts" if residual else "roll"
-        return _finish(fig, owned, title, f"{_layout_name(ds)}: {what}")
+        return _finish(fig, owned, title, f"{_layout_name(result)}: {what}")
 
 
 def plot_balance(
-    ds: xr.Dataset,
+    result: Result,
     *,
     ax: AxesArg = None,
     normalised: bool = False,
@@ -894,8 +895,8 @@ def plot_balance(
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse` with a proposal (``proposal=True``).
+    result : Result
+        From :func:`balance.core.analysis.compute` with a proposal (``proposal=True``).
     ax : sequence of 6 Axes, optional
         Axes in two rows of three (force, moment, roll); a new figure otherwise.
     normalised : bool
@@ -912,28 +913,23 @@ def plot_balance(
     Raises
     ------
     InputError
-        If the Dataset holds no proposal.
+        If the result holds no proposal.
     """
-    if not synthesis.has_proposal(ds):
+    if not synthesis.has_proposal(result):
         raise InputError(
-            "plot_balance: this result has no balancing proposal (no residual_* variables); "
-            "analyse with the proposal enabled (balance.analyse(..., proposal=True), the "
-            "default, with moments and roll)"
+            "plot_balance: this result has no balancing proposal; analyse with the proposal "
+            "enabled (Request(proposal=True), the default, with moments and roll)"
         )
     theta = synthesis.crank_angle_grid(samples)
     with _styled():
         fig, axes_list, owned = _new_figure(ax, 6, (13.0, 7.6), nrows=2, kind="balance")
         for col, quantity in enumerate(synthesis.QUANTITIES):
-            divisor, unit, _ = _scale(ds, quantity, normalised)
-            ks, bf, bb = synthesis.dataset_phasors(ds, quantity, "free")
-            _, af, ab = synthesis.dataset_phasors(ds, quantity, "residual")
+            divisor, unit, _ = _scale(result, quantity, normalised)
+            ks, bf, bb = synthesis.phasors_of(result, quantity, "free")
+            _, af, ab = synthesis.phasors_of(result, quantity, "residual")
             reference = float(np.nansum(synthesis.peaks(bf, bb))) / divisor
-            before = _denoise(
-                synthesis.dataset_signal(ds, theta, quantity, "free") / divisor, reference
-            )
-            after = _denoise(
-                synthesis.dataset_signal(ds, theta, quantity, "residual") / divisor, reference
-            )
+            before = _denoise(synthesis.phasor_signal(bf, bb, ks, theta) / divisor, reference)
+            after = _denoise(synthesis.phasor_signal(af, ab, ks, theta) / divisor, reference)
             name = "force |F|" if quantity == "force" else "moment |Σ Δz·F|"
             top = axes_list[col]
             _degree_axis(top)
@@ -962,8 +958,9 @@ def plot_balance(
             )
             bottom.set_ylabel(_axis_label("peak", unit))
             bottom.legend(loc="upper right")
-        rk, ra, rp = synthesis.dataset_roll(ds)
-        _, qa, qp = synthesis.dataset_roll(ds, residual=True)
+        rk, roll = synthesis.roll_of(result)
+        _, residual_roll = synthesis.roll_of(result, residual=True)
+        ra, qa = np.abs(roll), np.abs(residual_roll)
         span = synthesis.roll_span_deg(rk)
         roll_theta = synthesis.crank_angle_grid(samples, span)
         top = axes_list[2]
@@ -971,7 +968,7 @@ def plot_balance(
         roll_reference = float(np.nansum(ra))
         top.plot(
             roll_theta,
-            _denoise(synthesis.roll_signal(ra, rp, rk, roll_theta), roll_reference),
+            _denoise(synthesis.roll_signal(roll, rk, roll_theta), roll_reference),
             color=BEFORE_COLOUR,
             ls="--",
             lw=1.8,
@@ -980,7 +977,7 @@ def plot_balance(
         )
         top.plot(
             roll_theta,
-            _denoise(synthesis.roll_signal(qa, qp, rk, roll_theta), roll_reference),
+            _denoise(synthesis.roll_signal(residual_roll, rk, roll_theta), roll_reference),
             color="C4",
             lw=2.2,
             label="after (with shafts)",
@@ -991,29 +988,28 @@ def plot_balance(
         _order_bars(axes_list[5], rk, [(ra, BEFORE_COLOUR, "before"), (qa, "C4", "after")])
         axes_list[5].set_ylabel("roll amplitude [N m]")
         axes_list[5].legend(loc="upper right")
-        return _finish(fig, owned, title, f"{_layout_name(ds)}: {proposal_summary(ds)}")
+        return _finish(fig, owned, title, f"{_layout_name(result)}: {proposal_summary(result)}")
 
 
-def proposal_summary(ds: xr.Dataset) -> str:
-    """One line describing the proposal of a Dataset (strategy, orders, masses)."""
-    if not synthesis.has_proposal(ds):
+def proposal_summary(result: Result) -> str:
+    """One line describing the proposal of a result (strategy, orders, masses)."""
+    if result.balanced is None:
         return "no balancing proposal"
-    n_cw = int(ds.sizes.get("counterweight", 0))
-    n_shaft = int(ds.sizes.get("shaft", 0))
+    proposal = result.balanced.proposal
+    n_cw = len(proposal.counterweights)
+    n_shaft = len(proposal.shafts)
     parts = [
         f"{n_cw} counterweight{'s' if n_cw != 1 else ''}",
         f"{n_shaft} balance shaft{'s' if n_shaft != 1 else ''}",
     ]
     return (
-        f"balancing {ds.attrs.get('proposal_strategy', '')}, orders "
-        f"{ds.attrs.get('proposal_orders', '')}: {' and '.join(parts)}"
+        f"balancing {proposal.strategy}, orders "
+        f"{','.join(map(str, proposal.orders))}: {' and '.join(parts)}"
     )
 
 
-def _no_gas(ds: xr.Dataset, ax: AxesArg, kind: str, title: str | None) -> Figure | None:
-    """A figure that says there is no gas section, or None when the Dataset has gas."""
-    if "engine_torque" in ds:
-        return None
+def _no_gas(result: Result, ax: AxesArg, kind: str, title: str | None) -> Figure:
+    """A figure that says there is no gas section (for a result without gas forces)."""
     with _styled():
         fig, (axes,), owned = _new_figure(ax, 1, (8.0, 3.0), kind=kind)
         axes.set_axis_off()
@@ -1026,17 +1022,17 @@ def _no_gas(ds: xr.Dataset, ax: AxesArg, kind: str, title: str | None) -> Figure
             va="center",
             color="0.4",
         )
-        return _finish(fig, owned, title, f"{_layout_name(ds)}: {kind}")
+        return _finish(fig, owned, title, f"{_layout_name(result)}: {kind}")
 
 
-def plot_torque(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = None) -> Figure:
+def plot_torque(result: Result, *, ax: AxesArg = None, title: str | None = None) -> Figure:
     """Torque of each cylinder and engine torque over the working cycle, with the mean.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse` for a layout with a ``gas:`` section; without
-        one the figure only says so.
+    result : Result
+        From :func:`balance.core.analysis.compute` for an engine with a ``gas:`` section;
+        without one the figure only says so.
     ax : Axes, optional
         Axes to draw into; a new figure otherwise.
     title : str, optional
@@ -1046,13 +1042,13 @@ def plot_torque(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = None)
     -------
     matplotlib.figure.Figure
     """
-    empty = _no_gas(ds, ax, "torque", title)
-    if empty is not None:
-        return empty
-    theta = np.asarray(ds["crank_angle"].values)
-    span = float(ds["crank_angle"].values[1] - ds["crank_angle"].values[0]) * theta.size
-    per = np.asarray(ds["cylinder_torque"].values)
-    total = np.asarray(ds["engine_torque"].values)
+    torque = result.torque
+    if torque is None:
+        return _no_gas(result, ax, "torque", title)
+    theta = np.asarray(torque.crank_angle)
+    span = float(theta[1] - theta[0]) * theta.size
+    per = np.asarray(torque.cylinder_torque)
+    total = np.asarray(torque.engine_torque)
     closed = np.append(theta, span)
     with _styled():
         fig, (axes,), owned = _new_figure(ax, 1, (10.0, 4.8), kind="torque")
@@ -1063,16 +1059,16 @@ def plot_torque(ds: xr.Dataset, *, ax: AxesArg = None, title: str | None = None)
                 color=f"C{i % 10}",
                 lw=0.9,
                 alpha=0.8,
-                label=f"cylinder {int(ds['cylinder'].values[i])}",
+                label=f"cylinder {i + 1}",
             )
         axes.plot(closed, np.append(total, total[0]), color=TOTAL_COLOUR, lw=2.2, label="engine")
-        mean = float(ds["torque_mean"])
+        mean = float(torque.mean)
         axes.axhline(mean, color=TOTAL_COLOUR, ls="--", lw=1.0, label=f"mean {mean:.4g} N m")
         _degree_axis(axes, span)
         axes.set_ylabel("torque [N m]")
         axes.set_title("torque on the crankshaft (+ with rotation), gas and inertia")
         axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-        return _finish(fig, owned, title, f"{_layout_name(ds)}: torque over the cycle")
+        return _finish(fig, owned, title, f"{_layout_name(result)}: torque over the cycle")
 
 
 FORCE_NAMES = (
@@ -1085,7 +1081,7 @@ FORCE_NAMES = (
 
 
 def plot_forces(
-    ds: xr.Dataset, *, cylinder: int = 1, ax: AxesArg = None, title: str | None = None
+    result: Result, *, cylinder: int = 1, ax: AxesArg = None, title: str | None = None
 ) -> Figure:
     """Forces on one cylinder's crank train over the cycle: P, N, S, T and K.
 
@@ -1097,8 +1093,8 @@ def plot_forces(
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse` with gas forces (a note otherwise).
+    result : Result
+        From :func:`balance.core.analysis.compute` with gas forces (a note otherwise).
     cylinder : int
         Cylinder number (1-based).
     ax : sequence of 2 Axes, optional
@@ -1110,16 +1106,16 @@ def plot_forces(
     -------
     matplotlib.figure.Figure
     """
-    empty = _no_gas(ds, ax, "forces", title)
-    if empty is not None:
-        return empty
-    numbers = [int(c) for c in ds["cylinder"].values]
-    if cylinder not in numbers:
-        raise InputError(f"cylinder {cylinder}: expected one of 1 to {len(numbers)}")
-    i = numbers.index(cylinder)
-    theta = np.asarray(ds["crank_angle"].values)
+    torque = result.torque
+    if torque is None:
+        return _no_gas(result, ax, "forces", title)
+    n_cylinders = result.engine.n_cylinders
+    if not 1 <= cylinder <= n_cylinders:
+        raise InputError(f"cylinder {cylinder}: expected one of 1 to {n_cylinders}")
+    i = cylinder - 1
+    theta = np.asarray(torque.crank_angle)
     span = float(theta[1] - theta[0]) * theta.size
-    tdc = float(ds["firing_tdc"].values[i])
+    tdc = float(torque.firing_tdc[i])
     order = np.argsort(np.mod(theta - tdc, span))
     alpha = np.mod(theta - tdc, span)[order]
     with _styled():
@@ -1129,7 +1125,7 @@ def plot_forces(
             ("inertia_force", "inertia", "C0"),
             ("piston_force", "P = gas + inertia", TOTAL_COLOUR),
         ):
-            values = np.asarray(ds[name].values[i])[order] / 1e3
+            values = np.asarray(getattr(torque, name)[i])[order] / 1e3
             top.plot(
                 alpha, values, color=colour, lw=2.0 if name == "piston_force" else 1.1, label=label
             )
@@ -1137,7 +1133,7 @@ def plot_forces(
         top.set_title("force on the piston pin along the bore (+ towards the crank)")
         top.legend(loc="upper right")
         for (name, label), colour in zip(FORCE_NAMES[1:], ("C2", "C1", "C4", "C5"), strict=True):
-            values = np.asarray(ds[name].values[i])[order] / 1e3
+            values = np.asarray(getattr(torque, name)[i])[order] / 1e3
             bottom.plot(alpha, values, color=colour, label=label)
         bottom.set_ylabel("force [kN]")
         bottom.set_title("side thrust, rod, tangential and radial force")
@@ -1145,7 +1141,7 @@ def plot_forces(
         for axes in (top, bottom):
             _degree_axis(axes, span)
             axes.set_xlabel("crank angle from firing TDC [deg]")
-        return _finish(fig, owned, title, f"{_layout_name(ds)}: forces on cylinder {cylinder}")
+        return _finish(fig, owned, title, f"{_layout_name(result)}: forces on cylinder {cylinder}")
 
 
 #: Every figure kind and the function that draws it.
@@ -1184,7 +1180,7 @@ def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
 
 
 def save_plots(
-    ds: xr.Dataset,
+    result: Result,
     directory: str | os.PathLike[str],
     kinds: Iterable[str] | None = None,
     fmt: str = "png",
@@ -1199,8 +1195,8 @@ def save_plots(
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     directory : path
         Where to write; created if missing.
     kinds : iterable of str, optional
@@ -1228,7 +1224,7 @@ def save_plots(
     if fmt not in FORMATS:
         raise InputError(f"format {fmt!r}: expected one of {', '.join(FORMATS)}")
     if kinds is None:
-        chosen = [k for k in PLOT_KINDS if k != "balance" or synthesis.has_proposal(ds)]
+        chosen = [k for k in PLOT_KINDS if k != "balance" or synthesis.has_proposal(result)]
     else:
         chosen = list(kinds)
         unknown = [k for k in chosen if k not in PLOT_KINDS]
@@ -1240,6 +1236,6 @@ def save_plots(
     for target in targets:  # fail before any figure is drawn
         check_target(target, force)
     for kind, target in zip(chosen, targets, strict=True):
-        data = figure_bytes(PLOT_KINDS[kind](ds), fmt)
+        data = figure_bytes(PLOT_KINDS[kind](result), fmt)
         write_atomic(target, data, force)
     return targets

@@ -1,7 +1,9 @@
-"""A self-contained HTML design review of a result Dataset.
+"""A self-contained HTML design review of a :class:`~balance.core.result.Result`.
 
 One file, readable offline: inline CSS, figures as inline SVG (:mod:`balance.views.plots`), no
-script, no external resource.  Every piece of text that comes from the Dataset is escaped.
+script, no external resource.  The tables read the result's complex phasors (magnitudes with
+:func:`numpy.abs`, phases with :func:`balance.views.polar.phase_deg`) and normalise by its
+stored references.  Every piece of text that comes from the result is escaped.
 
 Sections (each an ``<section>`` with the ``id`` of :data:`SECTIONS`): the layout and the
 assumptions of the analysis, the free forces, the free moments, the rotating force and
@@ -22,10 +24,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.views import signals as synthesis
+from balance.views.polar import SCHEMA, phase_deg, safe_ratio, speed_rpm
+from balance.views.signals import Quantity
 from balance.views.table import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
-    import xarray as xr
+    from balance.core.result import Result
 
 __all__ = ["SECTIONS", "accuracy_statement", "render_report", "svg_fragment", "write_report"]
 
@@ -72,7 +76,7 @@ def _e(text: object) -> str:
 
 
 def _num(value: Any, scale: float = 1.0) -> str:
-    """A number (float, numpy or 0-d DataArray) in compact engineering format."""
+    """A number (float or numpy scalar) in compact engineering format."""
     return format_number(float(value) * scale)
 
 
@@ -140,10 +144,10 @@ def svg_fragment(svg: str, prefix: str) -> str:
     return text[start:].strip()
 
 
-def _figure(ds: xr.Dataset, kind: str, caption: str, number: int) -> str:
+def _figure(result: Result, kind: str, caption: str, number: int) -> str:
     from balance.views.plots import PLOT_KINDS, figure_bytes
 
-    fig = PLOT_KINDS[kind](ds)
+    fig = PLOT_KINDS[kind](result)
     svg = figure_bytes(fig, "svg").decode("utf-8")
     fragment = svg_fragment(svg, f"f{number}-")
     label = f'role="img" aria-label="{_e(caption)}" '
@@ -153,26 +157,28 @@ def _figure(ds: xr.Dataset, kind: str, caption: str, number: int) -> str:
     )
 
 
-def accuracy_statement(ds: xr.Dataset) -> str:
+def accuracy_statement(result: Result) -> str:
     """What the model of the analysis does and how accurate its numbers are.
 
-    Uses the Dataset's ``error_bound`` attribute (the bound on the normalised acceleration
-    coefficients, see :mod:`balance.core.accuracy`) where the analysis recorded one.
+    Uses the result's error bound (the bound on the normalised acceleration coefficients,
+    see :mod:`balance.core.accuracy`) where the analysis recorded one.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
 
     Returns
     -------
     str
         Plain text.
     """
-    model = str(ds.attrs.get("model", ""))
-    radius = np.asarray(ds["crank_radius"].values, dtype=np.float64)
-    rod = np.asarray(ds["conrod_length"].values, dtype=np.float64)
-    offset = np.asarray(ds["offset"].values, dtype=np.float64)
+    phasors = result.phasors
+    engine = result.engine
+    model = str(phasors.model)
+    radius = np.asarray(engine.crank_radius, dtype=np.float64)
+    rod = np.asarray(engine.conrod_length, dtype=np.float64)
+    offset = np.asarray(engine.offset, dtype=np.float64)
     ratio = float(np.max(radius / rod))
     x = float(np.max(radius / rod * (1.0 + np.abs(offset / radius))))
     if model == "exact":
@@ -184,7 +190,7 @@ def accuracy_statement(ds: xr.Dataset) -> str:
             "brute-force crank-angle computation)."
         )
     elif model == "series":
-        terms = int(ds.attrs.get("series_terms", 0))
+        terms = int(phasors.terms)
         text = (
             f"Binomial series of the conrod term in λ = r/l truncated after {terms} terms "
             f"(highest power λ^{2 * terms - 1}), with λ(1 + |e|/r) = {x:.4g}; the error "
@@ -197,7 +203,7 @@ def accuracy_statement(ds: xr.Dataset) -> str:
             "orders 4, 6, ... and every effect of an offset are missing."
         )
     elif model == "time":
-        samples = int(ds.attrs.get("time_samples", 0))
+        samples = int(phasors.samples)
         text = (
             f"Crank-angle model: forces, moments and roll sampled at {samples} crank angles "
             "per revolution, summed as vectors and transformed by FFT; orders above half the "
@@ -205,13 +211,13 @@ def accuracy_statement(ds: xr.Dataset) -> str:
         )
     else:
         text = f"Model {model!r}."
-    bound = float(ds.attrs.get("error_bound", math.nan))
+    bound = float(phasors.error_bound)
     if math.isfinite(bound):
-        force = bound * float(ds["reference_force"])
+        force = bound * float(result.reference_force)
         text += (
             f" Error bound of the normalised acceleration coefficients: {bound:.2g} "
             f"(a force error of about {force:.2g} N per cylinder at m_rec r ω² = "
-            f"{_num(ds['reference_force'])} N)."
+            f"{_num(result.reference_force)} N)."
         )
     text += (
         " Beyond the model: constant crank speed, rigid parts, inertia only (no gas forces), "
@@ -220,32 +226,45 @@ def accuracy_statement(ds: xr.Dataset) -> str:
     return text
 
 
-def _header(ds: xr.Dataset) -> str:
-    name = ds.attrs.get("layout", "engine")
+#: The conventions line of the report (the ``conventions`` attribute of the result Dataset).
+CONVENTIONS = (
+    "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
+    "direction of rotation; (x, y) as y + i x"
+)
+
+
+def _version() -> str:
+    from balance._version import __version__
+
+    return str(__version__)
+
+
+def _header(result: Result) -> str:
+    engine = result.engine
     meta = (
-        f"{int(ds.sizes['cylinder'])} cylinders, {float(ds.attrs.get('speed_rpm', math.nan)):g} "
-        f"rpm, {ds.attrs.get('cycle', '')}; model {ds.attrs.get('model', '')}; "
-        f"balance {ds.attrs.get('balance_version', '')}, schema {ds.attrs.get('schema', '')}"
+        f"{engine.n_cylinders} cylinders, {speed_rpm(engine.speed):g} "
+        f"rpm, {engine.cycle}; model {result.phasors.model}; "
+        f"balance {_version()}, schema {SCHEMA}"
     )
     toc = "".join(f'<li><a href="#{i}">{_e(t)}</a></li>' for i, t in SECTIONS)
     return (
-        f"<header><h1>Balance design review: {_e(name)}</h1>"
+        f"<header><h1>Balance design review: {_e(engine.name)}</h1>"
         f'<p class="meta">{_e(meta)}</p></header>'
         f'<nav aria-label="contents"><ol>{toc}</ol></nav>'
     )
 
 
-def _layout_section(ds: xr.Dataset, figures: bool) -> str:
-    speed = float(ds["speed"])
+def _layout_section(result: Result, figures: bool) -> str:
+    engine = result.engine
     facts = [
-        ("speed", f"{float(ds.attrs.get('speed_rpm', math.nan)):g} rpm ({_num(speed)} rad/s)"),
-        ("cycle", str(ds.attrs.get("cycle", ""))),
-        ("firing order", str(ds.attrs.get("firing_order", "")) or "not given"),
-        ("moments about", f"z = {_num(float(ds['reference_z']), 1e3)} mm on the crank axis"),
-        ("cylinder pitch a", f"{_num(float(ds['pitch']), 1e3)} mm"),
-        ("F1 = m_rec r ω²", f"{_num(float(ds['reference_force']))} N"),
-        ("F1 a", f"{_num(float(ds['reference_moment']))} N m"),
-        ("source file", str(ds.attrs.get("source_file", "")) or "-"),
+        ("speed", f"{speed_rpm(engine.speed):g} rpm ({_num(engine.speed)} rad/s)"),
+        ("cycle", str(engine.cycle)),
+        ("firing order", ",".join(map(str, engine.firing_order or ())) or "not given"),
+        ("moments about", f"z = {_num(engine.reference_z, 1e3)} mm on the crank axis"),
+        ("cylinder pitch a", f"{_num(result.pitch, 1e3)} mm"),
+        ("F1 = m_rec r ω²", f"{_num(result.reference_force)} N"),
+        ("F1 a", f"{_num(result.reference_moment)} N m"),
+        ("source file", str(engine.path or "") or "-"),
     ]
     headers = [
         "cylinder",
@@ -259,20 +278,22 @@ def _layout_section(ds: xr.Dataset, figures: bool) -> str:
         "m_rot [kg]",
         "rod inertia corr. [kg m²]",
     ]
+    throw = np.degrees(np.asarray(engine.throw, dtype=np.float64))
+    bank = np.degrees(np.asarray(engine.bank, dtype=np.float64))
     rows = []
-    for i, cylinder in enumerate(ds["cylinder"].values):
+    for i in range(engine.n_cylinders):
         rows.append(
             [
-                str(int(cylinder)),
-                _num(ds["throw_angle"].values[i]),
-                _num(ds["bank_angle"].values[i]),
-                _num(ds["axial_position"].values[i], 1e3),
-                _num(ds["crank_radius"].values[i], 1e3),
-                _num(ds["conrod_length"].values[i], 1e3),
-                _num(ds["offset"].values[i], 1e3),
-                _num(ds["reciprocating_mass"].values[i]),
-                _num(ds["rotating_mass"].values[i]),
-                _num(ds["conrod_inertia_correction"].values[i]),
+                str(i + 1),
+                _num(throw[i]),
+                _num(bank[i]),
+                _num(engine.z[i], 1e3),
+                _num(engine.crank_radius[i], 1e3),
+                _num(engine.conrod_length[i], 1e3),
+                _num(engine.offset[i], 1e3),
+                _num(engine.reciprocating_mass[i]),
+                _num(engine.rotating_mass[i]),
+                _num(engine.conrod_inertia_correction[i]),
             ]
         )
     assumptions = [
@@ -285,7 +306,7 @@ def _layout_section(ds: xr.Dataset, figures: bool) -> str:
         "Shaking forces are those the moving parts put on the block (-m a); angles are "
         "measured from +y (up) in the direction of rotation, crank angle 0 with throw 1 at "
         "+y; a transverse vector (x, y) is the complex number y + i x.",
-        f"Orders {_orders_text(ds['order'].values)} are reported; higher ones are left out.",
+        f"Orders {_orders_text(result.orders)} are reported; higher ones are left out.",
     ]
     items = "".join(f"<li>{_e(a)}</li>" for a in assumptions)
     out = [
@@ -297,7 +318,7 @@ def _layout_section(ds: xr.Dataset, figures: bool) -> str:
     if figures:
         out.append(
             _figure(
-                ds,
+                result,
                 "crank_star",
                 "Crank star seen from the front (+y up, +x right, crank turning clockwise): "
                 "throws with the cylinders on them, and the banks.",
@@ -324,12 +345,18 @@ NOT_COMPUTED = (
 )
 
 
-def _phasor_section(ds: xr.Dataset, quantity: str, figures: bool) -> str:
-    if quantity == "moment" and not synthesis.has_moments(ds):
+def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
+    if quantity == "moment" and not synthesis.has_moments(result):
         return NOT_COMPUTED.format(what="Moments were", option="moments=False")
     unit = "N" if quantity == "force" else "N m"
     per = "F1" if quantity == "force" else "F1 a"
-    prefix = f"reciprocating_{quantity}"
+    reference = float(result.reference_force if quantity == "force" else result.reference_moment)
+    orders, forward, backward = synthesis.phasors_of(result, quantity, "reciprocating")
+    size_fwd, size_bwd = np.abs(forward), np.abs(backward)
+    peak = size_fwd + size_bwd
+    phase_fwd, phase_bwd = phase_deg(forward), phase_deg(backward)
+    norm_fwd, norm_bwd = safe_ratio(size_fwd, reference), safe_ratio(size_bwd, reference)
+    norm_peak = safe_ratio(peak, reference)
     headers = [
         "order",
         f"forward [{unit}]",
@@ -341,24 +368,20 @@ def _phasor_section(ds: xr.Dataset, quantity: str, figures: bool) -> str:
         f"backward / {per}",
         f"peak / {per}",
     ]
-    rows = []
-    for k in ds["order"].values:
-        mag = ds[f"{prefix}_magnitude"].sel(order=k)
-        phase = ds[f"{prefix}_phase"].sel(order=k)
-        norm = ds[f"{prefix}_normalised"].sel(order=k)
-        rows.append(
-            [
-                str(int(k)),
-                _num(mag.sel(rotation="forward")),
-                _num(phase.sel(rotation="forward")),
-                _num(mag.sel(rotation="backward")),
-                _num(phase.sel(rotation="backward")),
-                _num(ds[f"{prefix}_peak"].sel(order=k)),
-                _num(norm.sel(rotation="forward")),
-                _num(norm.sel(rotation="backward")),
-                _num(ds[f"{prefix}_peak_normalised"].sel(order=k)),
-            ]
-        )
+    rows = [
+        [
+            str(int(k)),
+            _num(size_fwd[i]),
+            _num(phase_fwd[i]),
+            _num(size_bwd[i]),
+            _num(phase_bwd[i]),
+            _num(peak[i]),
+            _num(norm_fwd[i]),
+            _num(norm_bwd[i]),
+            _num(norm_peak[i]),
+        ]
+        for i, k in enumerate(orders)
+    ]
     what = (
         "Reciprocating inertia forces on the block, per order"
         if quantity == "force"
@@ -368,14 +391,13 @@ def _phasor_section(ds: xr.Dataset, quantity: str, figures: bool) -> str:
     out = [
         f"<p>{_e(what)}. Forward phasors turn with the crank, backward ones against it; "
         f"the peak over a revolution is |forward| + |backward|. {_e(per)} = "
-        f"{_e(_num(float(ds['reference_force' if quantity == 'force' else 'reference_moment'])))}"
-        f" {_e(unit)}.</p>",
+        f"{_e(_num(reference))} {_e(unit)}.</p>",
         _table(headers, rows),
     ]
     if figures and quantity == "force":
         out.append(
             _figure(
-                ds,
+                result,
                 "spectrum",
                 "Peak free force and moment per order (reciprocating + rotating).",
                 2,
@@ -383,7 +405,7 @@ def _phasor_section(ds: xr.Dataset, quantity: str, figures: bool) -> str:
         )
         out.append(
             _figure(
-                ds,
+                result,
                 "locus",
                 "Path of the free force and moment vectors over a revolution, seen from the "
                 "front: per order (ellipses) and total; o marks crank angle 0.",
@@ -391,10 +413,10 @@ def _phasor_section(ds: xr.Dataset, quantity: str, figures: bool) -> str:
             )
         )
     # the phasor and crank-angle figures go with the moments, or with the forces without them
-    if figures and (quantity == "moment" or not synthesis.has_moments(ds)):
+    if figures and (quantity == "moment" or not synthesis.has_moments(result)):
         out.append(
             _figure(
-                ds,
+                result,
                 "phasors",
                 "Phasors at crank angle 0 (0° up, clockwise = direction of rotation): forward "
                 "wide, backward dashed.",
@@ -403,7 +425,7 @@ def _phasor_section(ds: xr.Dataset, quantity: str, figures: bool) -> str:
         )
         out.append(
             _figure(
-                ds,
+                result,
                 "crank_angle",
                 "Free force components and pitch/yaw couples over a revolution, total and "
                 "per order.",
@@ -413,22 +435,23 @@ def _phasor_section(ds: xr.Dataset, quantity: str, figures: bool) -> str:
     return "\n".join(out)
 
 
-def _rotating_section(ds: xr.Dataset) -> str:
+def _rotating_section(result: Result) -> str:
+    p = result.phasors
     rows = [
         [
             "force [N]",
-            _num(ds["rotating_force_magnitude"]),
-            _num(ds["rotating_force_phase"]),
-            _num(ds["rotating_force_normalised"]),
+            _num(abs(p.rotating_force)),
+            _num(phase_deg(p.rotating_force)),
+            _num(safe_ratio(abs(p.rotating_force), result.reference_force)),
         ],
     ]
-    if synthesis.has_moments(ds):
+    if synthesis.has_moments(result):
         rows.append(
             [
                 "moment [N m]",
-                _num(ds["rotating_moment_magnitude"]),
-                _num(ds["rotating_moment_phase"]),
-                _num(ds["rotating_moment_normalised"]),
+                _num(abs(p.rotating_moment)),
+                _num(phase_deg(p.rotating_moment)),
+                _num(safe_ratio(abs(p.rotating_moment), result.reference_moment)),
             ]
         )
     return "\n".join(
@@ -440,26 +463,24 @@ def _rotating_section(ds: xr.Dataset) -> str:
     )
 
 
-def _roll_section(ds: xr.Dataset, figures: bool) -> str:
-    if not synthesis.has_roll(ds):
+def _roll_section(result: Result, figures: bool) -> str:
+    if not synthesis.has_roll(result):
         return NOT_COMPUTED.format(what="The roll torque was", option="roll=False")
-    proposal = synthesis.has_proposal(ds)
+    proposal = synthesis.has_proposal(result)
     headers = ["order", "amplitude [N m]", "phase [deg]", "per m_rec r² ω²"]
     if proposal:
         headers += ["with shafts [N m]", "phase [deg]"]
+    orders, roll = synthesis.roll_of(result)
+    amplitude, phase = np.abs(roll), phase_deg(roll)
+    normalised = safe_ratio(amplitude, result.reference_roll)
+    if proposal:
+        _, residual = synthesis.roll_of(result, residual=True)
+        residual_amplitude, residual_phase = np.abs(residual), phase_deg(residual)
     rows = []
-    for k in ds["roll_order"].values:
-        row = [
-            f"{float(k):g}",
-            _num(ds["roll_amplitude"].sel(roll_order=k)),
-            _num(ds["roll_phase"].sel(roll_order=k)),
-            _num(ds["roll_amplitude_normalised"].sel(roll_order=k)),
-        ]
+    for i, k in enumerate(orders):
+        row = [f"{float(k):g}", _num(amplitude[i]), _num(phase[i]), _num(normalised[i])]
         if proposal:
-            row += [
-                _num(ds["residual_roll_amplitude"].sel(roll_order=k)),
-                _num(ds["residual_roll_phase"].sel(roll_order=k)),
-            ]
+            row += [_num(residual_amplitude[i]), _num(residual_phase[i])]
         rows.append(row)
     out = [
         "<p>Torque about the crank axis that the block receives from the inertia of the "
@@ -468,37 +489,36 @@ def _roll_section(ds: xr.Dataset, figures: bool) -> str:
         _table(headers, rows),
     ]
     if figures:
-        out.append(_figure(ds, "roll", "Roll torque over a revolution and per order.", 6))
+        out.append(_figure(result, "roll", "Roll torque over a revolution and per order.", 6))
     return "\n".join(out)
 
 
-def _proposal_section(ds: xr.Dataset, figures: bool) -> str:
-    if not synthesis.has_proposal(ds):
+def _proposal_section(result: Result, figures: bool) -> str:
+    if result.balanced is None:
         return '<p class="note">No balancing proposal in this result (analysed without one).</p>'
-    factor = ds.attrs.get("proposal_balance_factor", "")
+    proposal = result.balanced.proposal
+    factor = proposal.balance_factor
     facts = [
-        ("strategy", str(ds.attrs.get("proposal_strategy", ""))),
-        ("orders cancelled", str(ds.attrs.get("proposal_orders", ""))),
-        ("balance factor", "-" if factor == "" else f"{float(factor):.0%}"),
-        ("roll cancelled", "yes" if int(ds.attrs.get("proposal_cancel_roll", 0)) else "no"),
+        ("strategy", str(proposal.strategy)),
+        ("orders cancelled", ",".join(map(str, proposal.orders))),
+        ("balance factor", "-" if factor is None else f"{float(factor):.0%}"),
+        ("roll cancelled", "yes" if proposal.cancel_roll else "no"),
     ]
     out = [_facts(facts)]
-    notes = str(ds.attrs.get("proposal_notes", ""))
+    notes = "; ".join(proposal.notes)
     if notes:
         out.append(f'<p class="note">{_e(notes)}</p>')
-    n_cw = int(ds.sizes.get("counterweight", 0))
-    n_shaft = int(ds.sizes.get("shaft", 0))
     out.append("<h3>Counterweights (turn with the crank)</h3>")
-    if n_cw:
+    if proposal.counterweights:
         rows = [
             [
-                _num(ds["counterweight_z"].values[i], 1e3),
-                _num(ds["counterweight_mass"].values[i]),
-                _num(ds["counterweight_radius"].values[i], 1e3),
-                _num(ds["counterweight_angle"].values[i]),
-                _num(ds["counterweight_unbalance"].values[i], 1e3),
+                _num(c.z, 1e3),
+                _num(c.mass),
+                _num(c.radius, 1e3),
+                _num(c.angle_deg),
+                _num(abs(c.unbalance), 1e3),
             ]
-            for i in range(n_cw)
+            for c in proposal.counterweights
         ]
         out.append(
             _table(
@@ -509,23 +529,20 @@ def _proposal_section(ds: xr.Dataset, figures: bool) -> str:
     else:
         out.append("<p>None needed.</p>")
     out.append("<h3>Balance shafts</h3>")
-    if n_shaft:
+    if proposal.shafts:
         rows = []
-        for i in range(n_shaft):
-            for j in range(int(ds.sizes.get("shaft_plane", 0))):
-                z = float(ds["shaft_plane_z"].values[i, j])
-                if not math.isfinite(z):
-                    continue
+        for i, shaft in enumerate(proposal.shafts):
+            for j, (z, unbalance) in enumerate(shaft.planes):
                 first = j == 0
                 rows.append(
                     [
                         str(i + 1) if first else "",
-                        f"{float(ds['shaft_speed_ratio'].values[i]):+g}" if first else "",
-                        _num(ds["shaft_x"].values[i], 1e3) if first else "",
-                        _num(ds["shaft_y"].values[i], 1e3) if first else "",
+                        f"{float(shaft.speed_ratio):+g}" if first else "",
+                        _num(shaft.x, 1e3) if first else "",
+                        _num(shaft.y, 1e3) if first else "",
                         _num(z, 1e3),
-                        _num(ds["shaft_plane_unbalance"].values[i, j], 1e3),
-                        _num(ds["shaft_plane_angle"].values[i, j]),
+                        _num(abs(unbalance), 1e3),
+                        _num(phase_deg(unbalance)),
                     ]
                 )
         out.append(
@@ -545,25 +562,33 @@ def _proposal_section(ds: xr.Dataset, figures: bool) -> str:
     else:
         out.append("<p>None needed.</p>")
     out.append("<h3>Residual with the proposal</h3>")
-    roll_orders = [float(k) for k in ds["roll_order"].values]
-    _, ff, fb = synthesis.dataset_phasors(ds, "force", "free")
-    _, mf, mb = synthesis.dataset_phasors(ds, "moment", "free")
+    orders, ff, fb = synthesis.phasors_of(result, "force", "free")
+    _, mf, mb = synthesis.phasors_of(result, "moment", "free")
+    _, rff, rfb = synthesis.phasors_of(result, "force", "residual")
+    _, rmf, rmb = synthesis.phasors_of(result, "moment", "residual")
     free_force = synthesis.peaks(ff, fb)
     free_moment = synthesis.peaks(mf, mb)
+    residual_force = synthesis.peaks(rff, rfb)
+    residual_moment = synthesis.peaks(rmf, rmb)
+    force_per = safe_ratio(residual_force, result.reference_force)
+    moment_per = safe_ratio(residual_moment, result.reference_moment)
+    roll_orders, roll = synthesis.roll_of(result)
+    _, residual_roll = synthesis.roll_of(result, residual=True)
+    at = {float(k): j for j, k in enumerate(roll_orders)}
     rows = []
-    for i, k in enumerate(ds["order"].values):
-        has_roll = float(k) in roll_orders
+    for i, k in enumerate(orders):
+        r = at.get(float(k))
         rows.append(
             [
                 str(int(k)),
                 _num(free_force[i]),
-                _num(ds["residual_force_peak"].sel(order=k)),
-                _num(ds["residual_force_peak_normalised"].sel(order=k)),
+                _num(residual_force[i]),
+                _num(force_per[i]),
                 _num(free_moment[i]),
-                _num(ds["residual_moment_peak"].sel(order=k)),
-                _num(ds["residual_moment_peak_normalised"].sel(order=k)),
-                _num(ds["roll_amplitude"].sel(roll_order=float(k))) if has_roll else "-",
-                _num(ds["residual_roll_amplitude"].sel(roll_order=float(k))) if has_roll else "-",
+                _num(residual_moment[i]),
+                _num(moment_per[i]),
+                _num(abs(roll[r])) if r is not None else "-",
+                _num(abs(residual_roll[r])) if r is not None else "-",
             ]
         )
     out.append(
@@ -590,7 +615,7 @@ def _proposal_section(ds: xr.Dataset, figures: bool) -> str:
     if figures:
         out.append(
             _figure(
-                ds,
+                result,
                 "balance",
                 "Before (free: reciprocating + rotating) and after the proposal (residual).",
                 7,
@@ -599,26 +624,26 @@ def _proposal_section(ds: xr.Dataset, figures: bool) -> str:
     return "\n".join(out)
 
 
-def _model_section(ds: xr.Dataset) -> str:
-    model = str(ds.attrs.get("model", ""))
+def _model_section(result: Result) -> str:
+    model = str(result.phasors.model)
     facts = [("piston acceleration model", model)]
     if model == "series":
-        facts.append(("series terms", str(ds.attrs.get("series_terms", ""))))
+        facts.append(("series terms", str(int(result.phasors.terms))))
     facts += [
-        ("conventions", str(ds.attrs.get("conventions", ""))),
-        ("result schema", str(ds.attrs.get("schema", ""))),
-        ("balance version", str(ds.attrs.get("balance_version", ""))),
+        ("conventions", CONVENTIONS),
+        ("result schema", SCHEMA),
+        ("balance version", _version()),
     ]
-    return f"{_facts(facts)}\n<p>{_e(accuracy_statement(ds))}</p>"
+    return f"{_facts(facts)}\n<p>{_e(accuracy_statement(result))}</p>"
 
 
-def render_report(ds: xr.Dataset, *, figures: bool = True) -> str:
+def render_report(result: Result, *, figures: bool = True) -> str:
     """The design review of a result as one self-contained HTML page.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     figures : bool
         Include the figures (inline SVG); without them the report is tables only.
 
@@ -627,15 +652,15 @@ def render_report(ds: xr.Dataset, *, figures: bool = True) -> str:
     str
         An HTML5 document: inline CSS and SVG, no script, no external resource.
     """
-    name = str(ds.attrs.get("layout", "engine"))
+    name = str(result.engine.name)
     bodies = {
-        "layout": _layout_section(ds, figures),
-        "forces": _phasor_section(ds, "force", figures),
-        "moments": _phasor_section(ds, "moment", figures),
-        "rotating": _rotating_section(ds),
-        "roll": _roll_section(ds, figures),
-        "proposal": _proposal_section(ds, figures),
-        "model": _model_section(ds),
+        "layout": _layout_section(result, figures),
+        "forces": _phasor_section(result, "force", figures),
+        "moments": _phasor_section(result, "moment", figures),
+        "rotating": _rotating_section(result),
+        "roll": _roll_section(result, figures),
+        "proposal": _proposal_section(result, figures),
+        "model": _model_section(result),
     }
     sections = "\n".join(
         f'<section id="{ident}">\n<h2>{n}. {_e(heading)}</h2>\n{bodies[ident]}\n</section>'
@@ -647,22 +672,22 @@ def render_report(ds: xr.Dataset, *, figures: bool = True) -> str:
         '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
         f"<title>Balance design review: {_e(name)}</title>\n"
         f"<style>{_CSS}</style>\n</head>\n<body>\n"
-        f"{_header(ds)}\n<main>\n{sections}\n</main>\n"
-        f"<footer>Generated by balance {_e(ds.attrs.get('balance_version', ''))} from the "
+        f"{_header(result)}\n<main>\n{sections}\n</main>\n"
+        f"<footer>Generated by balance {_e(_version())} from the "
         "result Dataset; all values in SI units unless stated, angles in degrees.</footer>\n"
         "</body>\n</html>\n"
     )
 
 
 def write_report(
-    ds: xr.Dataset, path: str | os.PathLike[str], *, force: bool = False, figures: bool = True
+    result: Result, path: str | os.PathLike[str], *, force: bool = False, figures: bool = True
 ) -> Path:
     """Write the HTML design review of a result to ``path``, atomically.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     path : path
         The HTML file to write.
     force : bool
@@ -684,5 +709,5 @@ def write_report(
 
     target = Path(path)
     check_target(target, force)  # fail before the figures are drawn
-    data = render_report(ds, figures=figures).encode("utf-8")
+    data = render_report(result, figures=figures).encode("utf-8")
     return write_atomic(target, data, force)

@@ -1,27 +1,29 @@
 r"""From phasors back to the crank-angle domain: what the plots draw, without drawing.
 
-Pure numpy (and xarray to read the result Dataset); no matplotlib.  Every function here
-follows the CONTRACT: a transverse vector :math:`(x, y)` is the complex number
-:math:`y + i x`, angles are measured from +y in the direction of rotation, and order
-:math:`k` of a quantity is
+numpy only (no matplotlib, no xarray): the functions take the complex phasors of a
+:class:`~balance.core.result.Result` as they are.  Every function here follows the
+CONTRACT: a transverse vector :math:`(x, y)` is the complex number :math:`y + i x`, angles
+are measured from +y in the direction of rotation, and order :math:`k` of a quantity is
 
 .. math::
 
     Q_k(\theta) = P_k^{+} e^{+ik\theta} + P_k^{-} e^{-ik\theta}.
 
-Crank angles are in degrees here, as everywhere in the results.
+The roll torque of order :math:`k` (a scalar) is :math:`\operatorname{Re}(R_k e^{ik\theta})`
+with :math:`R_k` its complex phasor.  Crank angles are in degrees here, as everywhere in the
+results.
 
-Three *sources* of the force and moment can be synthesised from a result Dataset
-(:func:`dataset_phasors`):
+Three *sources* of the force and moment can be taken from a result
+(:func:`phasors_of`):
 
 ``reciprocating``
-    The inertia of the reciprocating masses only (``reciprocating_*``).
+    The inertia of the reciprocating masses only.
 ``free``
     Everything the moving parts shake the block with: reciprocating plus the centrifugal
     force of the rotating masses (order 1, forward).  This is what a proposal acts on.
 ``residual``
-    What is left with every proposed counterweight and balance-shaft mass
-    (``residual_*``; needs a proposal).
+    What is left with every proposed counterweight and balance-shaft mass (needs a
+    proposal).
 """
 
 from __future__ import annotations
@@ -32,26 +34,24 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:  # pragma: no cover
-    import xarray as xr
+    from balance.core.result import Result
 
 __all__ = [
     "QUANTITIES",
     "SOURCES",
     "couple_components",
     "crank_angle_grid",
-    "dataset_phasors",
-    "dataset_roll",
-    "dataset_signal",
     "has_moments",
     "has_proposal",
     "has_roll",
     "peaks",
     "phasor_signal",
-    "phasor_signal_per_order",
-    "phasors_from_polar",
+    "phasors_of",
+    "roll_of",
     "roll_signal",
     "roll_signal_per_order",
     "roll_span_deg",
+    "signal_of",
     "signal_per_order",
     "transverse_components",
 ]
@@ -64,26 +64,6 @@ Source = Literal["reciprocating", "free", "residual"]
 
 QUANTITIES: tuple[Quantity, ...] = ("force", "moment")
 SOURCES: tuple[Source, ...] = ("reciprocating", "free", "residual")
-
-
-def phasors_from_polar(magnitude: ArrayLike, phase_deg: ArrayLike) -> ComplexArray:
-    """Complex phasors from magnitudes and phases.
-
-    Parameters
-    ----------
-    magnitude : array_like
-        Magnitudes [N or N m].
-    phase_deg : array_like
-        Phases at crank angle 0, from +y in the direction of rotation [deg].
-
-    Returns
-    -------
-    ndarray of complex
-        ``magnitude * exp(i * phase)``, broadcast.
-    """
-    mag = np.asarray(magnitude, dtype=np.float64)
-    phase = np.radians(np.asarray(phase_deg, dtype=np.float64))
-    return np.asarray(mag * np.exp(1j * phase), dtype=np.complex128)
 
 
 def crank_angle_grid(samples: int = 361, span_deg: float = 360.0) -> FloatArray:
@@ -106,44 +86,10 @@ def crank_angle_grid(samples: int = 361, span_deg: float = 360.0) -> FloatArray:
     return np.linspace(0.0, float(span_deg), int(samples))
 
 
-def phasor_signal_per_order(
-    magnitude_fwd: ArrayLike,
-    phase_fwd: ArrayLike,
-    magnitude_bwd: ArrayLike,
-    phase_bwd: ArrayLike,
-    orders: ArrayLike,
-    theta_deg: ArrayLike,
-) -> ComplexArray:
-    r"""Each order's :math:`Q_k(\theta) = P_k^{+}e^{ik\theta} + P_k^{-}e^{-ik\theta}`.
-
-    Parameters
-    ----------
-    magnitude_fwd, phase_fwd : array_like
-        Forward phasors per order: magnitude [N or N m] and phase [deg].
-    magnitude_bwd, phase_bwd : array_like
-        Backward phasors per order, the same way.
-    orders : array_like
-        Order :math:`k` of each phasor [1].
-    theta_deg : array_like
-        Crank angles [deg].
-
-    Returns
-    -------
-    ndarray of complex, shape (n_orders, n_angles)
-        :math:`y + ix` of each order at each crank angle [N or N m].
-    """
-    return signal_per_order(
-        phasors_from_polar(magnitude_fwd, phase_fwd),
-        phasors_from_polar(magnitude_bwd, phase_bwd),
-        orders,
-        theta_deg,
-    )
-
-
 def signal_per_order(
     forward: ArrayLike, backward: ArrayLike, orders: ArrayLike, theta_deg: ArrayLike
 ) -> ComplexArray:
-    r"""Each order's :math:`Q_k(\theta)` from complex phasors (as :func:`phasor_signal_per_order`).
+    r"""Each order's :math:`Q_k(\theta) = P_k^{+}e^{ik\theta} + P_k^{-}e^{-ik\theta}`.
 
     Parameters
     ----------
@@ -157,6 +103,7 @@ def signal_per_order(
     Returns
     -------
     ndarray of complex, shape (n_orders, n_angles)
+        :math:`y + ix` of each order at each crank angle [N or N m].
     """
     fwd = np.atleast_1d(np.asarray(forward, dtype=np.complex128))
     bwd = np.atleast_1d(np.asarray(backward, dtype=np.complex128))
@@ -173,21 +120,14 @@ def signal_per_order(
 
 
 def phasor_signal(
-    magnitude_fwd: ArrayLike,
-    phase_fwd: ArrayLike,
-    magnitude_bwd: ArrayLike,
-    phase_bwd: ArrayLike,
-    orders: ArrayLike,
-    theta_deg: ArrayLike,
+    forward: ArrayLike, backward: ArrayLike, orders: ArrayLike, theta_deg: ArrayLike
 ) -> ComplexArray:
     r"""Sum over orders :math:`Q(\theta) = \sum_k P_k^{+}e^{ik\theta} + P_k^{-}e^{-ik\theta}`.
 
     Parameters
     ----------
-    magnitude_fwd, phase_fwd : array_like
-        Forward phasors per order: magnitude [N or N m] and phase [deg].
-    magnitude_bwd, phase_bwd : array_like
-        Backward phasors per order, the same way.
+    forward, backward : array_like of complex
+        :math:`P_k^{+}` and :math:`P_k^{-}` per order [N or N m].
     orders : array_like
         Order :math:`k` of each phasor [1].
     theta_deg : array_like
@@ -204,13 +144,11 @@ def phasor_signal(
     A flat-crank inline-4's second order: equal forward and backward phasors at phase 0,
     a vertical force :math:`2P\cos 2\theta`.
 
-    >>> q = phasor_signal([100.0], [0.0], [100.0], [0.0], [2], [0.0, 45.0, 90.0])
+    >>> q = phasor_signal([100.0], [100.0], [2], [0.0, 45.0, 90.0])
     >>> np.round(q, 9)
     array([ 200.+0.j,    0.+0.j, -200.+0.j])
     """
-    per_order = phasor_signal_per_order(
-        magnitude_fwd, phase_fwd, magnitude_bwd, phase_bwd, orders, theta_deg
-    )
+    per_order = signal_per_order(forward, backward, orders, theta_deg)
     return np.asarray(per_order.sum(axis=0), dtype=np.complex128)
 
 
@@ -253,31 +191,30 @@ def couple_components(moment_signal: ArrayLike) -> tuple[FloatArray, FloatArray]
     return np.asarray(-q.real, dtype=np.float64), np.asarray(q.imag, dtype=np.float64)
 
 
-def has_proposal(ds: xr.Dataset) -> bool:
-    """Whether the Dataset holds a balancing proposal and its residual."""
-    return "residual_force_magnitude" in ds.data_vars
+def has_proposal(result: Result) -> bool:
+    """Whether the result holds a balancing proposal and its residual."""
+    return result.balanced is not None
 
 
-def has_moments(ds: xr.Dataset) -> bool:
+def has_moments(result: Result) -> bool:
     """Whether the analysis computed the moments (not ``moments=False``)."""
-    name = "reciprocating_moment_magnitude"
-    return name in ds.data_vars and not bool(np.isnan(ds[name].values).all())
+    return bool(result.has_moments)
 
 
-def has_roll(ds: xr.Dataset) -> bool:
+def has_roll(result: Result) -> bool:
     """Whether the analysis computed the roll torque (not ``roll=False``)."""
-    return "roll_amplitude" in ds.data_vars and not bool(np.isnan(ds["roll_amplitude"]).all())
+    return bool(result.has_roll)
 
 
-def dataset_phasors(
-    ds: xr.Dataset, quantity: Quantity = "force", source: Source = "free"
-) -> tuple[NDArray[np.int64], ComplexArray, ComplexArray]:
-    """Complex forward and backward phasors per order from a result Dataset.
+def phasors_of(
+    result: Result, quantity: Quantity = "force", source: Source = "free"
+) -> tuple[NDArray[np.intp], ComplexArray, ComplexArray]:
+    """Complex forward and backward phasors per order of a result.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     quantity : {'force', 'moment'}
         The shaking force [N] or the moment about ``reference_z`` [N m].
     source : {'free', 'reciprocating', 'residual'}
@@ -286,48 +223,45 @@ def dataset_phasors(
     Returns
     -------
     orders : ndarray of int
-        The Dataset's orders.
+        The result's orders.
     forward, backward : ndarray of complex
-        Phasors per order [N or N m].
+        Phasors per order [N or N m]; NaN where the analysis did not compute them (moments
+        with ``moments=False``).
 
     Raises
     ------
     ValueError
         For an unknown quantity or source, or ``residual`` without a proposal.
-
-    Notes
-    -----
-    Phasors the analysis did not compute (moments with ``moments=False``, whose variables
-    are then absent or NaN) are returned as NaN.
     """
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {', '.join(QUANTITIES)}, got {quantity!r}")
     if source not in SOURCES:
         raise ValueError(f"source must be one of {', '.join(SOURCES)}, got {source!r}")
-    prefix = "residual" if source == "residual" else "reciprocating"
-    if source == "residual" and not has_proposal(ds):
-        raise ValueError(
-            "the Dataset has no balancing proposal (no residual_* variables); "
-            "analyse with proposal=True"
-        )
-    orders = np.asarray(ds["order"].values, dtype=np.int64)
-    if f"{prefix}_{quantity}_magnitude" not in ds.data_vars:  # not computed (moments=False)
-        missing = np.full(orders.shape, np.nan + 0j)
-        return orders, missing, missing.copy()
-    magnitude = ds[f"{prefix}_{quantity}_magnitude"]
-    phase = ds[f"{prefix}_{quantity}_phase"]
-    forward = phasors_from_polar(
-        magnitude.sel(rotation="forward").values, phase.sel(rotation="forward").values
-    )
-    backward = phasors_from_polar(
-        magnitude.sel(rotation="backward").values, phase.sel(rotation="backward").values
-    )
-    if source == "free":
-        rotating = complex(
-            phasors_from_polar(
-                float(ds[f"rotating_{quantity}_magnitude"]), float(ds[f"rotating_{quantity}_phase"])
+    p = result.phasors
+    orders = np.asarray(p.orders, dtype=np.intp)
+    if source == "residual":
+        if result.balanced is None:
+            raise ValueError(
+                "this result has no balancing proposal (no residual); "
+                "analyse with the proposal asked for (Request(proposal=True), with moments "
+                "and roll)"
             )
+        b = result.balanced
+        pair = (
+            (b.force_forward, b.force_backward)
+            if quantity == "force"
+            else (b.moment_forward, b.moment_backward)
         )
+    else:
+        pair = (
+            (p.force_forward, p.force_backward)
+            if quantity == "force"
+            else (p.moment_forward, p.moment_backward)
+        )
+    forward = np.asarray(pair[0], dtype=np.complex128)
+    backward = np.asarray(pair[1], dtype=np.complex128)
+    if source == "free":
+        rotating = complex(p.rotating_force if quantity == "force" else p.rotating_moment)
         forward = forward + np.where(orders == 1, rotating, 0.0)
     # NaN phasors (moments not computed) stay NaN
     return orders, np.asarray(forward, np.complex128), np.asarray(backward, np.complex128)
@@ -338,19 +272,19 @@ def peaks(forward: ArrayLike, backward: ArrayLike) -> FloatArray:
     return np.asarray(np.abs(forward) + np.abs(backward), dtype=np.float64)
 
 
-def dataset_signal(
-    ds: xr.Dataset,
+def signal_of(
+    result: Result,
     theta_deg: ArrayLike,
     quantity: Quantity = "force",
     source: Source = "free",
     per_order: bool = False,
 ) -> ComplexArray:
-    """Force or moment of a result Dataset at the given crank angles.
+    """Force or moment of a result at the given crank angles.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     theta_deg : array_like
         Crank angles [deg].
     quantity : {'force', 'moment'}
@@ -365,53 +299,51 @@ def dataset_signal(
     ndarray of complex
         ``y + i x`` at each angle, shape (n_angles,) or (n_orders, n_angles).
     """
-    orders, fwd, bwd = dataset_phasors(ds, quantity, source)
+    orders, fwd, bwd = phasors_of(result, quantity, source)
     signal = signal_per_order(fwd, bwd, orders, theta_deg)
     return signal if per_order else np.asarray(signal.sum(axis=0), dtype=np.complex128)
 
 
-def dataset_roll(
-    ds: xr.Dataset, residual: bool = False
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Roll orders, amplitudes [N m] and phases [deg] of a result Dataset.
+def roll_of(result: Result, residual: bool = False) -> tuple[FloatArray, ComplexArray]:
+    """Roll orders and complex roll phasors [N m] of a result.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The result of :func:`balance.analyse`.
+    result : Result
+        From :func:`balance.core.analysis.compute`.
     residual : bool
-        The roll with the proposed balance shafts (``residual_roll_*``) instead of the
-        engine's own.
+        The roll with the proposed balance shafts instead of the engine's own.
 
     Returns
     -------
-    orders, amplitude, phase_deg : ndarray
-        Empty when the analysis did not compute the roll (``roll=False``).
+    orders, roll : ndarray
+        Orders (halves for a four-stroke with gas forces) and phasors; both empty when the
+        analysis did not compute the roll (``roll=False``).
+
+    Raises
+    ------
+    ValueError
+        For ``residual`` without a proposal.
     """
-    prefix = "residual_roll" if residual else "roll"
-    if residual and not has_proposal(ds):
-        raise ValueError("the Dataset has no balancing proposal (no residual_roll_* variables)")
-    if f"{prefix}_amplitude" not in ds.data_vars:
-        empty = np.zeros(0, dtype=np.float64)
-        return empty, empty.copy(), empty.copy()
+    if residual and result.balanced is None:
+        raise ValueError("this result has no balancing proposal (no residual roll)")
+    roll = result.residual_roll if residual else result.roll
+    if roll is None:
+        return np.zeros(0, dtype=np.float64), np.zeros(0, dtype=np.complex128)
     return (
-        np.asarray(ds["roll_order"].values, dtype=np.float64),
-        np.asarray(ds[f"{prefix}_amplitude"].values, dtype=np.float64),
-        np.asarray(ds[f"{prefix}_phase"].values, dtype=np.float64),
+        np.asarray(result.roll_orders, dtype=np.float64),
+        np.asarray(roll, dtype=np.complex128),
     )
 
 
-def roll_signal_per_order(
-    amplitude: ArrayLike, phase_deg: ArrayLike, orders: ArrayLike, theta_deg: ArrayLike
-) -> FloatArray:
-    r"""Each order's roll torque :math:`a_k \cos(k\theta + \varphi_k)` [N m].
+def roll_signal_per_order(roll: ArrayLike, orders: ArrayLike, theta_deg: ArrayLike) -> FloatArray:
+    r"""Each order's roll torque :math:`\operatorname{Re}(R_k e^{ik\theta})` [N m].
 
     Parameters
     ----------
-    amplitude : array_like
-        :math:`a_k` per order [N m].
-    phase_deg : array_like
-        :math:`\varphi_k` per order [deg].
+    roll : array_like of complex
+        :math:`R_k = a_k e^{i\varphi_k}` per order [N m]: the torque is
+        :math:`a_k \cos(k\theta + \varphi_k)`.
     orders : array_like
         Orders :math:`k`, possibly halves [1].
     theta_deg : array_like
@@ -422,26 +354,23 @@ def roll_signal_per_order(
     ndarray, shape (n_orders, n_angles)
         Torque on the block about the crank axis, positive with the rotation [N m].
     """
-    amp = np.atleast_1d(np.asarray(amplitude, dtype=np.float64))
-    phase = np.radians(np.atleast_1d(np.asarray(phase_deg, dtype=np.float64)))
+    r = np.atleast_1d(np.asarray(roll, dtype=np.complex128))
     ks = np.atleast_1d(np.asarray(orders, dtype=np.float64))
     th = np.radians(np.atleast_1d(np.asarray(theta_deg, dtype=np.float64)))
-    return np.asarray(
-        amp[:, None] * np.cos(ks[:, None] * th[None, :] + phase[:, None]), dtype=np.float64
-    )
+    if r.shape != ks.shape:
+        raise ValueError(
+            f"roll_signal: roll and orders must have one entry per order, got {r.shape} "
+            f"and {ks.shape}"
+        )
+    return np.asarray((r[:, None] * np.exp(1j * ks[:, None] * th[None, :])).real, np.float64)
 
 
-def roll_signal(
-    amplitude: ArrayLike, phase_deg: ArrayLike, orders: ArrayLike, theta_deg: ArrayLike
-) -> FloatArray:
-    r"""Roll torque :math:`\sum_k a_k \cos(k\theta + \varphi_k)` at each crank angle [N m].
+def roll_signal(roll: ArrayLike, orders: ArrayLike, theta_deg: ArrayLike) -> FloatArray:
+    r"""Roll torque :math:`\sum_k \operatorname{Re}(R_k e^{ik\theta})` at each crank angle [N m].
 
     Parameters are those of :func:`roll_signal_per_order`.
     """
-    return np.asarray(
-        roll_signal_per_order(amplitude, phase_deg, orders, theta_deg).sum(axis=0),
-        dtype=np.float64,
-    )
+    return np.asarray(roll_signal_per_order(roll, orders, theta_deg).sum(axis=0), dtype=np.float64)
 
 
 def roll_span_deg(orders: ArrayLike) -> float:

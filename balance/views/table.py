@@ -1,14 +1,23 @@
-"""A readable rich table of a result Dataset, for the terminal."""
+"""A readable rich table of a :class:`~balance.core.result.Result`, for the terminal.
+
+Reads the Result's phasors and references directly; no xarray.
+"""
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
-import xarray as xr
+import numpy as np
+
+from balance.views.polar import phase_deg, safe_ratio, speed_rpm
 
 if TYPE_CHECKING:  # pragma: no cover
     from rich.console import RenderableType
+
+    from balance.core.result import Result
+    from balance.core.torque import TorqueResult
 
 __all__ = ["format_number", "render", "render_factor_study", "render_proposal", "render_torque"]
 
@@ -22,27 +31,32 @@ def format_number(value: float, digits: int = 4) -> str:
     return f"{value:.{digits}g}"
 
 
-def render(ds: xr.Dataset) -> RenderableType:
+def render(result: Result) -> RenderableType:
     """Rich renderable: summary line, free forces and moments per order, rotating, roll."""
     from rich.console import Group
     from rich.table import Table
     from rich.text import Text
 
-    bound = float(ds.attrs.get("error_bound", float("nan")))
+    engine = result.engine
+    p = result.phasors
+    bound = float(p.error_bound)
     title = (
-        f"{ds.attrs['layout']}: {len(ds['cylinder'])} cylinders at "
-        f"{ds.attrs['speed_rpm']:.0f} rpm, model {ds.attrs['model']}"
+        f"{engine.name}: {engine.n_cylinders} cylinders at "
+        f"{speed_rpm(engine.speed):.0f} rpm, model {p.model}"
         + (f" (coefficient error below {bound:.1g})" if math.isfinite(bound) else "")
     )
     norm = Text(
-        f"F1 = m_rec r w^2 = {format_number(float(ds['reference_force']))} N;  "
-        f"pitch a = {format_number(float(ds['pitch']) * 1e3)} mm;  "
-        f"moments about z = {format_number(float(ds['reference_z']) * 1e3)} mm"
+        f"F1 = m_rec r w^2 = {format_number(float(result.reference_force))} N;  "
+        f"pitch a = {format_number(float(result.pitch) * 1e3)} mm;  "
+        f"moments about z = {format_number(float(engine.reference_z) * 1e3)} mm"
     )
     tables = []
-    has_moments = "reciprocating_moment_magnitude" in ds
-    kinds = [("force", "N", "F1")] + ([("moment", "N m", "F1 a")] if has_moments else [])
-    for what, unit, per in kinds:
+    kinds = [("force", "N", "F1", p.force_forward, p.force_backward, result.reference_force)]
+    if result.has_moments:
+        kinds.append(
+            ("moment", "N m", "F1 a", p.moment_forward, p.moment_backward, result.reference_moment)
+        )
+    for what, unit, per, forward, backward, reference in kinds:
         table = Table(
             title=f"Reciprocating inertia: free {what}s"
             + (" about reference_z" if what == "moment" else ""),
@@ -58,114 +72,122 @@ def render(ds: xr.Dataset) -> RenderableType:
             f"peak / {per}",
         ):
             table.add_column(label, justify="right")
-        prefix = f"reciprocating_{what}"
-        for k in ds["order"].values:
-            mag = ds[f"{prefix}_magnitude"].sel(order=k)
-            phase = ds[f"{prefix}_phase"].sel(order=k)
+        both = np.stack([forward, backward], axis=-1)
+        mag = np.abs(both)
+        phase = phase_deg(both)
+        peak = mag[..., 0] + mag[..., 1]
+        normalised = safe_ratio(peak, reference)
+        for i, k in enumerate(p.orders):
             table.add_row(
                 str(int(k)),
-                format_number(float(mag.sel(rotation="forward"))),
-                format_number(float(phase.sel(rotation="forward"))),
-                format_number(float(mag.sel(rotation="backward"))),
-                format_number(float(phase.sel(rotation="backward"))),
-                format_number(float(ds[f"{prefix}_peak"].sel(order=k))),
-                format_number(float(ds[f"{prefix}_peak_normalised"].sel(order=k))),
+                format_number(float(mag[i, 0])),
+                format_number(float(phase[i, 0])),
+                format_number(float(mag[i, 1])),
+                format_number(float(phase[i, 1])),
+                format_number(float(peak[i])),
+                format_number(float(normalised[i])),
             )
         tables.append(table)
     rotating_text = (
         "Rotating (order 1, forward): force "
-        f"{format_number(float(ds['rotating_force_magnitude']))} N at "
-        f"{format_number(float(ds['rotating_force_phase']))} deg"
+        f"{format_number(float(np.abs(p.rotating_force)))} N at "
+        f"{format_number(float(phase_deg(p.rotating_force)))} deg"
     )
-    if has_moments:
+    if result.has_moments:
         rotating_text += (
-            f";  moment {format_number(float(ds['rotating_moment_magnitude']))} N m at "
-            f"{format_number(float(ds['rotating_moment_phase']))} deg"
+            f";  moment {format_number(float(np.abs(p.rotating_moment)))} N m at "
+            f"{format_number(float(phase_deg(p.rotating_moment)))} deg"
         )
     parts: list[RenderableType] = [Text(title, style="bold"), norm, *tables, Text(rotating_text)]
-    if "roll_amplitude" in ds:
-        parts.append(_roll_table(ds))
-    if "torque_mean" in ds:
-        parts.append(render_torque(ds))
-    if "counterweight_mass" in ds:
-        parts.extend(render_proposal(ds))
+    if result.roll is not None:
+        parts.append(_roll_table(result))
+    if result.torque is not None:
+        parts.append(render_torque(result.torque))
+    if result.balanced is not None:
+        parts.extend(render_proposal(result))
     return Group(*parts)
 
 
-def _roll_table(ds: xr.Dataset) -> RenderableType:
+def _roll_table(result: Result) -> RenderableType:
     from rich.table import Table
 
+    assert result.roll is not None
     roll = Table(title="Roll torque on the block (a_k cos(k theta + phase))", title_justify="left")
     roll.add_column("order", justify="right")
     roll.add_column("amplitude [N m]", justify="right")
     roll.add_column("phase [deg]", justify="right")
     roll.add_column("per m_rec r^2 w^2", justify="right")
-    for k in ds["roll_order"].values:
+    amplitude = np.abs(result.roll)
+    phase = phase_deg(result.roll)
+    normalised = safe_ratio(amplitude, result.reference_roll)
+    for i, k in enumerate(np.asarray(result.roll_orders, dtype=np.float64)):
         roll.add_row(
             f"{k:g}",
-            format_number(float(ds["roll_amplitude"].sel(roll_order=k))),
-            format_number(float(ds["roll_phase"].sel(roll_order=k))),
-            format_number(float(ds["roll_amplitude_normalised"].sel(roll_order=k))),
+            format_number(float(amplitude[i])),
+            format_number(float(phase[i])),
+            format_number(float(normalised[i])),
         )
     return roll
 
 
-def render_torque(ds: xr.Dataset) -> RenderableType:
+def render_torque(t: TorqueResult) -> RenderableType:
     """Rich renderable of the torque summary of an analysis with gas forces."""
+    from rich.markup import escape
     from rich.table import Table
 
     table = Table(title="Engine torque with gas forces (over the cycle)", title_justify="left")
     table.add_column("quantity")
     table.add_column("value", justify="right")
     rows = [
-        ("mean torque [N m]", float(ds["torque_mean"])),
-        ("largest torque [N m]", float(ds["torque_max"])),
-        ("smallest torque [N m]", float(ds["torque_min"])),
-        ("non-uniformity (M_max - M_min)/M_mean", float(ds["torque_nonuniformity"])),
-        ("indicated work per cycle [J]", float(ds["indicated_work"])),
-        ("largest excess work [J]", float(ds["excess_work"])),
-        ("speed fluctuation (w_max - w_min)/w_mean", float(ds["speed_fluctuation"])),
-        ("flywheel inertia [kg m^2]", float(ds["flywheel_inertia"])),
+        ("mean torque [N m]", float(t.mean)),
+        ("largest torque [N m]", float(t.maximum)),
+        ("smallest torque [N m]", float(t.minimum)),
+        ("non-uniformity (M_max - M_min)/M_mean", float(t.nonuniformity)),
+        ("indicated work per cycle [J]", float(t.mean * 2.0 * math.pi * t.cycle_deg / 360.0)),
+        ("largest excess work [J]", float(t.excess_work)),
+        ("speed fluctuation (w_max - w_min)/w_mean", float(t.speed_fluctuation)),
+        ("flywheel inertia [kg m^2]", float(t.flywheel_inertia)),
     ]
-    from rich.markup import escape
-
     for label, value in rows:
         table.add_row(escape(label), format_number(value))
     return table
 
 
-def render_proposal(ds: xr.Dataset) -> list[RenderableType]:
+def render_proposal(result: Result) -> list[RenderableType]:
     """Rich renderables of the balancing proposal and its residual."""
     from rich.table import Table
     from rich.text import Text
 
-    factor = ds.attrs.get("proposal_balance_factor", "")
+    assert result.balanced is not None and result.residual_roll is not None
+    balanced = result.balanced
+    proposal = balanced.proposal
+    factor = proposal.balance_factor
     choice = (
-        f"Proposal: strategy {ds.attrs['proposal_strategy']}, cancelling orders "
-        f"{ds.attrs['proposal_orders']}"
-        + ("" if factor == "" else f", balance factor {float(factor):.0%}")
+        f"Proposal: strategy {proposal.strategy}, cancelling orders "
+        f"{','.join(map(str, proposal.orders))}"
+        + ("" if factor is None else f", balance factor {float(factor):.0%}")
     )
     out: list[RenderableType] = [Text(choice, style="bold")]
-    notes = str(ds.attrs.get("proposal_notes", ""))
+    notes = "; ".join(proposal.notes)
     if notes:
         out.append(Text(notes))
-    n_cw = ds.sizes.get("counterweight", 0)
-    n_shaft = ds.sizes.get("shaft", 0)
-    if n_cw == 0 and n_shaft == 0:
+    cws = proposal.counterweights
+    shafts = proposal.shafts
+    if not cws and not shafts:
         out.append(Text("Nothing to cancel: no counterweights or balance shafts are needed."))
-    if n_cw:
+    if cws:
         table = Table(title="Counterweights (turn with the crank)", title_justify="left")
         for label in ("z [mm]", "mass [kg]", "radius [mm]", "angle [deg]"):
             table.add_column(label, justify="right")
-        for i in range(n_cw):
+        for c in cws:
             table.add_row(
-                format_number(float(ds["counterweight_z"][i]) * 1e3),
-                format_number(float(ds["counterweight_mass"][i])),
-                format_number(float(ds["counterweight_radius"][i]) * 1e3),
-                format_number(float(ds["counterweight_angle"][i])),
+                format_number(float(c.z) * 1e3),
+                format_number(float(c.mass)),
+                format_number(float(c.radius) * 1e3),
+                format_number(float(c.angle_deg)),
             )
         out.append(table)
-    if n_shaft:
+    if shafts:
         table = Table(title="Balance shafts", title_justify="left")
         for label in (
             "shaft",
@@ -177,20 +199,19 @@ def render_proposal(ds: xr.Dataset) -> list[RenderableType]:
             "angle [deg]",
         ):
             table.add_column(label, justify="right")
-        for i in range(n_shaft):
-            for j in range(ds.sizes.get("shaft_plane", 0)):
-                z = float(ds["shaft_plane_z"][i, j])
-                if not math.isfinite(z):
-                    continue
+        for i, shaft in enumerate(shafts):
+            unbalance = np.array([u for _, u in shaft.planes], dtype=np.complex128)
+            angle = phase_deg(unbalance)
+            for j, (z, _) in enumerate(shaft.planes):
                 first = j == 0
                 table.add_row(
                     str(i + 1) if first else "",
-                    f"{int(ds['shaft_speed_ratio'][i]):+d}" if first else "",
-                    format_number(float(ds["shaft_x"][i]) * 1e3) if first else "",
-                    format_number(float(ds["shaft_y"][i]) * 1e3) if first else "",
-                    format_number(z * 1e3),
-                    format_number(float(ds["shaft_plane_unbalance"][i, j]) * 1e3),
-                    format_number(float(ds["shaft_plane_angle"][i, j])),
+                    f"{int(shaft.speed_ratio):+d}" if first else "",
+                    format_number(float(shaft.x) * 1e3) if first else "",
+                    format_number(float(shaft.y) * 1e3) if first else "",
+                    format_number(float(z) * 1e3),
+                    format_number(float(np.abs(unbalance[j])) * 1e3),
+                    format_number(float(angle[j])),
                 )
         out.append(table)
     table = Table(
@@ -205,27 +226,29 @@ def render_proposal(ds: xr.Dataset) -> list[RenderableType]:
         "roll [N m]",
     ):
         table.add_column(label, justify="right")
-    roll_orders = {float(k) for k in ds["roll_order"].values}
-    for k in ds["order"].values:
-        roll = (
-            format_number(float(ds["residual_roll_amplitude"].sel(roll_order=float(k))))
-            if float(k) in roll_orders
-            else "-"
-        )
+    force_peak = np.abs(np.stack([balanced.force_forward, balanced.force_backward], -1)).sum(-1)
+    moment_peak = np.abs(np.stack([balanced.moment_forward, balanced.moment_backward], -1)).sum(-1)
+    force_normalised = safe_ratio(force_peak, result.reference_force)
+    moment_normalised = safe_ratio(moment_peak, result.reference_moment)
+    roll_at = {float(k): i for i, k in enumerate(result.roll_orders)}
+    roll_amplitude = np.abs(result.residual_roll)
+    for i, k in enumerate(result.phasors.orders):
+        at = roll_at.get(float(k))
         table.add_row(
             str(int(k)),
-            format_number(float(ds["residual_force_peak"].sel(order=k))),
-            format_number(float(ds["residual_force_peak_normalised"].sel(order=k))),
-            format_number(float(ds["residual_moment_peak"].sel(order=k))),
-            format_number(float(ds["residual_moment_peak_normalised"].sel(order=k))),
-            roll,
+            format_number(float(force_peak[i])),
+            format_number(float(force_normalised[i])),
+            format_number(float(moment_peak[i])),
+            format_number(float(moment_normalised[i])),
+            "-" if at is None else format_number(float(roll_amplitude[at])),
         )
     out.append(table)
     return out
 
 
-def render_factor_study(ds: xr.Dataset) -> list[RenderableType]:
-    """Rich renderables of a balance-factor study (:mod:`balance.studies.factor`)."""
+def render_factor_study(study: Mapping[str, Any]) -> list[RenderableType]:
+    """Rich renderables of a balance-factor study (:mod:`balance.studies.factor`: its Dataset,
+    or any mapping of its variable names to arrays)."""
     from rich.table import Table
     from rich.text import Text
 
@@ -235,12 +258,15 @@ def render_factor_study(ds: xr.Dataset) -> list[RenderableType]:
     )
     for label in ("factor", "vertical peak [N]", "horizontal peak [N]", "moment peak [N m]"):
         table.add_column(label, justify="right")
-    for i, f in enumerate(ds["study_factor"].values):
+    vertical = np.asarray(study["study_vertical_peak"])
+    horizontal = np.asarray(study["study_horizontal_peak"])
+    moment = np.asarray(study["study_moment_peak"])
+    for i, f in enumerate(np.asarray(study["study_factor"])):
         table.add_row(
             f"{f:.0%}",
-            format_number(float(ds["study_vertical_peak"][i])),
-            format_number(float(ds["study_horizontal_peak"][i])),
-            format_number(float(ds["study_moment_peak"][i])),
+            format_number(float(vertical[i])),
+            format_number(float(horizontal[i])),
+            format_number(float(moment[i])),
         )
-    best = float(ds["optimal_balance_factor"])
+    best = float(np.asarray(study["optimal_balance_factor"]))
     return [table, Text(f"Factor minimising the larger force peak: {best:.1%}")]

@@ -1,7 +1,8 @@
 """Sphinx extension: the figure gallery of a few built-in layouts, drawn at build time.
 
 When the builder starts (``builder-inited``) every figure kind of :mod:`balance.views.plots` is
-drawn for each layout of :data:`LAYOUTS` (analysed with their balancing proposals) into
+drawn for each layout of :data:`LAYOUTS` (the :class:`~balance.core.result.Result` of
+:func:`balance.core.analysis.compute`, with their balancing proposals) into
 ``_generated/gallery/<layout>-<kind>.png`` under the documentation source, and the MyST
 page ``_generated/gallery.md`` that shows them is written; ``gallery.md`` includes it.
 
@@ -102,19 +103,21 @@ def generate(srcdir: str | os.PathLike[str]) -> list[Path]:
         The files that were (re)written; empty when everything was up to date.
     """
     import balance
+    from balance.core.analysis import compute
+    from balance.core.result import Request
     from balance.views.plots import PLOT_KINDS, figure_bytes, proposal_summary
 
     root = Path(srcdir) / GENERATED
     written = []
     sections = []
     for name in LAYOUTS:
-        ds = balance.analyse(balance.load_layout(name))
-        kinds = [k for k in PLOT_KINDS if k != "balance" or "residual_force_peak" in ds]
+        result = compute(balance.load_layout(name), Request())
+        kinds = [k for k in PLOT_KINDS if k != "balance" or result.balanced is not None]
         for kind in kinds:
             path = root / "gallery" / f"{name}-{kind}.png"
-            if _write_if_changed(path, figure_bytes(PLOT_KINDS[kind](ds), "png")):
+            if _write_if_changed(path, figure_bytes(PLOT_KINDS[kind](result), "png")):
                 written.append(path)
-        sections.append((name, str(ds.attrs["layout"]), proposal_summary(ds), kinds))
+        sections.append((name, result.engine.name, proposal_summary(result), kinds))
     page = root / "gallery.md"
     if _write_if_changed(page, _page(sections).encode("utf-8")):
         written.append(page)

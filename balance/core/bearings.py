@@ -1,0 +1,963 @@
+r"""Crank-pin and main-bearing loads, and the crankshaft's internal moments at the mains.
+
+Every load here is a force that the crankshaft (or a big end) puts on a bearing, in the
+engine frame, as a complex number :math:`y + \mathrm{i}x` (CONTRACT §1), sampled over one
+revolution (inertia only) or over the working cycle (with a ``gas:`` section, whose forces
+are then included).  The steps, each a function of arrays over cylinders and crank angles:
+
+1. :func:`big_end_forces`: the force each big end puts on its crank pin, from the
+   Newton–Euler equations of the piston and of the conrod as a rigid body;
+2. :func:`pin_groups`: the rods that share a crank pin (same throw angle and plane) and
+   their summed load, the crank-pin load;
+3. the throw load: the pin load plus the centrifugal force of the throw's
+   ``crank_unbalance`` (and of counterweights, given as ``(z, unbalance)`` pairs);
+4. :func:`lever_shares`: the main-bearing loads, by the lever rule of a crankshaft cut at
+   every main (statically determinate);
+5. :func:`moment_arms`: the internal bending moment at each main from the throw loads on
+   its side of smaller z, inertia only;
+6. :func:`bearing_loads`: all of the above over the cycle, with the largest magnitude
+   refined beyond the sampling and the mean of the magnitude integrated to rounding.
+
+Two-mass fallback
+-----------------
+The rod's real inertia enters through the engine's lumped masses, which are *exactly*
+equivalent for these forces: a rod of mass :math:`m_c`, centre of gravity :math:`a` from
+the big end and inertia :math:`I_G` moves like the point masses :math:`m_c a/l` at the
+piston pin and :math:`m_c(1 - a/l)` at the crank pin plus a massless rod of inertia
+:math:`\Delta I = I_G - m_c a (l - a)` (static equivalence keeps the mass and centre of
+gravity, :math:`\Delta I` restores the moment of inertia; the tests check this against a
+rigid-body solution).  With masses given by part, :math:`\Delta I` is the engine's
+``conrod_inertia_correction`` and the crank's own unbalance is kept out of the pin load.
+With **lumped** masses the rod's inertia is not known: the model is the two-mass one,
+:math:`m_{rec}` at the piston pin and :math:`m_{rot}` at the crank pin (:math:`\Delta I =
+0`), and the pin load then includes the whole rotating mass, crank unbalance and all (the
+throw and main loads do not depend on this split).  Without ``conrod_inertia`` a by-part
+rod is likewise taken with the two-mass inertia :math:`m_c a (l - a)`.
+
+References
+----------
+C. F. Taylor, *The Internal-Combustion Engine in Theory and Practice*, vol. 2, 2nd ed., MIT
+Press 1985, ch. 8 (inertia forces of the reciprocating and rotating parts, the two-mass
+conrod).  A. Kolchin and V. Demidov, *Design of Automotive Engines*, Mir 1984 (forces on
+the crank pin and the main journals, the polar diagram of the crank-pin load, gas force
+:math:`P_g = (p - p_0)F_p`).
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import math
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from balance.core.balancing import Proposal, throw_groups
+from balance.core.engine import Engine
+from balance.core.gas import model_pressure
+from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
+
+__all__ = [
+    "BearingLoads",
+    "bearing_loads",
+    "big_end_forces",
+    "counterweights_of",
+    "crank_frame",
+    "crank_unbalance_share",
+    "default_mains",
+    "engine_default_mains",
+    "gas_forces",
+    "lever_shares",
+    "loads_at",
+    "moment_arms",
+    "pin_groups",
+]
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+_EPS = float(np.finfo(np.float64).eps)
+
+#: Crank angles per revolution of the first grid for the Fourier series of the pin loads.
+SERIES_START = 64
+#: Largest such grid (a geometry within a hair of l = r + |e| may need it).
+SERIES_MAX = 2**14
+#: Uniform grid of the mean of a magnitude (trapezoidal rule), checked on twice as many.
+START_GRID = 1024
+#: Change of a mean between the two grids, relative to the quantity's maximum, below which
+#: the trapezoidal rule has converged; otherwise the graded rule integrates that quantity.
+MEAN_TOLERANCE = 1e-13
+#: Newton iterations of a maximum (or minimum) from the sampled one.
+NEWTON_ITERATIONS = 8
+#: Graded Gauss–Legendre rule of a near-singular mean: nodes per panel, ratio, levels.
+GRADED_NODES = 16
+GRADED_RATIO = 0.25
+GRADED_LEVELS = 26
+#: Sampled local minima of a slow quantity below this share of its maximum are graded to.
+GRADE_BELOW = 0.1
+#: Gauss–Legendre nodes per interval between the kinks of an interpolated pressure trace.
+GAUSS_NODES = 4
+#: Largest interval of the gas grid [deg].
+GAS_MAX_STEP_DEG = 0.5
+#: Candidate local maxima refined per quantity.
+CANDIDATES = 3
+#: Golden-section iterations (bracket shrinks by 0.618 each).
+GOLDEN_ITERATIONS = 64
+
+
+# --------------------------------------------------------------------------- geometry
+
+
+def default_mains(z: ArrayLike, pitch: float = math.nan, stroke: float = math.nan) -> FloatArray:
+    r"""Default main-bearing positions [m]: one between neighbouring throw planes, one half a
+    pitch beyond each end throw.
+
+    Parameters
+    ----------
+    z : array_like
+        Axial positions of the cylinders' throw planes [m] (repeats allowed).
+    pitch : float
+        Throw pitch [m] used for a single throw plane (the layout's ``pitch``); NaN if none.
+    stroke : float
+        Stroke [m]; a single throw plane without a pitch gets mains one stroke either side.
+
+    Returns
+    -------
+    ndarray
+        Strictly increasing main positions [m].
+
+    Notes
+    -----
+    With distinct planes :math:`z_1 < \dots < z_n` the mains are
+    :math:`z_1 - (z_2 - z_1)/2`, the midpoints :math:`(z_j + z_{j+1})/2` and
+    :math:`z_n + (z_n - z_{n-1})/2`: each end main is half the neighbouring spacing beyond
+    the end throw (half a pitch for evenly spaced throws).  A single plane gets mains at
+    :math:`z_1 \mp p/2` with the layout's pitch :math:`p`, or :math:`z_1 \mp` stroke.
+    """
+    planes = np.unique(np.round(np.asarray(z, dtype=np.float64), 12))
+    if planes.size == 1:
+        half = 0.5 * pitch if math.isfinite(pitch) and pitch > 0 else stroke
+        return np.array([planes[0] - half, planes[0] + half])
+    middle = 0.5 * (planes[1:] + planes[:-1])
+    first = planes[0] - 0.5 * (planes[1] - planes[0])
+    last = planes[-1] + 0.5 * (planes[-1] - planes[-2])
+    return np.concatenate([[first], middle, [last]])
+
+
+def engine_default_mains(engine: Engine) -> FloatArray:
+    """:func:`default_mains` of an engine (its pitch and largest stroke) [m]."""
+    return default_mains(engine.z, engine.pitch, float(2.0 * np.max(engine.crank_radius)))
+
+
+def lever_shares(load_z: ArrayLike, mains: ArrayLike) -> FloatArray:
+    r"""Share of each point load carried by each main bearing [1], shape (mains, loads).
+
+    Parameters
+    ----------
+    load_z : array_like
+        Axial positions of the loads (throw planes, counterweights) [m].
+    mains : array_like
+        Main-bearing positions [m], strictly increasing, at least two.
+
+    Returns
+    -------
+    ndarray
+        :math:`S_{mj}` such that main :math:`m` carries :math:`\sum_j S_{mj} F_j`.
+
+    Notes
+    -----
+    The crankshaft is cut at every main, so each span is a simply supported beam.  A load at
+    :math:`z` between mains :math:`z_a < z_b` goes to them by the lever rule,
+
+    .. math::
+
+        S_a = \frac{z_b - z}{z_b - z_a}, \qquad S_b = \frac{z - z_a}{z_b - z_a},
+
+    and a load beyond the outermost main is a cantilever on the two nearest mains: the same
+    formulas, now with :math:`S > 1` on the near main and :math:`S < 0` on the far one
+    (the far main holds the shaft down).  A load exactly on a main goes wholly to it.  The
+    shares of every load sum to 1 (force balance) and
+    :math:`\sum_m S_{mj} z_m = z_j` (moment balance).
+    """
+    zs = np.asarray(load_z, dtype=np.float64)
+    zm = np.asarray(mains, dtype=np.float64)
+    span = np.clip(np.searchsorted(zm, zs, side="right") - 1, 0, zm.size - 2)
+    za, zb = zm[span], zm[span + 1]
+    near = (zb - zs) / (zb - za)
+    far = (zs - za) / (zb - za)
+    shares = np.zeros((zm.size, zs.size))
+    cols = np.arange(zs.size)
+    shares[span, cols] += near
+    shares[span + 1, cols] += far
+    return shares
+
+
+def moment_arms(load_z: ArrayLike, mains: ArrayLike) -> FloatArray:
+    r"""Lever arms of the internal moment [m], shape (mains, loads).
+
+    Returns
+    -------
+    ndarray
+        :math:`A_{mj} = z_m - z_j` where :math:`z_j < z_m`, else 0, so that the internal
+        moment at main :math:`m` is :math:`\sum_j A_{mj} F_j` (CONTRACT §6: the bending
+        moment of the loads on the side of smaller z, drawn like the moment phasors).
+    """
+    zs = np.asarray(load_z, dtype=np.float64)
+    zm = np.asarray(mains, dtype=np.float64)
+    arm = zm[:, None] - zs[None, :]
+    return np.where(arm > 0.0, arm, 0.0)
+
+
+def pin_groups(engine: Engine) -> tuple[NDArray[np.intp], FloatArray, tuple[tuple[int, ...], ...]]:
+    """The crank pins: rods whose pins share a throw angle and a plane.
+
+    Returns
+    -------
+    group : ndarray of int
+        Pin index of each cylinder.
+    z : ndarray
+        Plane of each pin [m].
+    cylinders : tuple of tuple of int
+        Cylinder numbers (1-based) on each pin.
+    """
+    group = throw_groups(engine)
+    n = int(group.max()) + 1
+    z = np.zeros(n)
+    z[group] = engine.z
+    cylinders = tuple(tuple(int(i) + 1 for i in np.flatnonzero(group == g)) for g in range(n))
+    return group, z, cylinders
+
+
+def crank_unbalance_share(engine: Engine) -> FloatArray:
+    """Each cylinder's share of its throw's ``crank_unbalance`` [kg, at the crank radius].
+
+    Zero for lumped masses (the unbalance is then inside the rotating mass) and for a
+    cylinder whose rotating mass is given lumped.
+    """
+    parts = engine.mass_parts
+    if parts is None:
+        return np.zeros(engine.n_cylinders)
+    share = np.nan_to_num(parts.crank_unbalance) / parts.rods_per_throw
+    return np.asarray(np.where(np.isnan(parts.rotating_given), share, 0.0), dtype=np.float64)
+
+
+def counterweights_of(proposal: Proposal | None) -> tuple[tuple[float, complex], ...]:
+    """The ``(z [m], unbalance [kg m])`` pairs of a proposal's counterweights."""
+    if proposal is None:
+        return ()
+    return tuple((cw.z, complex(cw.unbalance)) for cw in proposal.counterweights)
+
+
+def crank_frame(load: ArrayLike, theta: ArrayLike, throw: ArrayLike) -> ComplexArray:
+    r"""A pin load seen from the crank: :math:`F\,e^{-\mathrm{i}(\theta + \varphi)}`.
+
+    Its real part is along the throw (outwards), its imaginary part along the direction of
+    rotation: the frame of the textbook polar diagram of the crank-pin load.
+    """
+    return np.asarray(
+        np.asarray(load) * np.exp(-1j * (np.asarray(theta) + np.asarray(throw))),
+        dtype=np.complex128,
+    )
+
+
+# --------------------------------------------------------------------------- forces
+
+
+def big_end_forces(
+    engine: Engine, theta: ArrayLike, gas_force: ArrayLike | None = None
+) -> ComplexArray:
+    r"""Force each big end puts on its crank pin [N], engine frame, shape (cylinders, angles).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine at its crank speed (constant).
+    theta : array_like
+        Crank angles [rad], shape (angles,).
+    gas_force : array_like, optional
+        Gas force on each piston towards the crank, :math:`G = (p - p_0)A` [N], shape
+        (cylinders, angles).
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`y + \mathrm{i}x` components of the force on the pin.
+
+    Notes
+    -----
+    In each cylinder's frame (:math:`X` across the bore towards where the pin goes after
+    TDC, :math:`Y` along the bore) the crank pin is :math:`C = r(\sin\beta, \cos\beta)`, the
+    piston pin :math:`P = (e, s)`, and :math:`d = P - C = (-l\sin\gamma, l\cos\gamma)`.
+    The piston (mass :math:`m_{rec}`, the two-mass equivalent, see the module notes) takes
+    the rod force :math:`F_{RP}`, the wall force :math:`(N, 0)` and the gas force
+    :math:`(0, -G)`:
+
+    .. math::
+
+        m_{rec} a_P = F_{RP} + (N, -G), \qquad a_P = (0, \omega^2 s'').
+
+    The massless rod of inertia :math:`\Delta I` (turning at :math:`\ddot\vartheta =
+    \omega^2\gamma''`, counter-clockwise in :math:`X, Y`) carries :math:`-F_{RP}` at
+    :math:`P` and the pin's force at :math:`C`; its moment balance about :math:`C` is
+    :math:`\Delta I\,\ddot\vartheta = d\times(-F_{RP})`.  With
+    :math:`Q = (0, m_{rec}\omega^2 s'' + G)`:
+
+    .. math::
+
+        N = -\frac{\Delta I\,\omega^2\gamma'' + d_X Q_Y}{d_Y}, \qquad
+        F_\mathrm{pin} = (N,\ -Q_Y) + m_\mathrm{pin}\,\omega^2 C,
+
+    where :math:`m_\mathrm{pin}` is the rotating mass less the crank's own unbalance
+    (:func:`crank_unbalance_share`).  Without :math:`\Delta I` and :math:`e`, :math:`N =
+    Q_Y\tan\gamma` and the rod force is :math:`Q_Y/\cos\gamma`: Kolchin and Demidov's
+    :math:`P\tan\beta` and :math:`P/\cos\beta`.  In the engine frame,
+    :math:`F = (F_Y + \mathrm{i}F_X)\,e^{\mathrm{i}\psi}`.
+    """
+    th = np.asarray(theta, dtype=np.float64)[None, :]
+    col = _column
+    r, length, e = col(engine.crank_radius), col(engine.conrod_length), col(engine.offset)
+    lam = r / length
+    beta = th + col(engine.throw) - col(engine.bank)
+    _, _, d2s = normalised_slider(beta, lam, e / r)
+    _, d2g = conrod_angle_derivatives(beta, lam, e / r)
+    w2 = engine.speed**2
+    sin_b, cos_b = np.sin(beta), np.cos(beta)
+    u = lam * (sin_b - e / r)
+    d_x = -length * u
+    d_y = length * np.sqrt(1.0 - u * u)
+    q_y = col(engine.reciprocating_mass) * w2 * r * d2s
+    if gas_force is not None:
+        q_y = q_y + np.asarray(gas_force, dtype=np.float64)
+    wall = -(col(engine.conrod_inertia_correction) * w2 * d2g + d_x * q_y) / d_y
+    m_pin = col(engine.rotating_mass - crank_unbalance_share(engine)) * w2 * r
+    f_x = wall + m_pin * sin_b
+    f_y = -q_y + m_pin * cos_b
+    return np.asarray((f_y + 1j * f_x) * np.exp(1j * col(engine.bank)), dtype=np.complex128)
+
+
+def _column(values: FloatArray) -> FloatArray:
+    return np.asarray(values, dtype=np.float64)[:, None]
+
+
+def _pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
+    """Each cylinder's pressure table: cycle angle [deg] and absolute pressure [Pa]."""
+    gas = engine.gas
+    assert gas is not None
+    if gas.angle is not None and gas.pressure is not None:
+        return [(gas.angle, gas.pressure)] * engine.n_cylinders
+    assert gas.model is not None
+    cache: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
+    tables = []
+    for r, length, e in zip(engine.crank_radius, engine.conrod_length, engine.offset, strict=True):
+        key = (float(r), float(length), float(e))
+        if key not in cache:
+            cache[key] = model_pressure(gas.model, gas.bore, *key, engine.cycle)
+        tables.append(cache[key])
+    return tables
+
+
+def gas_forces(
+    engine: Engine, theta: ArrayLike, tables: list[tuple[FloatArray, FloatArray]] | None = None
+) -> FloatArray:
+    r"""Gas force on each piston towards the crank [N], shape (cylinders, angles).
+
+    :math:`G_i(\theta) = (p_i(\alpha) - p_0)\,\pi B^2/4` with the cycle angle
+    :math:`\alpha = \theta - \theta_{TDC,i}` (mod the cycle), the pressure interpolated
+    linearly in the trace (or the model's table) exactly as :mod:`balance.core.torque` does.
+    """
+    gas = engine.gas
+    assert gas is not None, "gas_forces needs an engine with a gas section"
+    tables = tables if tables is not None else _pressure_tables(engine)
+    th = np.degrees(np.asarray(theta, dtype=np.float64))
+    out = np.empty((engine.n_cylinders, th.size))
+    for i, (angle, pressure) in enumerate(tables):
+        alpha = np.mod(th - gas.firing_tdc[i], gas.cycle_deg)
+        out[i] = np.interp(alpha, angle, pressure, period=gas.cycle_deg)
+    return (out - gas.crankcase_pressure) * gas.piston_area
+
+
+# --------------------------------------------------------------------------- result
+
+
+@dataclass(frozen=True, eq=False)
+class BearingLoads:
+    """Crank-pin loads, main-bearing loads and internal moments over the cycle (SI).
+
+    Sampled curves are complex (:math:`y + \\mathrm{i}x`), shape (bearings, angles), on the
+    uniform grid ``theta`` [rad] (over ``cycle`` [rad]: :math:`2\\pi`, or :math:`4\\pi` for
+    a four-stroke with gas) for plots; the statistics come from the finer computation of
+    :func:`bearing_loads`.
+
+    Attributes
+    ----------
+    theta : ndarray
+        Crank angles of the curves [rad].
+    cycle : float
+        Length of the cycle [rad].
+    gas : bool
+        Whether gas forces are included (pins and mains; never the internal moments).
+    pin_z : ndarray
+        Plane of each crank pin [m].
+    pin_cylinders : tuple of tuple of int
+        Cylinder numbers on each pin.
+    pin_throw : ndarray
+        Throw angle of each pin [rad].
+    pin_load, main_load : ndarray of complex
+        Crank-pin loads and main-bearing loads [N].
+    main_z : ndarray
+        Main-bearing positions [m].
+    moment_theta : ndarray
+        Crank angles of the internal-moment curves [rad] (one revolution).
+    internal_moment : ndarray of complex
+        Internal moment at each main [N m], inertia only.
+    pin_max, pin_mean, main_max, main_mean, moment_max, moment_mean : ndarray
+        Largest magnitude over the cycle (refined) and mean magnitude [N, N m].
+    pin_max_angle, main_max_angle, moment_max_angle : ndarray
+        Crank angle of each maximum [rad], in [0, cycle).
+    samples : int
+        Points behind the means of the pin and main loads (the last uniform grid, or the
+        Gauss nodes over the cycle with gas).
+    series_terms : int
+        Fourier terms of the inertia loads.
+    """
+
+    theta: FloatArray
+    cycle: float
+    gas: bool
+    pin_z: FloatArray
+    pin_cylinders: tuple[tuple[int, ...], ...]
+    pin_throw: FloatArray
+    pin_load: ComplexArray
+    main_z: FloatArray
+    main_load: ComplexArray
+    moment_theta: FloatArray
+    internal_moment: ComplexArray
+    pin_max: FloatArray
+    pin_mean: FloatArray
+    pin_max_angle: FloatArray
+    main_max: FloatArray
+    main_mean: FloatArray
+    main_max_angle: FloatArray
+    moment_max: FloatArray
+    moment_mean: FloatArray
+    moment_max_angle: FloatArray
+    samples: int
+    series_terms: int
+
+
+class _Model:
+    """Precomputed matrices: crank angles in, pin/main loads and internal moments out."""
+
+    def __init__(
+        self,
+        engine: Engine,
+        mains: FloatArray,
+        counterweights: Sequence[tuple[float, complex]],
+        with_gas: bool,
+    ) -> None:
+        self.engine = engine
+        group, pin_z, cylinders = pin_groups(engine)
+        n_pins = pin_z.size
+        self.pin_z, self.cylinders = pin_z, cylinders
+        self.pin_throw = np.zeros(n_pins)
+        self.pin_throw[group] = engine.throw
+        self.sum_pins = np.zeros((n_pins, engine.n_cylinders))
+        self.sum_pins[group, np.arange(engine.n_cylinders)] = 1.0
+        w2 = engine.speed**2
+        # centrifugal force of each cylinder's share of the crank unbalance, at theta = 0
+        unbalance = crank_unbalance_share(engine) * engine.crank_radius * w2
+        self.throw_extra = self.sum_pins @ (unbalance * np.exp(1j * engine.throw))
+        cw_z = np.array([z for z, _ in counterweights], dtype=np.float64)
+        cw_u = np.array([u for _, u in counterweights], dtype=np.complex128) * w2
+        self.mains = mains
+        self.main_pins = lever_shares(pin_z, mains)
+        self.main_cw = lever_shares(cw_z, mains) @ cw_u if cw_z.size else np.zeros(mains.size)
+        self.moment_pins = moment_arms(pin_z, mains)
+        self.moment_cw = moment_arms(cw_z, mains) @ cw_u if cw_z.size else np.zeros(mains.size)
+        self.with_gas = with_gas
+        self.tables = _pressure_tables(engine) if with_gas else None
+
+    def pins(self, theta: FloatArray, gas: bool) -> ComplexArray:
+        g = gas_forces(self.engine, theta, self.tables) if gas else None
+        return np.asarray(self.sum_pins @ big_end_forces(self.engine, theta, g))
+
+    def throws(self, pins: ComplexArray, theta: FloatArray) -> ComplexArray:
+        return np.asarray(pins + self.throw_extra[:, None] * np.exp(1j * theta)[None, :])
+
+    def mains_of(self, throws: ComplexArray, theta: FloatArray) -> ComplexArray:
+        turning = np.exp(1j * theta)[None, :]
+        return np.asarray(self.main_pins @ throws + self.main_cw[:, None] * turning)
+
+    def moments_of(self, throws: ComplexArray, theta: FloatArray) -> ComplexArray:
+        turning = np.exp(1j * theta)[None, :]
+        return np.asarray(self.moment_pins @ throws + self.moment_cw[:, None] * turning)
+
+    def cycle_loads(self, theta: FloatArray) -> tuple[ComplexArray, ComplexArray]:
+        """Pin and main loads (with gas if asked)."""
+        pins = self.pins(theta, self.with_gas)
+        return pins, self.mains_of(self.throws(pins, theta), theta)
+
+    def inertia_series(self) -> tuple[NDArray[np.intp], ComplexArray]:
+        """Orders k and Fourier coefficients of the inertia-only pins, mains and moments,
+        stacked in that order (rows), each row :math:`F(\\theta) = \\sum c_k e^{ik\\theta}`."""
+        n = SERIES_START
+        while True:
+            theta = 2.0 * np.pi * np.arange(n) / n
+            spectrum = np.fft.fft(self.pins(theta, False), axis=1) / n
+            k = np.rint(np.fft.fftfreq(n) * n).astype(np.intp)
+            mag = np.abs(spectrum)
+            scale = float(mag.max()) if mag.size else 0.0
+            tail = float(mag[:, np.abs(k) >= n // 4].max()) if mag.size else 0.0
+            if tail <= 16.0 * _EPS * scale or n >= SERIES_MAX:
+                break
+            n *= 2
+        keep = np.abs(k) < n // 4  # the rest is below rounding
+        k, pins = k[keep], spectrum[:, keep]
+        one = np.zeros(k.size)
+        one[k == 1] = 1.0
+        throws = pins + self.throw_extra[:, None] * one
+        mains = self.main_pins @ throws + self.main_cw[:, None] * one
+        moments = self.moment_pins @ throws + self.moment_cw[:, None] * one
+        return k, np.concatenate([pins, mains, moments], axis=0)
+
+
+def loads_at(
+    engine: Engine,
+    theta: ArrayLike,
+    mains: ArrayLike | None = None,
+    counterweights: Iterable[tuple[float, complex]] = (),
+    gas: bool = True,
+) -> tuple[ComplexArray, ComplexArray, ComplexArray]:
+    """Pin loads, main loads [N] and internal moments [N m] at the crank angles ``theta``.
+
+    Evaluated directly from :func:`big_end_forces` (no series); shapes (pins, angles),
+    (mains, angles), (mains, angles).  The pin and main loads include the gas forces when
+    the engine has them and ``gas`` is true; the internal moments never do.  Arguments as
+    for :func:`bearing_loads`.
+    """
+    th = np.asarray(theta, dtype=np.float64)
+    zm = engine_default_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
+    cws = tuple((float(z), complex(u)) for z, u in counterweights)
+    model = _Model(engine, zm, cws, gas and engine.gas is not None)
+    pins, main = model.cycle_loads(th)
+    moments = model.moments_of(model.throws(model.pins(th, False), th), th)
+    return pins, main, moments
+
+
+def bearing_loads(
+    engine: Engine,
+    mains: ArrayLike | None = None,
+    counterweights: Iterable[tuple[float, complex]] = (),
+    gas: bool = True,
+    curve_samples: int = 360,
+) -> BearingLoads:
+    r"""Crank-pin loads, main-bearing loads and internal moments of an engine.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine; with a ``gas:`` section (and ``gas=True``) the pin and main loads include
+        the gas forces, over the working cycle.
+    mains : array_like, optional
+        Main-bearing positions [m], strictly increasing, at least two; default
+        :func:`engine_default_mains`.
+    counterweights : iterable of (float, complex)
+        ``(z [m], unbalance [kg m])`` of masses turning with the crank, the unbalance at
+        :math:`\theta = 0` (e.g. :func:`counterweights_of` of a proposal).  They load the
+        mains and the internal moments, not the pins.
+    gas : bool
+        Include the gas forces when the engine has them.
+    curve_samples : int
+        Crank angles per revolution of the returned curves (statistics do not depend on it).
+
+    Returns
+    -------
+    BearingLoads
+
+    Notes
+    -----
+    Throw load of pin :math:`j`: :math:`F_j = F_{\mathrm{pin},j} + \sum_{i \in j}
+    u_i r_i\omega^2 e^{\mathrm{i}(\theta + \varphi_i)}`; counterweights add
+    :math:`U_c\omega^2 e^{\mathrm{i}\theta}` at their planes.  Main loads
+    :math:`\sum_j S_{mj}F_j` (:func:`lever_shares`), internal moments
+    :math:`\sum_{z_j < z_m}(z_m - z_j)F_j` (:func:`moment_arms`), inertia only.
+
+    *Inertia only* every load is a smooth periodic function of the crank angle; it is
+    represented exactly by its Fourier series :math:`F(\theta) = \sum_k c_k
+    e^{\mathrm{i}k\theta}`, whose coefficients come from an FFT of the pin loads on a grid
+    doubled (from 64 points) until the top quarter of the spectrum is below
+    :math:`16\varepsilon` of its largest coefficient (the series converges geometrically,
+    like the piston acceleration's).  Mains and moments are linear in the throw loads, so
+    their coefficients follow by matrix products.  Then
+
+    * the **maximum** of :math:`|F|` starts from the best sampled local maxima on a grid
+      of at least 1024 points and is refined by Newton's method on
+      :math:`g = \tfrac12 (|F|^2)' = \mathrm{Re}(\bar F F')`, with
+      :math:`g' = |F'|^2 + \mathrm{Re}(\bar F F'')`, all from the series (quadratic
+      convergence, to rounding);
+    * the **mean** of :math:`|F|` is the trapezoidal rule on a uniform periodic grid
+      (geometric convergence for a smooth periodic integrand), evaluated by zero-padded
+      inverse FFT on 1024 (at least four times the terms) and twice as many points; it has
+      converged when the two differ by less than :data:`MEAN_TOLERANCE` of the quantity's
+      maximum.  A load that passes through (or very near) zero makes :math:`|F|` (nearly)
+      non-smooth there and the uniform rule slow; such a quantity is integrated instead
+      between its minima of :math:`|F|` (found by
+      the same Newton iteration; every sampled local minimum below a tenth of the maximum)
+      over the period with 16-point Gauss–Legendre panels, short enough for the series'
+      highest order and graded geometrically (ratio 1/4) towards those points, which
+      converges geometrically whatever the distance to the zero.
+
+    *With gas* the pressure is linear between the trace's points, so the loads are smooth
+    only between its kinks (each trace angle shifted by each cylinder's firing TDC): the
+    mean is a 4-point Gauss–Legendre rule on every interval between kinks (no longer than
+    0.5 deg), exact to rounding for such a piecewise-smooth integrand; where a load dips
+    towards zero (a sampled local minimum below a tenth of its maximum) the three intervals
+    around the dip are integrated again, split at the minimum (golden-section search) and
+    graded towards it; the maximum is refined from the best sampled local maxima by
+    golden-section search between the neighbouring nodes (64 steps), which converges for
+    any continuous function unimodal in the bracket, a kink at the peak included.
+    """
+    cws = tuple((float(z), complex(u)) for z, u in counterweights)
+    zm = engine_default_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
+    with_gas = gas and engine.gas is not None
+    model = _Model(engine, zm, cws, with_gas)
+    n_pins, n_mains = model.pin_z.size, zm.size
+
+    k, coeffs = model.inertia_series()  # pins, mains, moments stacked
+    inertia = _spectral_stats(k, coeffs)
+    theta_rev = 2.0 * np.pi * np.arange(curve_samples) / curve_samples
+    moment_curve = _grid_values(k, coeffs[n_pins + n_mains :], curve_samples)
+    p_m = slice(0, n_pins)
+    m_m = slice(n_pins, n_pins + n_mains)
+    t_m = slice(n_pins + n_mains, None)
+    if with_gas:
+        assert engine.gas is not None
+        cycle = math.radians(engine.gas.cycle_deg)
+        nodes, weights, edges = _gas_nodes(engine, model)
+        stats = _weighted_stats(
+            lambda t: _magnitudes(model.cycle_loads(t)), nodes, weights, edges, cycle
+        )
+        maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
+        samples = nodes.size
+        n_curve = round(curve_samples * engine.gas.cycle_deg / 360.0)
+        theta = cycle * np.arange(n_curve) / n_curve
+        pin_curve, main_curve = model.cycle_loads(theta)
+    else:
+        cycle = 2.0 * np.pi
+        maximum, mean, argmax = inertia.maximum, inertia.mean, inertia.argmax
+        samples = inertia.samples
+        theta = theta_rev
+        curves = _grid_values(k, coeffs[: n_pins + n_mains], curve_samples)
+        pin_curve, main_curve = curves[p_m], curves[m_m]
+    return BearingLoads(
+        theta=theta,
+        cycle=cycle,
+        gas=with_gas,
+        pin_z=model.pin_z,
+        pin_cylinders=model.cylinders,
+        pin_throw=model.pin_throw,
+        pin_load=pin_curve,
+        main_z=zm,
+        main_load=main_curve,
+        moment_theta=theta_rev,
+        internal_moment=moment_curve,
+        pin_max=maximum[p_m],
+        pin_mean=mean[p_m],
+        pin_max_angle=argmax[p_m],
+        main_max=maximum[m_m],
+        main_mean=mean[m_m],
+        main_max_angle=argmax[m_m],
+        moment_max=inertia.maximum[t_m],
+        moment_mean=inertia.mean[t_m],
+        moment_max_angle=inertia.argmax[t_m],
+        samples=samples,
+        series_terms=k.size,
+    )
+
+
+# --------------------------------------------------------------------------- statistics
+
+
+@dataclass(frozen=True)
+class _Stats:
+    maximum: FloatArray
+    argmax: FloatArray
+    mean: FloatArray
+    samples: int
+
+
+def _magnitudes(parts: tuple[ComplexArray, ...]) -> FloatArray:
+    return np.abs(np.concatenate(parts, axis=0))
+
+
+def _series_values(k: NDArray[np.intp], coeffs: ComplexArray, theta: ArrayLike) -> ComplexArray:
+    """:math:`\\sum_k c_k e^{ik\\theta}` of each row of ``coeffs`` at the angles ``theta``.
+
+    ``theta`` has shape (angles,) (every row at every angle) or (rows, ...) (each row at its
+    own angles); Horner's scheme in :math:`e^{i\\theta}` over the orders k (consecutive).
+    """
+    th = np.asarray(theta, dtype=np.float64)
+    order = np.argsort(k)
+    ks, cs = k[order], coeffs[:, order]
+    if th.ndim == 1:
+        z = np.exp(1j * th)[None, :]
+        cs = cs[:, :, None]
+    else:
+        z = np.exp(1j * th)
+        cs = cs.reshape(cs.shape[:2] + (1,) * (th.ndim - 1))
+    acc = np.zeros(np.broadcast_shapes(z.shape, cs[:, 0].shape), dtype=np.complex128)
+    for j in range(ks.size - 1, -1, -1):
+        acc = acc * z + cs[:, j]
+    return np.asarray(acc * z ** int(ks[0]))
+
+
+def _grid_values(k: NDArray[np.intp], coeffs: ComplexArray, n: int) -> ComplexArray:
+    """The series on the uniform grid of ``n`` points per revolution (inverse FFT)."""
+    spectrum = np.zeros((coeffs.shape[0], n), dtype=np.complex128)
+    np.add.at(spectrum.T, k % n, coeffs.T)
+    return np.asarray(np.fft.ifft(spectrum, axis=1) * n)
+
+
+def _newton_extremum(
+    k: NDArray[np.intp], coeffs: ComplexArray, theta: FloatArray, step: float
+) -> tuple[FloatArray, FloatArray]:
+    """Stationary points of :math:`|F|^2` near ``theta`` (one row of angles per quantity).
+
+    Newton on :math:`g = \\mathrm{Re}(\\bar F F')`, each step limited to ``step``; returns
+    the angles and :math:`|F|` there.
+    """
+    th = np.array(theta, dtype=np.float64)
+    ik = 1j * k
+    stacked = np.concatenate([coeffs, ik * coeffs, ik * ik * coeffs], axis=0)
+    n_q = coeffs.shape[0]
+    for _ in range(NEWTON_ITERATIONS):
+        values = _series_values(k, stacked, np.concatenate([th, th, th], axis=0))
+        f, d1, d2 = values[:n_q], values[n_q : 2 * n_q], values[2 * n_q :]
+        g = np.real(np.conj(f) * d1)
+        dg = np.abs(d1) ** 2 + np.real(np.conj(f) * d2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            delta = np.clip(np.nan_to_num(np.where(dg != 0.0, g / dg, 0.0)), -step, step)
+        th = th - delta
+        if np.max(np.abs(delta), initial=0.0) <= 1e-15:
+            break
+    return th, np.abs(_series_values(k, coeffs, th))
+
+
+def _spectral_stats(k: NDArray[np.intp], coeffs: ComplexArray) -> _Stats:
+    """Refined maximum and mean of :math:`|F|` for each row of Fourier coefficients."""
+    n_q = coeffs.shape[0]
+    n = max(START_GRID, 4 * k.size)
+    values = np.abs(_grid_values(k, coeffs, n))
+    mean = values.mean(axis=1)
+    top = values.max(axis=1)
+    finer = np.abs(_grid_values(k, coeffs, 2 * n)).mean(axis=1)
+    converged = np.abs(finer - mean) <= MEAN_TOLERANCE * top
+    mean = finer
+    # maximum: Newton from the best sampled local maxima
+    theta = 2.0 * np.pi * np.arange(n) / n
+    peaks = (values >= np.roll(values, 1, axis=1)) & (values >= np.roll(values, -1, axis=1))
+    ranked = np.where(peaks, values, -np.inf)
+    cand = np.argsort(-ranked, axis=1)[:, :CANDIDATES]
+    h = 2.0 * np.pi / n
+    th, val = _newton_extremum(k, coeffs, theta[cand], h)
+    sampled = np.take_along_axis(values, cand, 1)
+    val = np.where(val >= sampled, val, sampled)
+    th = np.where(val >= sampled, th, theta[cand])
+    pick = np.argmax(val, axis=1)
+    rows = np.arange(n_q)
+    maximum, argmax = val[rows, pick], np.mod(th[rows, pick], 2.0 * np.pi)
+    # near-singular quantities: graded Gauss-Legendre from the minimum of |F|
+    slow = np.flatnonzero(~converged & (top > 0))
+    dips = (values <= np.roll(values, 1, axis=1)) & (values <= np.roll(values, -1, axis=1))
+    top_order = int(np.max(np.abs(k)))
+    for row in slow:
+        near = np.flatnonzero(dips[row] & (values[row] <= GRADE_BELOW * top[row]))
+        if near.size == 0:
+            near = np.array([int(np.argmin(values[row]))])
+        starts = theta[near][None, :]
+        th_min, _ = _newton_extremum(k, coeffs[row : row + 1], starts, h)
+        t, w = _graded_rule(th_min[0], top_order)
+        f = np.abs(_series_values(k, coeffs[row : row + 1], t[None, :]))[0]
+        mean[row] = f @ w / (2.0 * np.pi)
+    return _Stats(maximum, argmax, mean, 2 * n)
+
+
+def _graded_rule(points: FloatArray, top_order: int) -> tuple[FloatArray, FloatArray]:
+    """Gauss–Legendre nodes and weights over one period, graded towards ``points``.
+
+    Between consecutive points (cyclically), panels no longer than :math:`h` with
+    :math:`k_{max} h \\le 8`; the panels touching a point are subdivided geometrically
+    (ratio :data:`GRADED_RATIO`, :data:`GRADED_LEVELS` levels) towards it.
+    """
+    x, w = _gauss(GRADED_NODES)
+    p = np.sort(np.mod(points, 2.0 * np.pi))
+    p = np.concatenate([p, [p[0] + 2.0 * np.pi]])
+    h_max = 8.0 / max(top_order, 1)
+    levels = GRADED_RATIO ** np.arange(1, GRADED_LEVELS + 1)
+    edges_all = []
+    for a, b in itertools.pairwise(p):
+        length = b - a
+        if length <= 0.0:
+            continue
+        n = max(2, math.ceil(length / h_max))
+        h = length / n
+        inner = a + h * np.arange(1, n)
+        edges_all.append(np.concatenate([[a], a + h * levels[::-1], inner, b - h * levels]))
+    edges = np.concatenate([*edges_all, [p[-1]]])
+    lo, hi = edges[:-1, None], edges[1:, None]
+    return (0.5 * (lo + hi) + 0.5 * (hi - lo) * x).ravel(), (0.5 * (hi - lo) * w).ravel()
+
+
+@functools.cache
+def _gauss(n: int) -> tuple[FloatArray, FloatArray]:
+    x, w = np.polynomial.legendre.leggauss(n)
+    return np.asarray(x), np.asarray(w)
+
+
+def _weighted_stats(
+    f: Callable[[FloatArray], FloatArray],
+    nodes: FloatArray,
+    weights: FloatArray,
+    edges: FloatArray,
+    period: float,
+) -> _Stats:
+    """Max and mean of the rows of ``f`` from Gauss nodes between kink ``edges``.
+
+    Where a quantity dips towards zero (a sampled local minimum below
+    :data:`GRADE_BELOW` of its maximum) its integral over the three intervals around the dip
+    is taken again, split at the refined minimum and graded towards it.
+    """
+    values = f(nodes)
+    integral = values @ weights
+    top = values.max(axis=1)
+    dips = (values <= np.roll(values, 1, axis=1)) & (values <= np.roll(values, -1, axis=1))
+    dips &= values <= GRADE_BELOW * top[:, None]
+    n_int = edges.size - 1
+    ext = np.concatenate([edges[-2:-1] - period, edges, edges[1:2] + period])
+    done: set[tuple[int, int]] = set()
+    for row, i in zip(*np.nonzero(dips), strict=True):
+        j = int(i) // GAUSS_NODES
+        if (int(row), j) in done or top[row] == 0.0:
+            continue
+        span = [(j - 1) % n_int, j, (j + 1) % n_int]
+        done.update((int(row), q) for q in span)
+        lo_t = nodes[(int(i) - 1) % nodes.size] - (period if i == 0 else 0.0)
+        hi_t = nodes[(int(i) + 1) % nodes.size] + (period if i == nodes.size - 1 else 0.0)
+
+        def one(t: float, r: int = int(row)) -> float:
+            return float(f(np.array([t]))[r, 0])
+
+        t_min = _golden_min(one, lo_t, hi_t)
+        breaks = np.sort(np.array([ext[j], ext[j + 1], ext[j + 2], ext[j + 3], t_min]))
+        t, w = _graded_segments(breaks, t_min)
+        old = sum(
+            values[row, q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
+            @ weights[q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
+            for q in span
+        )
+        integral[row] += f(t)[row] @ w - old
+    maximum, argmax = _golden_max(f, nodes, values, period)
+    return _Stats(maximum, argmax, integral / period, nodes.size)
+
+
+def _golden_min(g: Callable[[float], float], lo: float, hi: float) -> float:
+    """Golden-section search for the minimum of ``g`` in ``[lo, hi]``."""
+    r = (math.sqrt(5.0) - 1.0) / 2.0
+    x1, x2 = hi - r * (hi - lo), lo + r * (hi - lo)
+    g1, g2 = g(x1), g(x2)
+    for _ in range(GOLDEN_ITERATIONS):
+        if g1 <= g2:
+            hi, x2, g2 = x2, x1, g1
+            x1 = hi - r * (hi - lo)
+            g1 = g(x1)
+        else:
+            lo, x1, g1 = x1, x2, g2
+            x2 = lo + r * (hi - lo)
+            g2 = g(x2)
+    return x1 if g1 <= g2 else x2
+
+
+def _graded_segments(breaks: FloatArray, toward: float) -> tuple[FloatArray, FloatArray]:
+    """Gauss nodes and weights on the segments between ``breaks``, those touching
+    ``toward`` graded geometrically towards it."""
+    x, w = _gauss(GRADED_NODES)
+    levels = GRADED_RATIO ** np.arange(1, GRADED_LEVELS + 1)
+    edges = []
+    for a, b in itertools.pairwise(breaks):
+        if b <= a:
+            continue
+        if a == toward:
+            edges.append(np.concatenate([[a], a + (b - a) * levels[::-1]]))
+        elif b == toward:
+            edges.append(np.concatenate([[a], b - (b - a) * levels]))
+        else:
+            edges.append(np.array([a]))
+    e = np.concatenate([*edges, breaks[-1:]])
+    lo, hi = e[:-1, None], e[1:, None]
+    return (0.5 * (lo + hi) + 0.5 * (hi - lo) * x).ravel(), (0.5 * (hi - lo) * w).ravel()
+
+
+def _golden_max(
+    f: Callable[[FloatArray], FloatArray], theta: FloatArray, values: FloatArray, period: float
+) -> tuple[FloatArray, FloatArray]:
+    """Golden-section refinement of the best sampled local maxima of each row of ``values``.
+
+    ``theta`` is increasing over one period; row q of ``f(t)`` is quantity q at angles t.
+    """
+    n_q, n = values.shape
+    before, after = np.roll(values, 1, axis=1), np.roll(values, -1, axis=1)
+    peaks = (values >= before) & (values >= after)
+    ranked = np.where(peaks, values, -np.inf)
+    k = min(CANDIDATES, n)
+    idx = np.argsort(-ranked, axis=1)[:, :k]  # (q, k)
+    ext = np.concatenate([theta[-1:] - period, theta, theta[:1] + period])
+    lo, hi = ext[idx], ext[idx + 2]  # the neighbours (ext is shifted by one)
+    rows = np.repeat(np.arange(n_q), k)
+
+    def at(t: FloatArray) -> FloatArray:
+        # quantity q at its own angles: evaluate all quantities at all angles, keep the diagonal
+        return f(t.ravel())[rows, np.arange(rows.size)].reshape(n_q, k)
+
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = at(x1), at(x2)
+    for _ in range(GOLDEN_ITERATIONS):
+        left = f1 >= f2  # the maximum is in [lo, x2]: shift left, else in [x1, hi]
+        lo, hi = np.where(left, lo, x1), np.where(left, x2, hi)
+        x1, x2 = np.where(left, hi - g * (hi - lo), x2), np.where(left, x1, lo + g * (hi - lo))
+        f1, f2 = np.where(left, np.nan, f2), np.where(left, f1, np.nan)
+        fresh = at(np.where(left, x1, x2))
+        f1, f2 = np.where(left, fresh, f1), np.where(left, f2, fresh)
+    best_x = np.where(f1 >= f2, x1, x2)
+    best_f = np.maximum(f1, f2)
+    sampled = np.take_along_axis(values, idx, 1)
+    best_f, best_x = (
+        np.where(best_f >= sampled, best_f, sampled),
+        np.where(best_f >= sampled, best_x, theta[idx]),
+    )
+    pick = np.argmax(best_f, axis=1)
+    rows_q = np.arange(n_q)
+    return best_f[rows_q, pick], np.mod(best_x[rows_q, pick], period)
+
+
+def _gas_nodes(engine: Engine, model: _Model) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Gauss–Legendre nodes [rad] and weights over the cycle, between the trace's kinks
+    (the interval edges [rad], the last one period after the first)."""
+    gas = engine.gas
+    assert gas is not None and model.tables is not None
+    cycle = gas.cycle_deg
+    kinks = [
+        np.mod(angle + tdc, cycle)
+        for (angle, _), tdc in zip(model.tables, gas.firing_tdc, strict=True)
+    ]
+    steps = max(1, math.ceil(cycle / GAS_MAX_STEP_DEG))
+    edges = np.concatenate([*kinks, cycle * np.arange(steps) / steps])
+    edges = np.unique(np.round(edges, 9))
+    edges = np.concatenate([edges, [edges[0] + cycle]])
+    x, w = _gauss(GAUSS_NODES)
+    a, b = edges[:-1, None], edges[1:, None]
+    nodes = 0.5 * (a + b) + 0.5 * (b - a) * x[None, :]
+    weights = 0.5 * (b - a) * w[None, :]
+    return np.radians(nodes.ravel()), np.radians(weights.ravel()), np.radians(edges)

@@ -1,0 +1,95 @@
+"""The layout file's ``bearings:`` section (CONTRACT §6) and its conversion to main positions.
+
+::
+
+    bearings:
+      mains: [-45 mm, 45 mm, 136 mm, 227 mm, 318 mm]
+
+The section is optional: ``--bearings`` without it (or a section without ``mains``) means
+the default mains of :func:`balance.core.bearings.engine_default_mains` (one between
+neighbouring throw planes, one half a pitch beyond each end throw).
+
+What is valid
+-------------
+* at least two mains (one main cannot carry a crankshaft: the lever rule needs two);
+* strictly increasing ``z`` (each main after the one before, none twice);
+* no main in the plane of a crank pin (closer than 1 µm): a journal cannot sit where a
+  pin is, and the lever rule would be ambiguous there;
+* throws beyond the outermost main are allowed: they are carried as a cantilever by the
+  two nearest mains.
+
+Problems are raised as :class:`~balance.io.schema.FieldProblem` with the offending entry in
+``at`` (``("mains", j)``), so that :mod:`balance.io.layout_file` can name its line.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from balance.core.bearings import engine_default_mains
+from balance.core.engine import Engine
+from balance.io.schema import FieldProblem, Length
+
+__all__ = ["PLANE_TOLERANCE", "BearingsSpec", "main_positions"]
+
+#: A main closer than this to a crank pin's plane is in that plane [m].
+PLANE_TOLERANCE = 1e-6
+
+
+class BearingsSpec(BaseModel):
+    """The ``bearings:`` section: positions of the main bearings along the crank (SI)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
+
+    mains: list[Length] | None = Field(default=None, max_length=1024)
+
+    @model_validator(mode="after")
+    def _check(self) -> BearingsSpec:
+        if self.mains is None:
+            return self
+        if len(self.mains) < 2:
+            raise FieldProblem(
+                f"mains has {len(self.mains)} entr{'y' if len(self.mains) == 1 else 'ies'}",
+                "give at least two main bearings, e.g. [-45 mm, 45 mm]",
+                ("mains",),
+            )
+        for j in range(1, len(self.mains)):
+            if not self.mains[j] > self.mains[j - 1]:
+                raise FieldProblem(
+                    f"main {j + 1} at {_mm(self.mains[j])} is not after main {j} at "
+                    f"{_mm(self.mains[j - 1])}",
+                    "list the mains in increasing z, each once",
+                    ("mains", j),
+                )
+        return self
+
+
+def main_positions(spec: BearingsSpec | None, engine: Engine) -> NDArray[np.float64]:
+    """Main-bearing positions [m] of an engine: the section's, or the defaults.
+
+    Raises
+    ------
+    FieldProblem
+        When a main lies in the plane of a crank pin (``at = ("mains", j)``).
+    """
+    if spec is None or spec.mains is None:
+        return engine_default_mains(engine)
+    mains = np.asarray(spec.mains, dtype=np.float64)
+    for j, zm in enumerate(mains):
+        hit = np.flatnonzero(np.abs(engine.z - zm) < PLANE_TOLERANCE)
+        if hit.size:
+            numbers = ", ".join(str(int(i) + 1) for i in hit)
+            noun = "cylinder" if hit.size == 1 else "cylinders"
+            raise FieldProblem(
+                f"main {j + 1} at {_mm(float(zm))} is in the plane of the crank pin of "
+                f"{noun} {numbers}",
+                "put main bearings between throw planes (or beyond the end throws)",
+                ("mains", j),
+            )
+    return mains
+
+
+def _mm(value: float) -> str:
+    return f"{value * 1e3:.6g} mm"

@@ -1,0 +1,441 @@
+"""The ``mounts:`` section: the powertrain's mass, inertia and mounts (``CONTRACT`` §7).
+
+:class:`MountsSpec` is the section's pydantic model (quantities read with units, like the
+rest of the layout file: lengths, a mass, inertias, stiffnesses in ``N/mm`` or ``N/m``,
+dampings in ``N s/m``; plain numbers are SI).  :func:`mount_system` turns a validated
+section into a :class:`balance.core.mounts.MountSystem`.  :func:`load_mounts` reads a
+standalone mounts file (``--mounts FILE``): the section's keys at the top level, or the
+section under ``mounts:``.  Every problem is a :class:`~balance.core.errors.LayoutError`
+naming file, line, field and what would be valid.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import re
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import BaseModel, BeforeValidator, Field, ValidationError, model_validator
+
+from balance.core.errors import InputError, LayoutError
+from balance.core.mounts import (
+    COORDINATES,
+    MountPoint,
+    MountSystem,
+    inertia_tensor,
+    mass_matrix,
+    normal_modes,
+    stiffness_matrix,
+)
+from balance.io.schema import FieldProblem, Length, Mass, _q, _Strict
+from balance.io.units import UnitProblem, registry
+from balance.io.yamlsource import SourceDocument, decode_text, dotted_path, parse_yaml
+
+__all__ = [
+    "InertiaSpec",
+    "MountPointSpec",
+    "MountsSpec",
+    "load_mounts",
+    "mount_system",
+    "mounts_from_dict",
+    "mounts_from_text",
+]
+
+#: Cosine of the angle between a mount's axes 1 and 2 above which they count as parallel.
+PARALLEL_COSINE = 1.0 - 1e-6
+
+_NUMBER = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$")
+
+# unit text -> factor to SI, for the common units (pint reads the others)
+_STIFFNESS_UNITS = {
+    "N/m": 1.0,
+    "N/mm": 1e3,
+    "N/cm": 1e2,
+    "kN/m": 1e3,
+    "kN/mm": 1e6,
+    "MN/m": 1e6,
+}
+_DAMPING_UNITS = {
+    "N s/m": 1.0,
+    "N*s/m": 1.0,
+    "Ns/m": 1.0,
+    "N·s/m": 1.0,
+    "kg/s": 1.0,
+    "N s/mm": 1e3,
+    "N*s/mm": 1e3,
+    "kN s/m": 1e3,
+    "kN*s/m": 1e3,
+}
+
+
+def _per_unit(value: Any, what: str, si: str, units: dict[str, float], example: str) -> float:
+    """A stiffness or damping [SI] from a plain number (SI) or text with a unit."""
+    valid = f"give {what} with a unit, e.g. {example}, or a plain number in {si}"
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        shown = "a list" if isinstance(value, list) else repr(value)
+        raise UnitProblem(f"expected {what}, got {shown}", valid)
+    if isinstance(value, str):
+        match = _NUMBER.match(value) if len(value) <= 80 else None
+        if match is None:
+            raise UnitProblem(f"cannot read {value!r} as {what}", valid)
+        number = float(match.group(1))
+        unit_text = " ".join(match.group(2).split())
+        if not unit_text:
+            result = number
+        elif unit_text in units:
+            result = number * units[unit_text]
+        else:
+            try:
+                quantity = registry().Quantity(number, unit_text)
+            except Exception:
+                raise UnitProblem(f"unknown unit {unit_text!r}", valid) from None
+            try:
+                result = float(quantity.to(si).magnitude)
+            except Exception:
+                raise UnitProblem(f"{value!r} is not {what}", valid) from None
+    else:
+        result = float(value)
+    if not math.isfinite(result) or abs(result) > 1e12:
+        raise UnitProblem(f"{value!r} is not a finite {what} of sane size", valid)
+    return result
+
+
+def _stiffness(value: Any) -> float:
+    return _per_unit(value, "a stiffness", "N/m", _STIFFNESS_UNITS, "'250 N/mm'")
+
+
+def _damping(value: Any) -> float:
+    return _per_unit(value, "a damping", "N s/m", _DAMPING_UNITS, "'300 N s/m'")
+
+
+Inertia = Annotated[float, _q("inertia")]
+Stiffness = Annotated[float, BeforeValidator(_stiffness)]
+Damping = Annotated[float, BeforeValidator(_damping)]
+Point = Annotated[list[Length], Field(min_length=3, max_length=3)]
+Direction = Annotated[list[float], Field(min_length=3, max_length=3)]
+
+FloatArray = NDArray[np.float64]
+
+
+class InertiaSpec(_Strict):
+    """Inertia tensor about the CG in engine axes [kg m^2]; ``xy`` is :math:`-\\int xy\\,dm`."""
+
+    xx: Inertia
+    yy: Inertia
+    zz: Inertia
+    xy: Inertia = 0.0
+    xz: Inertia = 0.0
+    yz: Inertia = 0.0
+
+    @property
+    def tensor(self) -> FloatArray:
+        """The 3×3 tensor [kg m^2]."""
+        return inertia_tensor(self.xx, self.yy, self.zz, self.xy, self.xz, self.yz)
+
+
+class MountPointSpec(_Strict):
+    """One mount: position, stiffness (and damping) along its axes, and the axes."""
+
+    position: Point
+    stiffness: Annotated[list[Stiffness], Field(min_length=3, max_length=3)]
+    damping: Annotated[list[Damping], Field(min_length=3, max_length=3)] | None = None
+    axes: Annotated[list[Direction], Field(min_length=2, max_length=2)] | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> MountPointSpec:
+        for key, unit in (("stiffness", "N/m"), ("damping", "N s/m")):
+            values = getattr(self, key)
+            for j, value in enumerate(values or ()):
+                if value < 0:
+                    raise FieldProblem(
+                        f"{key} along axis {j + 1} is {value:g} {unit}",
+                        f"each {key} must be zero or more",
+                        (key, j),
+                    )
+        if self.axes is not None:
+            first, second = (np.asarray(v, dtype=np.float64) for v in self.axes)
+            for j, v in enumerate((first, second)):
+                if not np.all(np.isfinite(v)) or not np.linalg.norm(v) > 0:
+                    raise FieldProblem(
+                        f"axis {j + 1} is {self.axes[j]}",
+                        "each axis is a direction in engine axes, e.g. [0, 1, 0], not zero",
+                        ("axes", j),
+                    )
+            cosine = abs(first @ second) / (np.linalg.norm(first) * np.linalg.norm(second))
+            if cosine > PARALLEL_COSINE:
+                raise FieldProblem(
+                    "axes 1 and 2 are parallel",
+                    "give two different directions: axis 2 is made perpendicular to axis 1, "
+                    "and axis 3 = 1 × 2",
+                    ("axes", 1),
+                )
+        return self
+
+    @property
+    def axes_matrix(self) -> FloatArray:
+        """The mount's axes as the rows of a rotation matrix (engine frame).
+
+        Axis 1 is ``axes[0]`` normalised; axis 2 is ``axes[1]`` less its component along
+        axis 1 (Gram-Schmidt), normalised; axis 3 = 1 × 2.  Identity without ``axes``.
+        """
+        if self.axes is None:
+            return np.eye(3)
+        first, second = (np.asarray(v, dtype=np.float64) for v in self.axes)
+        e1 = first / np.linalg.norm(first)
+        e2 = second - (second @ e1) * e1
+        e2 = e2 / np.linalg.norm(e2)
+        return np.array([e1, e2, np.cross(e1, e2)])
+
+
+class MountsSpec(_Strict):
+    """The ``mounts:`` section (``CONTRACT`` §7)."""
+
+    mass: Mass
+    cg: Point
+    inertia: InertiaSpec
+    points: list[MountPointSpec] = Field(min_length=1, max_length=64)
+
+    @model_validator(mode="after")
+    def _check(self) -> MountsSpec:
+        if not self.mass > 0:
+            raise FieldProblem(
+                f"mass is {self.mass:g} kg", "mass must be more than zero", ("mass",)
+            )
+        principal = np.linalg.eigvalsh(self.inertia.tensor)
+        shown = ", ".join(f"{p:.4g}" for p in principal)
+        if not principal[0] > 0:
+            raise FieldProblem(
+                f"the inertia tensor is not positive definite (principal moments {shown} kg m^2)",
+                "moments of inertia above zero, and products of inertia small enough that "
+                "every principal moment is above zero",
+                ("inertia",),
+            )
+        if principal[2] > (principal[0] + principal[1]) * (1 + 1e-9):
+            raise FieldProblem(
+                f"no body has these principal moments of inertia ({shown} kg m^2): the largest "
+                "is more than the sum of the other two",
+                "each principal moment at most the sum of the other two (triangle inequality)",
+                ("inertia",),
+            )
+        system = mount_system(self)
+        modes = normal_modes(mass_matrix(system.mass, system.inertia), stiffness_matrix(system))
+        top = modes.frequency[-1]
+        if not modes.frequency[0] > 1e-6 * top:
+            free = COORDINATES[int(np.argmax(modes.energy_share[0]))]
+            motion = {"x": "along x", "y": "along y", "z": "along z"}.get(free, f"about {free[1]}")
+            raise FieldProblem(
+                f"the mounts do not hold the engine: it moves freely, mostly {motion}",
+                "place and orient the mounts so that they resist every translation and "
+                "rotation (at least three mounts not in one line, or stiffness along each "
+                "axis)",
+                ("points",),
+            )
+        return self
+
+
+def mount_system(spec: MountsSpec) -> MountSystem:
+    """The mount system of a validated ``mounts:`` section (SI units).
+
+    Parameters
+    ----------
+    spec : MountsSpec
+        A validated section.
+
+    Returns
+    -------
+    MountSystem
+        Mass [kg], CG [m], inertia tensor [kg m^2], and each mount's position [m],
+        stiffness [N/m], damping [N s/m] (zero when not given) and orthonormal axes.
+    """
+    return MountSystem(
+        mass=spec.mass,
+        cg=np.asarray(spec.cg, dtype=np.float64),
+        inertia=spec.inertia.tensor,
+        points=tuple(
+            MountPoint(
+                position=np.asarray(p.position, dtype=np.float64),
+                stiffness=np.asarray(p.stiffness, dtype=np.float64),
+                damping=np.asarray(p.damping if p.damping is not None else (0.0,) * 3),
+                axes=p.axes_matrix,
+            )
+            for p in spec.points
+        ),
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# a standalone mounts file
+
+
+def load_mounts(source: str | Path) -> MountSystem:
+    """Read a mounts file (``--mounts FILE``).
+
+    Parameters
+    ----------
+    source : str or path-like
+        A YAML file holding the ``mounts:`` section's keys (``mass``, ``cg``, ``inertia``,
+        ``points``) at the top level, or a single ``mounts:`` mapping.
+
+    Returns
+    -------
+    MountSystem
+
+    Raises
+    ------
+    LayoutError
+        If the file is not a valid mounts section (file, line, field and what is valid).
+    InputError
+        If the file cannot be found or read.
+    """
+    path = Path(source)
+    if not path.exists():
+        raise InputError(f"{source}: no such file")
+    if path.is_dir():
+        raise InputError(f"{source}: is a directory, not a mounts file")
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{source}: cannot read ({exc.strerror})") from None
+    return _from_document(parse_yaml(decode_text(raw, str(source)), str(path)))
+
+
+def mounts_from_text(text: str, file: str = "<input>") -> MountSystem:
+    """A mount system from YAML text (see :func:`load_mounts`).
+
+    Parameters
+    ----------
+    text : str
+        The YAML document.
+    file : str
+        Name used in error messages.
+
+    Returns
+    -------
+    MountSystem
+    """
+    return _from_document(parse_yaml(text, file))
+
+
+def mounts_from_dict(data: Any, file: str = "<dict>") -> MountSystem:
+    """A mount system from plain data shaped like a mounts file (see :func:`load_mounts`).
+
+    Parameters
+    ----------
+    data : dict
+        The section's keys, or ``{"mounts": {...}}``.
+    file : str
+        Name used in error messages.
+
+    Returns
+    -------
+    MountSystem
+    """
+    return _from_document(SourceDocument(data=data, file=file))
+
+
+def _from_document(doc: SourceDocument) -> MountSystem:
+    data = doc.data
+    valid = "a mounts file holds mass, cg, inertia and points, at the top or under 'mounts:'"
+    if not isinstance(data, dict):
+        raise LayoutError("the document is not a mapping", doc.location(()), valid=valid)
+    prefix: tuple[str | int, ...] = ()
+    if "mounts" in data:
+        extra = [k for k in data if k != "mounts"]
+        if extra:
+            raise LayoutError(
+                f"unknown key '{extra[0]}' beside 'mounts'",
+                doc.location((extra[0],), key=True),
+                field=str(extra[0]),
+                valid=valid,
+            )
+        data, prefix = data["mounts"], ("mounts",)
+        if not isinstance(data, dict):
+            raise LayoutError(
+                "expected a mapping", doc.location(prefix), field="mounts", valid=valid
+            )
+    try:
+        spec = MountsSpec.model_validate(data)
+    except ValidationError as exc:
+        raise section_error(exc, doc, prefix) from None
+    return mount_system(spec)
+
+
+def section_error(
+    exc: ValidationError, doc: SourceDocument, prefix: tuple[str | int, ...] = ()
+) -> LayoutError:
+    """The first problem of a failed validation of a ``mounts:`` section, located.
+
+    Parameters
+    ----------
+    exc : ValidationError
+        From ``MountsSpec.model_validate``.
+    doc : SourceDocument
+        The document read (for lines and columns).
+    prefix : tuple
+        Path of the section in the document (``("mounts",)`` under a ``mounts:`` key).
+    """
+    errors = sorted(exc.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")
+    err = errors[0]
+    loc = prefix + tuple(
+        p for p in err["loc"] if isinstance(p, int) or not str(p).startswith("function-")
+    )
+    more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
+    problem = (err.get("ctx") or {}).get("error")
+    kind = err["type"]
+    if kind == "extra_forbidden":
+        key = str(loc[-1])
+        names = list(_model_at(loc[len(prefix) : -1]).model_fields)
+        hint = difflib.get_close_matches(key, names, n=1)
+        valid = (f"did you mean '{hint[0]}'? " if hint else "") + f"valid keys: {', '.join(names)}"
+        return LayoutError(
+            f"unknown key '{key}'{more}", doc.location(loc, key=True), dotted_path(loc), valid
+        )
+    if kind == "missing":
+        return LayoutError(
+            f"missing '{loc[-1]}'{more}",
+            doc.location(loc[:-1]),
+            dotted_path(loc),
+            _MISSING.get(str(loc[-1]), f"add '{loc[-1]}'"),
+        )
+    if isinstance(problem, FieldProblem):
+        full = loc + problem.at
+        return LayoutError(
+            f"{problem}{more}", doc.location(full), dotted_path(full) or None, problem.valid
+        )
+    if isinstance(problem, UnitProblem):
+        return LayoutError(f"{problem}{more}", doc.location(loc), dotted_path(loc), problem.valid)
+    if kind in {"too_short", "too_long"}:
+        valid = "three values [x, y, z]" if loc and loc[-1] != "points" else "1 to 64 mounts"
+        if loc and loc[-1] == "axes":
+            valid = "two directions: [[axis 1], [axis 2]]"
+        given = err.get("input")
+        count = f"{len(given)} entries" if isinstance(given, list) else err["msg"]
+        return LayoutError(f"{count}{more}", doc.location(loc), dotted_path(loc), valid)
+    return LayoutError(f"{err['msg']}{more}", doc.location(loc), dotted_path(loc) or None)
+
+
+_MISSING = {
+    "mass": "add the mass the mounts carry, e.g. 'mass: 160 kg'",
+    "cg": "add the centre of gravity, e.g. 'cg: [0 mm, 60 mm, 140 mm]'",
+    "inertia": "add the inertia about the CG, e.g. '{xx: 7.5 kg m^2, yy: 9 kg m^2, zz: 4 kg m^2}'",
+    "points": "add the mounts, each {position: [...], stiffness: [...]}",
+    "position": "add the mount's position, e.g. '[-220 mm, -120 mm, 0 mm]'",
+    "stiffness": "add the stiffness along the mount's axes, e.g. '[250 N/mm, 400 N/mm, 150 N/mm]'",
+    "xx": "add xx, e.g. '7.5 kg m^2'",
+    "yy": "add yy, e.g. '9 kg m^2'",
+    "zz": "add zz, e.g. '4 kg m^2'",
+}
+
+
+def _model_at(path: tuple[str | int, ...]) -> type[BaseModel]:
+    model: type[BaseModel] = MountsSpec
+    for part in path:
+        if part == "inertia":
+            model = InertiaSpec
+        elif part == "points":
+            model = MountPointSpec
+    return model

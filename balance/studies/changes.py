@@ -1,0 +1,152 @@
+"""Changing fields of an engine: one set of rules for variants, sweep grids and samples.
+
+A study changes some fields (:class:`balance.io.fields.Field`) of an :class:`Engine` and
+expects the engine that loading the layout file with those values written in would give:
+
+1. the speed and ``reference_z`` are set as they are;
+2. geometry (throw, bank, z, crank radius, conrod length, offset) and, for masses given
+   by part, the parts are set; a changed part or conrod length lumps the parts again
+   (:meth:`balance.core.masses.MassParts.lumped`, the two-mass split);
+3. lumped masses set by the study are set last, so that they win over the parts;
+4. when the layout gives no ``reference_z`` and a ``z`` changes, the reference is
+   re-centred midway between the outermost cylinders.
+
+The values may be arrays with leading dimensions (a sweep's grid, a tolerance study's
+samples); they broadcast against the per-cylinder arrays, cylinders on the last axis.  The
+engine returned then holds arrays of that broadcast shape.  Setting a value copies it
+bit for bit and every derived number is formed by the same operations for one variant as
+for a grid, so a sweep equals the analyses of its variants bit for bit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from balance.core.engine import Engine
+from balance.core.errors import InputError
+from balance.io.fields import Field
+
+__all__ = ["LUMPED", "Change", "apply_changes", "lumped_again"]
+
+FloatArray = NDArray[np.float64]
+
+#: The lumped-mass attributes of an :class:`Engine`: set after any re-lumping.
+LUMPED = frozenset({"reciprocating_mass", "rotating_mass"})
+
+#: A change: the field and its value in the unit of the Engine attribute (radians for
+#: angles, the crank radius for a stroke; :meth:`Field.to_layout_units`).  The value of a
+#: per-cylinder field broadcasts against the cylinders (a trailing axis of size one, or
+#: of the number of cylinders for a field of every cylinder).
+Change = tuple[Field, ArrayLike]
+
+
+def apply_changes(
+    engine: Engine,
+    changes: Sequence[Change],
+    *,
+    add: bool = False,
+    problem: str = "the conrod's centre of gravity would lie beyond its small end",
+) -> Engine:
+    """The engine with some fields changed, by the rules of the module notes.
+
+    Parameters
+    ----------
+    engine : Engine
+        The base engine.
+    changes : sequence of (Field, array_like)
+        The fields and their values, applied in this order (later changes of the same
+        attribute overwrite, or with ``add`` add to, the earlier ones).
+    add : bool
+        Add the values to the engine's (a tolerance study's scatter) instead of setting
+        them.
+    problem : str
+        The message of the :class:`InputError` raised where a re-lumped conrod's centre
+        of gravity would lie beyond its small end.
+
+    Returns
+    -------
+    Engine
+        With arrays of the broadcast shape of the values (cylinders last), and the speed
+        and ``reference_z`` as given (arrays for a grid).
+    """
+    new: dict[str, Any] = {}
+    parts: dict[str, Any] = {}
+    lumped: list[Change] = []
+    relump = False
+    n = engine.n_cylinders
+
+    def current(name: str) -> Any:
+        return new.get(name, getattr(engine, name))
+
+    for field, value in changes:
+        attribute = field.attribute
+        if attribute in {"speed", "reference_z"}:
+            new[attribute] = current(attribute) + value if add else value
+        elif attribute in LUMPED:
+            lumped.append((field, value))
+        elif attribute.startswith("parts."):
+            key = attribute.removeprefix("parts.")
+            assert engine.mass_parts is not None
+            base = parts.get(key, getattr(engine.mass_parts, key))
+            parts[key] = _put(base, field, value, n, add)
+            relump = True
+        else:
+            new[attribute] = _put(current(attribute), field, value, n, add)
+            relump |= attribute == "conrod_length" and engine.mass_parts is not None
+    if relump:
+        assert engine.mass_parts is not None
+        rec, rot, correction = lumped_again(engine, current("conrod_length"), parts, problem)
+        new.update(
+            reciprocating_mass=rec,
+            rotating_mass=rot,
+            conrod_inertia_correction=correction,
+            mass_parts=replace(engine.mass_parts, **parts),
+        )
+    for field, value in lumped:
+        new[field.attribute] = _put(current(field.attribute), field, value, n, add)
+        if engine.mass_parts is not None:
+            # a lumped mass given wins over the parts, also when they are lumped again
+            given = field.attribute.replace("_mass", "_given")
+            parts_now = current("mass_parts")
+            value_given = _put(getattr(parts_now, given), field, value, n, add)
+            new["mass_parts"] = replace(parts_now, **{given: value_given})
+    if "reference_z" not in new and "z" in new and not engine.reference_z_given:
+        z = new["z"]
+        centre = 0.5 * (z.min(axis=-1) + z.max(axis=-1))
+        new["reference_z"] = float(centre) if np.ndim(centre) == 0 else centre[..., None]
+    return replace(engine, **new)
+
+
+def _put(base: ArrayLike, field: Field, value: ArrayLike, n: int, add: bool) -> Any:
+    """A per-cylinder array with one cylinder's (or every cylinder's) value set or added."""
+    old = np.asarray(base, dtype=np.float64)
+    new = np.asarray(value, dtype=np.float64)
+    if add:
+        new = old + new
+    if field.cylinder is None:
+        return np.broadcast_to(new, np.broadcast_shapes(new.shape, old.shape))
+    return np.where(np.arange(n) == field.cylinder, new, old)
+
+
+def lumped_again(
+    layout: Engine, conrod_length: ArrayLike, parts: Mapping[str, ArrayLike], problem: str
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Lumped masses of a by-part layout with some parts (arrays that broadcast) or the
+    conrod length changed, as loading the file would give them.
+
+    Raises
+    ------
+    InputError
+        With the message ``problem`` where a conrod's centre of gravity would lie beyond
+        its small end.
+    """
+    assert layout.mass_parts is not None
+    cg = parts.get("conrod_cg_to_big_end", layout.mass_parts.conrod_cg_to_big_end)
+    if np.any(np.asarray(cg) > np.asarray(conrod_length)):
+        raise InputError(problem)
+    return layout.mass_parts.lumped(conrod_length, parts)

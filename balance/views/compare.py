@@ -1,0 +1,262 @@
+"""The views of a comparison of layouts (:mod:`balance.studies.compare`).
+
+:func:`comparison_dataset` stacks the analyses along a ``layout`` dimension (the Dataset of
+``balance compare --format netcdf`` and of :func:`balance.compare`); :func:`compare_table`,
+:func:`markdown_table`, :func:`compare_csv`, :func:`compare_json` and :func:`render_table`
+print it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from balance.core.speed import rad_per_s_to_rpm
+from balance.views.json import order_entries
+from balance.views.table import format_number
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+    from rich.console import RenderableType
+
+    from balance.core.result import Result
+
+__all__ = [
+    "compare_csv",
+    "compare_json",
+    "compare_table",
+    "comparison_dataset",
+    "markdown_table",
+    "render_table",
+]
+
+_PER_LAYOUT_DIMS = {"order", "rotation", "roll_order"}
+
+
+def comparison_dataset(
+    results: Sequence[Result],
+    labels: Sequence[str],
+    scale_factors: Sequence[float],
+    *,
+    speed: float | None = None,
+    displacement: float | None = None,
+) -> xr.Dataset:
+    """The analyses of a comparison (:func:`balance.studies.compare.compare_results`)
+    stacked along ``layout``, one label and length scale factor each.
+
+    Returns
+    -------
+    xarray.Dataset
+        Per-order variables of :func:`balance.analyse` with a leading ``layout`` dimension,
+        plus ``n_cylinders``, ``displacement``, ``scale_factor``,
+        ``counterweight_total_mass``, ``counterweight_total_unbalance`` and ``n_shafts``.
+        ``speed`` and ``displacement`` are recorded in the attributes as asked.
+    """
+    import xarray as xr
+
+    from balance.views.dataset import build_dataset
+
+    first = results[0].request
+    ks = np.asarray(first.orders, dtype=np.intp)
+    pieces = []
+    for result, label, factor in zip(results, labels, scale_factors, strict=True):
+        layout = result.engine
+        ds = build_dataset(result)
+        keep = [name for name, var in ds.data_vars.items() if set(var.dims) <= _PER_LAYOUT_DIMS]
+        piece = ds[keep]
+        piece = piece.drop_vars([c for c in piece.coords if c not in _PER_LAYOUT_DIMS])
+        if "roll_order" in piece.dims:
+            # with gas forces a four-stroke's roll has half orders too; compare the orders
+            # every layout has
+            piece = piece.sel(roll_order=ks.astype(np.float64))
+        extra = {
+            "n_cylinders": (layout.n_cylinders, "1", "number of cylinders"),
+            "displacement": (layout.displacement, "m3", "swept volume (NaN without a bore)"),
+            "scale_factor": (
+                factor,
+                "1",
+                "length scale applied to reach the displacement",
+            ),
+            "counterweight_total_mass": (
+                float(ds["counterweight_mass"].sum()) if "counterweight_mass" in ds else 0.0,
+                "kg",
+                "sum of the proposed counterweight masses",
+            ),
+            "counterweight_total_unbalance": (
+                float(ds["counterweight_unbalance"].sum())
+                if "counterweight_unbalance" in ds
+                else 0.0,
+                "kg m",
+                "sum of the proposed counterweight unbalances",
+            ),
+            "n_shafts": (int(ds.sizes.get("shaft", 0)), "1", "number of proposed balance shafts"),
+        }
+        for name, (value, units, long_name) in extra.items():
+            piece[name] = xr.Variable((), value, attrs={"units": units, "long_name": long_name})
+        piece = piece.expand_dims(layout=[label])
+        pieces.append(piece)
+    # variables that only some layouts have (the torque summary with gas forces) are left out
+    common = set.intersection(*(set(p.data_vars) for p in pieces))
+    pieces = [p[[name for name in p.data_vars if name in common]] for p in pieces]
+    out = xr.concat(pieces, dim="layout", combine_attrs="drop_conflicts")
+    for var_name in out.data_vars:
+        # a long_name that differs between layouts (roll with or without gas) is dropped by
+        # the concatenation; keep the units and a name that covers both
+        if "long_name" not in out[var_name].attrs:
+            names = sorted({str(p[var_name].attrs.get("long_name", var_name)) for p in pieces})
+            out[var_name].attrs["long_name"] = " / ".join(names)
+        if "units" not in out[var_name].attrs:
+            out[var_name].attrs["units"] = str(pieces[0][var_name].attrs.get("units", "1"))
+    out["layout"].attrs.update({"units": "1", "long_name": "layout"})
+    out.attrs = {
+        "schema": "balance.comparison/1",
+        "model": first.model,
+        "orders": ",".join(map(str, ks)),
+        "common_speed_rpm": "" if speed is None else rad_per_s_to_rpm(speed),
+        "displacement_m3": "" if displacement is None else displacement,
+    }
+    return out
+
+
+def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], list[list[str]]]:
+    """Headers and formatted rows of a comparison (zeros print as 0).
+
+    Normalised: peaks per :math:`F_1 = m_{rec} r\\omega^2` and per :math:`F_1 a`, roll per
+    :math:`m_{rec} r^2\\omega^2`.  Absolute: N, N m.
+    """
+    ks = [int(k) for k in ds["order"].values]
+    suffix = "_normalised" if normalised else ""
+    force_unit, moment_unit, roll_unit = (
+        ("/F1", "/(F1 a)", "/(m r2 w2)") if normalised else (" [N]", " [N m]", " [N m]")
+    )
+    headers = ["layout", "cyl"]
+    headers += [f"F{k}{force_unit}" for k in ks] + [f"M{k}{moment_unit}" for k in ks]
+    headers += [f"rot F{force_unit}", f"rot M{moment_unit}"]
+    headers += [f"roll {k}{roll_unit}" for k in ks]
+    headers += ["cw mass [kg]", "shafts"]
+    rows = []
+    for label in ds["layout"].values:
+        one = ds.sel(layout=label)
+        row = [str(label), str(int(one["n_cylinders"]))]
+        row += [
+            format_number(float(one[f"reciprocating_force_peak{suffix}"].sel(order=k))) for k in ks
+        ]
+        row += [
+            format_number(float(one[f"reciprocating_moment_peak{suffix}"].sel(order=k))) for k in ks
+        ]
+        rot = "_normalised" if normalised else "_magnitude"
+        row += [
+            format_number(float(one[f"rotating_force{rot}"])),
+            format_number(float(one[f"rotating_moment{rot}"])),
+        ]
+        roll = "roll_amplitude_normalised" if normalised else "roll_amplitude"
+        row += [format_number(float(one[roll].sel(roll_order=float(k)))) for k in ks]
+        row += [format_number(float(one["counterweight_total_mass"])), str(int(one["n_shafts"]))]
+        rows.append(row)
+    return headers, rows
+
+
+def markdown_table(headers: list[str], rows: list[list[str]]) -> str:
+    """A GitHub-flavoured Markdown table."""
+
+    def line(cells: list[str]) -> str:
+        return "| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |"
+
+    out = [
+        line(headers),
+        "|" + "|".join("---" if i < 1 else "---:" for i in range(len(headers))) + "|",
+    ]
+    out += [line(r) for r in rows]
+    return "\n".join(out) + "\n"
+
+
+def compare_json(ds: xr.Dataset) -> dict[str, object]:
+    """The comparison as plain data: one entry per layout, in the analysis JSON's shape."""
+    entries = []
+    for label in ds["layout"].values:
+        one = ds.sel(layout=label)
+        entries.append(
+            {
+                "layout": str(label),
+                "n_cylinders": int(one["n_cylinders"]),
+                "displacement_m3": _num(one["displacement"]),
+                "scale_factor": _num(one["scale_factor"]),
+                "speed_rpm": _num(rad_per_s_to_rpm(float(one["speed"]))),
+                "reciprocating": {
+                    "force": _orders(one, "reciprocating_force"),
+                    "moment": _orders(one, "reciprocating_moment"),
+                },
+                "rotating": {
+                    what: {
+                        "peak": _num(one[f"rotating_{what}_magnitude"]),
+                        "peak_normalised": _num(one[f"rotating_{what}_normalised"]),
+                    }
+                    for what in ("force", "moment")
+                },
+                "roll": [
+                    {
+                        "order": float(k),
+                        "amplitude": _num(one["roll_amplitude"].sel(roll_order=k)),
+                        "amplitude_normalised": _num(
+                            one["roll_amplitude_normalised"].sel(roll_order=k)
+                        ),
+                    }
+                    for k in one["roll_order"].values
+                ],
+                "balancing": {
+                    "counterweight_total_mass_kg": _num(one["counterweight_total_mass"]),
+                    "counterweight_total_unbalance_kgm": _num(one["counterweight_total_unbalance"]),
+                    "n_shafts": int(one["n_shafts"]),
+                },
+            }
+        )
+    return {"schema": "balance.comparison/1", "model": ds.attrs["model"], "layouts": entries}
+
+
+def _num(value: Any) -> float | None:
+    number = float(value)
+    return number if math.isfinite(number) else None
+
+
+def _orders(ds: xr.Dataset, prefix: str) -> list[dict[str, Any]]:
+    """Per-order entries of ``{prefix}_*`` variables of one layout of the comparison."""
+    variables = ds.variables
+    rotations = list(variables["rotation"].values)
+    pick = [rotations.index("forward"), rotations.index("backward")]
+    return order_entries(
+        variables["order"].values,
+        variables[f"{prefix}_magnitude"].transpose("order", "rotation").values[:, pick],
+        variables[f"{prefix}_phase"].transpose("order", "rotation").values[:, pick],
+        variables[f"{prefix}_peak"].values,
+        variables[f"{prefix}_peak_normalised"].values,
+    )
+
+
+def compare_csv(headers: list[str], rows: list[list[str]]) -> str:
+    """The table of :func:`compare_table` as CSV."""
+    import csv
+    import io
+
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(headers)
+    writer.writerows(rows)
+    return buffer.getvalue()
+
+
+def render_table(
+    headers: list[str], rows: list[list[str]], *, absolute: bool, model: str
+) -> RenderableType:
+    """The table of :func:`compare_table` as a rich table with its title."""
+    from rich.table import Table
+
+    kind = "absolute" if absolute else "normalised per F1 = m_rec r w^2 and pitch a"
+    table = Table(title=f"Comparison ({kind}; model {model})", title_justify="left")
+    for i, header in enumerate(headers):
+        table.add_column(header, justify="left" if i == 0 else "right")
+    for row in rows:
+        table.add_row(*row)
+    return table

@@ -1,0 +1,45 @@
+"""Polar form for the views that print: phases in degrees, safe normalisation, rpm.
+
+numpy and the standard library only, so that the JSON, CSV and table views need no
+xarray (:mod:`balance.views.dataset` imports these for the Dataset as well).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["SCHEMA", "phase_deg", "safe_ratio", "speed_rpm"]
+
+#: Schema name of the analysis JSON and the result Dataset.
+SCHEMA = "balance.analysis/1"
+
+
+def phase_deg(phasor: ArrayLike) -> NDArray[np.float64]:
+    """Phase of complex phasors in degrees, in [0, 360), to 1e-9 deg; 0 where the magnitude is 0."""
+    z = np.asarray(phasor, dtype=np.complex128)
+    # rounded to 1e-9 deg so that rounding noise (1e-14 deg) does not show as a phase
+    deg = np.round(np.mod(np.degrees(np.angle(z)), 360.0), 9)
+    deg = np.where(deg >= 360.0, 0.0, deg)
+    deg = np.where(np.abs(z) == 0.0, 0.0, deg)
+    deg = np.where(np.isnan(z), np.nan, deg)
+    return np.asarray(deg + 0.0, dtype=np.float64)  # + 0.0 turns -0.0 into 0.0
+
+
+def safe_ratio(values: Any, scale: float) -> Any:
+    """``values / scale``: NaN where the scale is zero or not finite, and inf (without a
+    warning) where the ratio lies beyond the float range (a normalising force of a few
+    1e-300 N, as a layout with a 1e-308 kg piston has)."""
+    if not math.isfinite(scale) or scale == 0.0:
+        return np.full(np.shape(values), np.nan)
+    with np.errstate(over="ignore"):
+        return np.asarray(values) / scale
+
+
+def speed_rpm(speed: float) -> float:
+    """Crank speed [rad/s] in rpm as reported, to 12 significant digits (8000 rpm read from
+    a file stays 8000, not 7999.999999999999)."""
+    return float(f"{speed * 60.0 / (2.0 * math.pi):.12g}")
