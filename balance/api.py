@@ -7,15 +7,13 @@ The command line (:mod:`balance.cli`) and the Python API both go through
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from balance.core.analysis import compute
 from balance.core.engine import Engine
-from balance.core.errors import InputError
 from balance.core.result import Request
-from balance.io.fields import parse_orders
+from balance.io.fields import check_speed, parse_orders
 from balance.io.layout_file import builtin_layout_names, load_layout
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -92,8 +90,8 @@ def analyse(
     """
     from balance.views.dataset import build_dataset
 
-    if speed is not None and not (math.isfinite(speed) and speed > 0):
-        raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
+    if speed is not None:
+        speed = check_speed(speed)
     request = Request.of(
         parse_orders(orders),
         model=model,

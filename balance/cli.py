@@ -105,6 +105,32 @@ class Model(StrEnum):
     time = "time"
 
 
+# options that several commands declare alike, written once
+_OutputFile = Annotated[Path | None, typer.Option("--output", "-o", help="Write to this file.")]
+_ReplaceOutput = Annotated[
+    bool, typer.Option("--force", help="Replace an existing output file.")
+]
+_Speed = Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")]
+_Bearings = Annotated[
+    bool,
+    typer.Option(
+        "--bearings",
+        help="Crank-pin and main-bearing loads and internal moments "
+        "(default mains unless the layout has a bearings: section).",
+    ),
+]
+
+
+def _parse_quantity(text: str, kind: str, option: str) -> float:
+    """A command-line quantity of unit kind ``kind`` in SI; a bad one names ``option``."""
+    from balance.io.units import UnitProblem, parse_quantity
+
+    try:
+        return parse_quantity(text, kind)
+    except UnitProblem as exc:
+        raise InputError(f"{option}: {exc}; {exc.valid}") from None
+
+
 def _parse_speed(text: str | None) -> float | None:
     """The ``--speed`` option in rad/s (None when it is not given)."""
     from balance.io.fields import parse_speed
@@ -158,6 +184,8 @@ def _prepare(
     speed_value = _parse_speed(speed)
     _check_output(output, force, binary)
     engine = load_layout(layout)
+    if engine.mains is not None:  # a bearings: section asks for the bearing loads
+        settings["bearings"] = True
     return engine, Request.of(order_list, speed=speed_value, **settings)
 
 
@@ -166,6 +194,18 @@ def _write_netcdf(ds: Any, output: Path, force: bool) -> None:
 
     write_atomic(output, lambda tmp: ds.to_netcdf(tmp, engine="netcdf4"), force=force)
     sys.stderr.write(f"balance: wrote {output}\n")
+
+
+def _emit_rich(renderable: Any, output: Path | None, force: bool, width: int) -> None:
+    """Print a rich renderable, or write it as plain text ``width`` columns wide."""
+    if output is None:
+        _console().print(renderable)
+        return
+    from rich.console import Console
+
+    console = Console(record=True, width=width, file=io.StringIO())
+    console.print(renderable)
+    _emit_text(console.export_text(), output, force)
 
 
 def _emit_text(text: str, output: Path | None, force: bool) -> None:
@@ -217,12 +257,27 @@ def analyse_command(
     no_proposal: Annotated[
         bool, typer.Option("--no-proposal", help="Skip the balancing proposal.")
     ] = False,
-    output: Annotated[
-        Path | None, typer.Option("--output", "-o", help="Write to this file.")
+    mounts: Annotated[
+        Path | None,
+        typer.Option(
+            "--mounts",
+            help="Engine on its mounts: a mounts file (mass, cg, inertia, points); "
+            "replaces the layout's mounts: section.",
+        ),
     ] = None,
-    force: Annotated[
-        bool, typer.Option("--force", help="Replace an existing output file.")
+    on_mounts: Annotated[
+        bool,
+        typer.Option(
+            "--on-mounts", help="Engine on its mounts, from the layout's mounts: section."
+        ),
     ] = False,
+    with_proposal: Annotated[
+        bool,
+        typer.Option("--with-proposal", help="Load the mounts with the proposal added."),
+    ] = False,
+    bearings: _Bearings = False,
+    output: _OutputFile = None,
+    force: _ReplaceOutput = False,
 ) -> None:
     """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
     from balance.core.analysis import compute
@@ -245,8 +300,27 @@ def analyse_command(
         moments=not no_moments,
         roll=not no_roll,
         proposal=not (no_proposal or no_moments or no_roll),
+        mounts=mounts is not None or on_mounts,
+        mounts_with_proposal=with_proposal,
+        bearings=bearings,
     )
+    engine = _attach_mounts(engine, mounts, request.mounts, with_proposal)
     _write(compute(engine, request), format, output, force)
+
+
+def _attach_mounts(engine: Engine, file: Path | None, asked: bool, with_proposal: bool) -> Engine:
+    """The engine with the mounts of ``--mounts FILE`` (checks ``--with-proposal``)."""
+    if with_proposal and not asked:
+        raise InputError(
+            "--with-proposal puts the proposal on the mounts: give --mounts FILE or --on-mounts"
+        )
+    if file is None:
+        return engine
+    import dataclasses
+
+    from balance.io.mounts_section import load_mounts
+
+    return dataclasses.replace(engine, mounts=load_mounts(file))
 
 
 def _write(
@@ -256,6 +330,7 @@ def _write(
     force: bool,
     proposal_only: bool = False,
     factor_study: Any = None,
+    strategies: Any = None,
 ) -> None:
     """Hand the result to the view of ``format`` (``factor_study``: a balance-factor study
     Dataset of ``propose --factor-study``)."""
@@ -274,22 +349,19 @@ def _write(
         ds = build_dataset(result)
         _write_netcdf(ds if factor_study is None else ds.merge(factor_study), output, force)
     else:
-        from rich.console import Console, Group
+        from rich.console import Group
 
         from balance.views.table import render
 
         renderable = (
-            Group(*_proposal_table(result, factor_study)) if proposal_only else render(result)
+            Group(*_proposal_table(result, factor_study, strategies))
+            if proposal_only
+            else render(result)
         )
-        if output is not None:
-            console = Console(record=True, width=140, file=io.StringIO())
-            console.print(renderable)
-            _emit_text(console.export_text(), output, force)
-        else:
-            _console().print(renderable)
+        _emit_rich(renderable, output, force, width=140)
 
 
-def _proposal_table(result: Result, factor_study: Any = None) -> list[Any]:
+def _proposal_table(result: Result, factor_study: Any = None, strategies: Any = None) -> list[Any]:
     from rich.text import Text
 
     from balance.views.polar import speed_rpm
@@ -300,6 +372,12 @@ def _proposal_table(result: Result, factor_study: Any = None) -> list[Any]:
     parts += render_proposal(result)
     if factor_study is not None:
         parts += render_factor_study(factor_study)
+    if result.bearings is not None:
+        from balance.views.bearings import bearings_tables, strategy_table
+
+        parts += bearings_tables(result.bearings)
+        if strategies:
+            parts += strategy_table(strategies)
     return parts
 
 
@@ -311,24 +389,14 @@ class Strategy(StrEnum):
 
 
 def _parse_fraction(text: str, option: str) -> float:
-    from balance.io.units import UnitProblem, parse_quantity
-
-    try:
-        value = parse_quantity(text, "fraction")
-    except UnitProblem as exc:
-        raise InputError(f"{option}: {exc}; {exc.valid}") from None
+    value = _parse_quantity(text, "fraction", option)
     if not 0.0 <= value <= 2.0:
         raise InputError(f"{option}: {text!r} is outside 0 % to 200 %")
     return value
 
 
 def _parse_length(text: str, option: str) -> float:
-    from balance.io.units import UnitProblem, parse_quantity
-
-    try:
-        value = parse_quantity(text, "length")
-    except UnitProblem as exc:
-        raise InputError(f"{option}: {exc}; {exc.valid}") from None
+    value = _parse_quantity(text, "length", option)
     if value <= 0:
         raise InputError(f"{option}: must be more than zero")
     return value
@@ -364,14 +432,11 @@ def propose_command(
         typer.Option("--factor-study", help="Residual first-order force for factors 0-100 %."),
     ] = False,
     orders: Annotated[str, typer.Option("--orders", help="Orders of the residual report.")] = "1-8",
-    speed: Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")] = None,
+    speed: _Speed = None,
+    bearings: _Bearings = False,
     format: Annotated[Format, typer.Option("--format", "-f", help="Output format.")] = Format.table,
-    output: Annotated[
-        Path | None, typer.Option("--output", "-o", help="Write to this file.")
-    ] = None,
-    force: Annotated[
-        bool, typer.Option("--force", help="Replace an existing output file.")
-    ] = False,
+    output: _OutputFile = None,
+    force: _ReplaceOutput = False,
 ) -> None:
     """Propose counterweights and balance shafts, and show what remains."""
     from balance.core.analysis import compute
@@ -396,14 +461,37 @@ def propose_command(
         balance_factor=factor,
         counterweight_radius=radius,
         cancel_roll=cancel_roll,
+        bearings=bearings,
     )
     result = compute(engine, request)
     study = None
     if factor_study:  # the study is a Dataset: xarray for this option only
         from balance.studies.factor import factor_study_dataset
 
-        study = factor_study_dataset(result.engine)
-    _write(result, format, output, force, proposal_only=True, factor_study=study)
+        study = factor_study_dataset(
+            result.engine,
+            bearings=request.bearings,
+            strategy=request.strategy,
+            counterweight_radius=request.counterweight_radius,
+        )
+    strategies = _strategy_bearings(engine, request) if request.bearings else None
+    _write(
+        result, format, output, force, proposal_only=True, factor_study=study,
+        strategies=strategies,
+    )
+
+
+def _strategy_bearings(engine: Engine, request: Request) -> list[tuple[str, Any]]:
+    """Each counterweight strategy's bearing loads (``propose --bearings``)."""
+    import dataclasses
+
+    from balance.core.analysis import compute
+
+    rows = []
+    for strategy in Strategy:
+        other = dataclasses.replace(request, strategy=strategy.value, roll=True, torque=False)
+        rows.append((strategy.value, compute(engine, other).bearings))
+    return rows
 
 
 class CompareFormat(StrEnum):
@@ -459,12 +547,8 @@ def compare_command(
     format: Annotated[
         CompareFormat, typer.Option("--format", "-f", help="Output format.")
     ] = CompareFormat.table,
-    output: Annotated[
-        Path | None, typer.Option("--output", "-o", help="Write to this file.")
-    ] = None,
-    force: Annotated[
-        bool, typer.Option("--force", help="Replace an existing output file.")
-    ] = False,
+    output: _OutputFile = None,
+    force: _ReplaceOutput = False,
 ) -> None:
     """Compare layouts side by side: free forces, moments, roll and balancing needs."""
     import json
@@ -486,12 +570,7 @@ def compare_command(
     speed_value = _parse_speed(speed)
     volume = None
     if displacement is not None:
-        from balance.io.units import UnitProblem, parse_quantity
-
-        try:
-            volume = parse_quantity(displacement, "volume")
-        except UnitProblem as exc:
-            raise InputError(f"--displacement: {exc}; {exc.valid}") from None
+        volume = _parse_quantity(displacement, "volume", "--displacement")
         if volume <= 0:
             raise InputError("--displacement: must be more than zero")
     _check_output(output, force, binary=format is CompareFormat.netcdf)
@@ -520,15 +599,8 @@ def compare_command(
     elif format is CompareFormat.csv:
         _emit_text(compare_csv(headers, rows), output, force)
     else:
-        from rich.console import Console
-
         table = render_table(headers, rows, absolute=absolute, model=model.value)
-        if output is not None:
-            console = Console(record=True, width=240, file=io.StringIO())
-            console.print(table)
-            _emit_text(console.export_text(), output, force)
-        else:
-            _console().print(table)
+        _emit_rich(table, output, force, width=240)
 
 
 class PlotFormat(StrEnum):
@@ -548,7 +620,8 @@ def plot_command(
         typer.Option(
             "--kind",
             "-k",
-            help="crank-star, phasors, crank-angle, locus, spectrum, roll or balance "
+            help="crank-star, phasors, crank-angle, locus, spectrum, roll, balance, torque, "
+            "forces, mounts, pin-load, main-loads or internal-moment "
             "(repeat for several; default all).",
         ),
     ] = None,
@@ -559,15 +632,18 @@ def plot_command(
         Path, typer.Option("--output-dir", "-o", help="Directory for the figures.")
     ] = Path("."),
     orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-8.")] = "1-8",
-    speed: Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")] = None,
+    speed: _Speed = None,
     force: Annotated[bool, typer.Option("--force", help="Replace existing files.")] = False,
+    bearings: _Bearings = False,
 ) -> None:
     """Draw the design-review figures of a layout into a directory."""
     from balance.core.analysis import compute
 
     if not output_dir.is_dir():
         raise InputError(f"{output_dir}: no such directory; create it first")
-    result = compute(*_prepare(layout, orders, speed))
+    asked = {k.replace("-", "_") for k in kind or ()}
+    bearings = bearings or bool(asked & {"pin_load", "main_loads", "internal_moment"})
+    result = compute(*_with_section_mounts(*_prepare(layout, orders, speed, bearings=bearings)))
     from balance.views.plots import save_plots
 
     stem = Path(layout).stem if layout.endswith((".yaml", ".yml")) else layout
@@ -585,17 +661,120 @@ def report_command(
     layout: Annotated[str, typer.Argument(help="Layout file or built-in name.")],
     output: Annotated[Path, typer.Option("--output", "-o", help="The HTML file to write.")],
     orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-8.")] = "1-8",
-    speed: Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")] = None,
+    speed: _Speed = None,
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
+    bearings: _Bearings = False,
 ) -> None:
     """Write a self-contained HTML design review (tables, figures, proposal, accuracy)."""
     from balance.core.analysis import compute
 
-    result = compute(*_prepare(layout, orders, speed, output=output, force=force))
+    result = compute(
+        *_with_section_mounts(
+            *_prepare(layout, orders, speed, output=output, force=force, bearings=bearings)
+        )
+    )
     from balance.views.report import write_report
 
     write_report(result, output, force=force)
     sys.stderr.write(f"balance: wrote {output}\n")
+
+
+def _with_section_mounts(engine: Engine, request: Request) -> tuple[Engine, Request]:
+    """Figures and reports of a layout with a ``mounts:`` section include the mounts."""
+    import dataclasses
+
+    if engine.mounts is None:
+        return engine, request
+    return engine, dataclasses.replace(request, mounts=True)
+
+
+class MountsFormat(StrEnum):
+    """Output formats of ``balance mounts``."""
+
+    table = "table"
+    json = "json"
+    csv = "csv"
+
+
+@app.command("mounts")
+@guarded
+def mounts_command(
+    layout: Annotated[
+        str, typer.Argument(help="Layout file or built-in name (see 'balance layouts').")
+    ],
+    speed: Annotated[
+        str,
+        typer.Option(
+            "--speed", help="Speeds: start:stop:count or a list, e.g. 800rpm:8000rpm:200."
+        ),
+    ] = "800rpm:8000rpm:200",
+    orders: Annotated[
+        str, typer.Option("--orders", help="Orders: a range or list, e.g. 1-8.")
+    ] = "1-8",
+    mounts: Annotated[
+        Path | None,
+        typer.Option("--mounts", help="A mounts file instead of the layout's mounts: section."),
+    ] = None,
+    with_proposal: Annotated[
+        bool, typer.Option("--with-proposal", help="Load the mounts with the proposal added.")
+    ] = False,
+    format: Annotated[
+        MountsFormat, typer.Option("--format", "-f", help="Output format.")
+    ] = MountsFormat.table,
+    plot: Annotated[
+        Path | None,
+        typer.Option("--plot", "-o", help="Also draw mount force against speed (png, svg, pdf)."),
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Replace an existing output file.")
+    ] = False,
+) -> None:
+    """Mount forces per order against speed, the modes, and which order crosses which mode
+    where (a mounts: section or --mounts FILE)."""
+    from balance.core.analysis import compute
+    from balance.core.mounts import speed_sweep
+    from balance.io.fields import parse_field, parse_values
+
+    if plot is not None and plot.suffix.lower().lstrip(".") not in ("png", "svg", "pdf"):
+        raise InputError(f"-o {plot}: give a .png, .svg or .pdf file for the plot")
+    engine, request = _prepare(
+        layout,
+        orders,
+        None,
+        output=plot,
+        force=force,
+        mounts=True,
+        mounts_with_proposal=with_proposal,
+    )
+    engine = _attach_mounts(engine, mounts, True, with_proposal)
+    speeds = parse_values(speed, parse_field("speed", engine), "--speed")
+    if not (speeds.min() > 0):
+        raise InputError(f"--speed: {speed!r}: every speed must be above zero")
+    sweep = speed_sweep(compute(engine, request).mounts, speeds)  # type: ignore[arg-type]
+    if format is MountsFormat.json:
+        import json
+
+        from balance.views.mounts import sweep_json
+
+        sys.stdout.write(json.dumps(sweep_json(sweep, engine.name), indent=2) + "\n")
+    elif format is MountsFormat.csv:
+        from balance.views.mounts import sweep_csv
+
+        sys.stdout.write(sweep_csv(sweep))
+    else:
+        from rich.console import Group
+
+        from balance.views.mounts import sweep_tables
+
+        _console().print(Group(*sweep_tables(sweep, engine.name)))
+    if plot is not None:
+        from balance.io.atomic import write_atomic
+        from balance.views.mounts import plot_mount_sweep
+        from balance.views.plots import figure_bytes
+
+        fig = plot_mount_sweep(sweep, layout=engine.name)
+        write_atomic(plot, figure_bytes(fig, plot.suffix.lower().lstrip(".")), force)
+        sys.stderr.write(f"balance: wrote {plot}\n")
 
 
 @app.command("sweep")
@@ -799,17 +978,30 @@ def expand_command(
 
 
 def _terminate(signum: int, frame: Any) -> None:
-    raise SystemExit(128 + signum)
+    """SIGTERM, and SIGINT during a write: remove the run's temporary files and end at once
+    (:func:`balance.io.atomic.exit_now`).  An exception raised here would unwind through
+    the interrupted library code, which can hang on a lock it held (xarray's netCDF writer)."""
+    atomic = sys.modules.get("balance.io.atomic")
+    writing = atomic is not None and atomic.writing()
+    if signum == signal.SIGINT:
+        if not writing:
+            raise KeyboardInterrupt
+        os.write(2, b"balance: interrupted\n")
+    if atomic is not None:
+        atomic.exit_now(128 + signum)
+    os._exit(128 + signum)
 
 
 def main() -> None:
     """Entry point of the ``balance`` command.
 
-    SIGTERM ends the run like an interrupt, so that a file being written is removed and the
-    previous output stays in place.
+    SIGTERM, or an interrupt while a file is being written, ends the run at once: the file
+    being written is removed and the previous output stays in place.
     """
     usage_errors, aborts = _click_exceptions()
     signal.signal(signal.SIGTERM, _terminate)
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _terminate)
     try:
         code = _app_for(sys.argv[1:])(standalone_mode=False)
     except usage_errors as exc:

@@ -103,7 +103,9 @@ def best_time(func, repeat: int = 5, target: float = 0.2) -> float:
 def per_million(model: str, lam: float, options: dict[str, int]) -> tuple[float, bool]:
     if model == "time":
         return best_time(
-            lambda: compute_phasors(single(lam), ORDERS, model="time", moments=False, roll=False, **options)
+            lambda: compute_phasors(
+                single(lam), ORDERS, model="time", moments=False, roll=False, **options
+            )
         ) * 1e6, True
     rng = np.random.default_rng(1)
     chunk = 100_000
@@ -122,7 +124,9 @@ def ladder() -> list[dict[str, object]]:
         ref = reference(lam)
         layout = single(lam)
         for model, options in MODELS:
-            result = compute_phasors(layout, ORDERS, model=model, moments=False, roll=False, **options)
+            result = compute_phasors(
+                layout, ORDERS, model=model, moments=False, roll=False, **options
+            )
             error = float(np.abs(result.acceleration_coefficients[0] - ref).max())
             per_analysis = best_time(
                 lambda m=model, o=options, lay=layout: compute_phasors(
@@ -431,11 +435,7 @@ def cold_start_section(start: dict[str, float]) -> str:
         f"```console\n$ python benchmarks/model_ladder.py --cold-start --runs {int(start['runs'])}"
         " --write-docs\n```\n\n"
         f"on {date.today().isoformat()}, Python {platform.python_version()}, {_cpus()} cores:"
-        "\n"
-        + cold_start_table(start)
-        + "\n"
-        + startup_note(start)
-        + f"\n{COLD_START_END}"
+        "\n" + cold_start_table(start) + "\n" + startup_note(start) + f"\n{COLD_START_END}"
     )
 
 

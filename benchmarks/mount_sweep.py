@@ -8,8 +8,10 @@ Times (best of several runs) each step of :mod:`balance.core.mounts` for a four-
 system with damping and products of inertia: the loads of every (speed, order) from
 unit-speed phasors scaled by omega**2 (:func:`crank_loads`), the one batched solve of
 (K - W^2 M + i W C) X = F (:func:`harmonic_response`), the mount forces
-(:func:`mount_forces`), and the six modes (:func:`normal_modes`).  The phasors are
-synthetic (random, of an inline-4's size): the time does not depend on their values.
+(:func:`mount_forces`), and the six modes (:func:`normal_modes`).  The phasors of
+the first rows are synthetic (random, of an inline-4's size: the time does not depend on
+their values); the last rows use the real phasors of ``layouts/inline-4-mounts.yaml``
+(:func:`speed_sweep`, what ``balance mounts`` runs).
 The issue's target: under 50 ms of compute for the whole sweep.
 """
 
@@ -50,6 +52,26 @@ def system() -> mt.MountSystem:
     )
 
 
+def real_engine() -> list[tuple[str, float]]:
+    """The sweep of ``balance mounts inline-4-mounts``: the phasors of the real engine
+    (its analysis once, at the layout speed), then :func:`speed_sweep` over 200 speeds."""
+    from balance.core.analysis import compute
+    from balance.core.result import Request
+    from balance.io.layout_file import load_layout
+
+    engine = load_layout("inline-4-mounts")
+    request = Request(orders=tuple(range(1, ORDERS + 1)), mounts=True)
+    base = compute(engine, request).mounts
+    assert base is not None
+    speeds = np.linspace(800, 8000, SPEEDS) * np.pi / 30
+    sweep = mt.speed_sweep(base, speeds)
+    assert sweep.forces.shape == (SPEEDS, ORDERS, 4, 3)
+    return [
+        ("inline-4-mounts: analysis with mounts (once)", best_of(lambda: compute(engine, request))),
+        ("inline-4-mounts: speed_sweep, 200 x 8", best_of(lambda: mt.speed_sweep(base, speeds))),
+    ]
+
+
 def main() -> None:
     s = system()
     m, k, c = mt.mass_matrix(s.mass, s.inertia), mt.stiffness_matrix(s), mt.damping_matrix(s)
@@ -88,6 +110,7 @@ def main() -> None:
         ("modes", best_of(lambda: mt.normal_modes(m, k))),
         ("whole sweep: loads + response + mount forces", best_of(whole)),
     ]
+    rows += real_engine()
     print(f"{SPEEDS} speeds x {ORDERS} orders, {s.n_mounts} mounts")
     print(f"numpy {np.__version__}, Python {platform.python_version()}, {platform.machine()}")
     for name, seconds in rows:

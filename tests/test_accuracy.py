@@ -73,7 +73,9 @@ def test_each_model_within_its_bound(lam, eps):
 def test_time_model_within_its_bound(lam, eps, samples):
     layout = engine([0], spacing=0.0, stroke=0.08, conrod_length=0.04 / lam)
     layout = dataclasses.replace(layout, offset=np.full(1, eps * 0.04))
-    result = compute_phasors(layout, ORDERS, model="time", samples=samples, moments=False, roll=False)
+    result = compute_phasors(
+        layout, ORDERS, model="time", samples=samples, moments=False, roll=False
+    )
     got = result.acceleration_coefficients[0]
     error = float(np.abs(got - reference(lam, eps)).max())
     assert error <= result.error_bound

@@ -179,8 +179,37 @@ def test_dimensional_functions_scale_with_radius_and_speed():
 # --- Fourier coefficients ---------------------------------------------------------------
 
 
+def _mp_coefficients(lam: float, eps: float, orders: list[int]) -> list[complex]:
+    """a_k - i b_k of -s''/r at 30 digits, by the trapezoidal rule on n equally spaced
+    angles, done with n = 256 and n = 512 and checked to agree to 1e-25.
+
+    For a periodic analytic integrand the rule converges geometrically, its error falling
+    like exp(-(n - k) d), d the distance of the nearest singularity of the integrand from
+    the real axis (where lam |sin x - eps| = 1; d = 0.32 at lam 0.95), so both are exact
+    to the working precision (they agree with mpmath.quad to 1e-31)."""
+
+    def f(x):
+        u = mpmath.sin(x) - eps
+        D = mpmath.sqrt(1 - (lam * u) ** 2)
+        c = mpmath.cos(x)
+        return c + lam * ((c**2 - u * mpmath.sin(x)) / D + (lam * u * c) ** 2 / D**3)
+
+    def trapezoid(n: int) -> list:
+        x = [2 * mpmath.pi * j / n for j in range(n)]
+        values = [f(xj) for xj in x]
+        turns = [mpmath.expj(-xj) for xj in x]
+        pairs = list(zip(values, turns, strict=True))
+        return [mpmath.fsum(v * w**k for v, w in pairs) * 2 / n for k in orders]
+
+    with mpmath.workdps(30):
+        coarse, fine = trapezoid(256), trapezoid(512)
+        assert max(abs(a - b) for a, b in zip(coarse, fine, strict=True)) < 1e-25  # converged
+    return [complex(c) for c in fine]
+
+
 def _mp_coefficient(lam: float, eps: float, k: int) -> complex:
-    """a_k - i b_k of -s''/r by numerical quadrature at 30 digits."""
+    """a_k - i b_k of -s''/r by adaptive quadrature (mpmath.quad) at 30 digits, for rod
+    ratios so close to 1 that the trapezoidal rule needs thousands of angles."""
 
     def f(x):
         u = mpmath.sin(x) - eps
@@ -201,7 +230,7 @@ def _mp_coefficient(lam: float, eps: float, k: int) -> complex:
 def test_exact_coefficients_match_quadrature(lam, eps):
     orders = [1, 2, 3, 4, 5, 6, 8]
     got = kin.acceleration_coefficients(lam, eps, orders)
-    want = np.array([_mp_coefficient(lam, eps, k) for k in orders])
+    want = np.array(_mp_coefficients(lam, eps, orders))
     # the rounding floor grows with the peak of the acceleration near lambda -> 1
     floor = 1e-14 / (1 - lam * (1 + abs(eps))) ** 1.5
     np.testing.assert_allclose(got, want, rtol=0, atol=floor)

@@ -55,8 +55,8 @@ def test_section_under_a_mounts_key_and_from_a_file(tmp_path):
 
 def test_units_of_stiffness_damping_and_inertia():
     data = _data()
-    data["points"][0]["stiffness"] = ["1 kN/mm", 2.0e5, "3e5 N/m"]
-    data["points"][0]["damping"] = ["0.3 kN s/m", "0.2 N s/mm", 100]
+    data["points"][0]["stiffness"] = ["1 kN/mm", "2.0e5 N/m", "3e5 N/m"]
+    data["points"][0]["damping"] = ["0.3 kN s/m", "0.2 N s/mm", "100 kg/s"]
     data["inertia"]["xy"] = "1000 kg cm^2"
     system = mounts_from_dict(data)
     np.testing.assert_allclose(system.points[0].stiffness, [1e6, 2e5, 3e5])
@@ -141,3 +141,14 @@ def test_missing_and_short_fields():
     err = _error(CONTRACT_EXAMPLE.replace("[0 mm, 60 mm, 140 mm]", "[0 mm, 60 mm]"))
     assert err.field == "cg"
     assert math.isfinite(err.location.line or math.nan)
+
+
+def test_a_bare_stiffness_is_refused_with_the_likely_unit():
+    data = _data()
+    data["points"][0]["stiffness"] = ["250 N/mm", 400, "0"]
+    with pytest.raises(LayoutError, match=r"give a unit, e\.g\. '400 N/mm'"):
+        mounts_from_dict(data)
+    data["points"][0]["stiffness"] = ["250 N/mm", "400 N/mm", 0]
+    data["points"][0]["damping"] = ["300", "0 N s/m", 0]
+    with pytest.raises(LayoutError, match=r"give a unit, e\.g\. '300 N s/m'"):
+        mounts_from_dict(data)

@@ -92,7 +92,11 @@ def compute_phasors(
     )
     w2 = speed_squared(layout.speed)
     bound = accuracy.error_bound(
-        model, r / layout.conrod_length, layout.offset / r, terms=terms, max_order=int(ks.max())
+        model,
+        kinematics.rod_ratio(r, layout.conrod_length),
+        kinematics.offset_ratio(layout.offset, r),
+        terms=terms,
+        max_order=int(ks.max()),
     )
     return _assemble(
         layout,
@@ -209,11 +213,9 @@ def free_phasors(
     operations in the same order, so the two agree bit for bit.
     """
     r = np.asarray(crank_radius, dtype=np.float64)
-    ratio = r / np.asarray(conrod_length, dtype=np.float64)
-    offset_ratio = np.asarray(offset, dtype=np.float64) / r
-    coeffs = kinematics.acceleration_coefficients(
-        ratio, offset_ratio, orders, model=model, terms=terms
-    )
+    ratio = kinematics.rod_ratio(r, conrod_length)
+    eps = kinematics.offset_ratio(offset, r)
+    coeffs = kinematics.acceleration_coefficients(ratio, eps, orders, model=model, terms=terms)
     m_rec = np.asarray(reciprocating_mass, dtype=np.float64)
     amp = m_rec * r
     f_fwd, f_bwd, m_fwd, m_bwd = phasors.reciprocating_force_and_moment(
@@ -235,7 +237,7 @@ def free_phasors(
             rotating_moment=phasors.rotating_phasor(rot_amp, throw, lever),
         )
     if roll:
-        g_rec, g_rod = kinematics.roll_coefficients(ratio, offset_ratio, orders)
+        g_rec, g_rod = kinematics.roll_coefficients(ratio, eps, orders)
         out = replace(
             out,
             roll=phasors.roll_phasors(
@@ -312,7 +314,9 @@ def _assemble(
 def _reference_force(layout: Engine) -> float:
     r""":math:`F_1 = m_{rec} r \omega^2` with the engine means of mass and radius [N]."""
     return float(
-        np.mean(layout.reciprocating_mass) * np.mean(layout.crank_radius) * layout.speed**2
+        np.mean(layout.reciprocating_mass)
+        * np.mean(layout.crank_radius)
+        * speed_squared(layout.speed)
     )
 
 
@@ -345,10 +349,10 @@ def _compute_time(
             f"not {k_max}; give more than {2 * k_max}"
         )
     theta = timedomain.crank_angles(samples)
-    omega2 = layout.speed**2
+    omega2 = speed_squared(layout.speed)
     r = layout.crank_radius
-    ratio = r / layout.conrod_length
-    offset_ratio = layout.offset / r
+    ratio = kinematics.rod_ratio(r, layout.conrod_length)
+    eps = kinematics.offset_ratio(layout.offset, r)
     amp = layout.reciprocating_mass * r * omega2
     n = layout.n_cylinders
     force_scale = float(np.sum(amp))
@@ -377,7 +381,7 @@ def _compute_time(
             n * 8,
         )
     beta = theta[None, :]
-    per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], offset_ratio[:, None])
+    per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], eps[:, None])
     coeffs = 2.0 * np.fft.rfft(per_cylinder, axis=-1)[:, ks] / samples
     return _assemble(
         layout,
@@ -388,7 +392,7 @@ def _compute_time(
         terms=0,
         samples=samples,
         error_bound=accuracy.error_bound(
-            "time", ratio, offset_ratio, samples=samples, max_order=k_max
+            "time", ratio, eps, samples=samples, max_order=k_max
         ),
     )
 
@@ -456,7 +460,7 @@ def balance_engine(
     )
     added = proposal_phasors(proposal, layout, result.orders)
     ks = result.orders
-    w2 = layout.speed**2
+    w2 = float(speed_squared(layout.speed))
     first = (ks == 1).astype(np.float64)
     lever = np.abs(layout.z - layout.reference_z)
     # scale of the terms that meet in each residual sum, for the zero-by-symmetry threshold
@@ -519,7 +523,9 @@ def compute(engine: Engine, request: Request) -> Result:
     if request.tolerance is not None:
         r = engine.crank_radius
         model, terms, _ = accuracy.choose_model(
-            request.tolerance, r / engine.conrod_length, engine.offset / r
+            request.tolerance,
+            kinematics.rod_ratio(r, engine.conrod_length),
+            kinematics.offset_ratio(engine.offset, r),
         )
         request = replace(request, model=model, terms=terms)
     ks = np.asarray(request.orders, dtype=np.intp)
@@ -557,7 +563,7 @@ def compute(engine: Engine, request: Request) -> Result:
             roll_orders, roll_, residual_roll = _roll_with_gas(torque, phasors_, balanced)
     f1 = phasors_.reference_force
     pitch = engine.pitch
-    return Result(
+    result = Result(
         engine=engine,
         request=request,
         phasors=phasors_,
@@ -570,8 +576,18 @@ def compute(engine: Engine, request: Request) -> Result:
         pitch=pitch,
         reference_moment=f1 * pitch if math.isfinite(pitch) else math.nan,
         reference_roll=float(np.mean(engine.reciprocating_mass) * np.mean(engine.crank_radius) ** 2)
-        * (engine.speed**2),
+        * float(speed_squared(engine.speed)),
     )
+    if request.mounts:
+        from balance.core.mount_loads import mounts_of
+
+        result = replace(result, mounts=mounts_of(result, request.mounts_with_proposal))
+    if request.bearings:
+        from balance.core.bearings import analysis_bearings, counterweights_of
+
+        proposal = balanced.proposal if balanced is not None else None
+        result = replace(result, bearings=analysis_bearings(engine, counterweights_of(proposal)))
+    return result
 
 
 def _roll_with_gas(

@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from balance.core.engine import Engine
 from balance.core.errors import AnalysisError
 from balance.core.phasors import CANCELLATION_FACTOR
+from balance.core.speed import speed_squared
 
 __all__ = [
     "DEFAULT_ORDERS",
@@ -287,7 +288,7 @@ def propose(
     wanted = tuple(sorted({int(k) for k in (cancel if cancel is not None else DEFAULT_ORDERS)}))
     if any(k < 1 for k in wanted):
         raise AnalysisError("orders to cancel start at 1")
-    w2 = layout.speed**2
+    w2 = float(speed_squared(layout.speed))
     r_mean = float(np.mean(layout.crank_radius))
     radius = float(counterweight_radius) if counterweight_radius is not None else r_mean
     if not (math.isfinite(radius) and radius > 0):
@@ -407,7 +408,7 @@ def shaft_roll_phasors(
     for shaft in shafts:
         s = shaft.speed_ratio
         p = complex(shaft.y, shaft.x)
-        P = shaft.total_unbalance * s * s * speed**2
+        P = shaft.total_unbalance * s * s * float(speed_squared(speed))
         R = -1j * p.conjugate() * P if s > 0 else 1j * p * P.conjugate()
         out[ks == abs(s)] += R
     return out
@@ -463,7 +464,7 @@ def proposal_phasors(
 ) -> ProposalPhasors:
     """Forward and backward phasors of every proposed mass, and their roll, per order."""
     ks = np.asarray(orders, dtype=np.intp).ravel()
-    w2 = layout.speed**2
+    w2 = float(speed_squared(layout.speed))
     z_ref = layout.reference_z
     zeros = np.zeros(ks.size, dtype=np.complex128)
     ff, fb, mf, mb = zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy()
@@ -491,7 +492,7 @@ def _residual_first_order(
 ) -> tuple[complex, complex, complex]:
     """Free first-order force phasors (forward, backward) and moment peak after counterweights
     carrying rotating mass plus ``factor`` of the reciprocating mass, per-throw."""
-    w2 = layout.speed**2
+    w2 = float(speed_squared(layout.speed))
     r = layout.crank_radius
     c1 = 0.5 * np.asarray(first_order, dtype=np.complex128)
     rec = layout.reciprocating_mass * r * w2

@@ -61,6 +61,8 @@ from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 
 __all__ = [
     "BearingLoads",
+    "Bearings",
+    "analysis_bearings",
     "bearing_loads",
     "big_end_forces",
     "counterweights_of",
@@ -68,7 +70,9 @@ __all__ = [
     "crank_unbalance_share",
     "default_mains",
     "engine_default_mains",
+    "engine_mains",
     "gas_forces",
+    "largest_loads",
     "lever_shares",
     "loads_at",
     "moment_arms",
@@ -81,7 +85,7 @@ ComplexArray = NDArray[np.complex128]
 _EPS = float(np.finfo(np.float64).eps)
 
 #: Crank angles per revolution of the first grid for the Fourier series of the pin loads.
-SERIES_START = 64
+SERIES_START = 128
 #: Largest such grid (a geometry within a hair of l = r + |e| may need it).
 SERIES_MAX = 2**14
 #: Uniform grid of the mean of a magnitude (trapezoidal rule), checked on twice as many.
@@ -91,6 +95,9 @@ START_GRID = 1024
 MEAN_TOLERANCE = 1e-13
 #: Newton iterations of a maximum (or minimum) from the sampled one.
 NEWTON_ITERATIONS = 8
+#: Newton step [rad] after which an extremum has converged (quadratic convergence: the
+#: next step would be of the order of its square).
+NEWTON_DONE = 1e-9
 #: Graded Gauss–Legendre rule of a near-singular mean: nodes per panel, ratio, levels.
 GRADED_NODES = 16
 GRADED_RATIO = 0.25
@@ -149,6 +156,13 @@ def default_mains(z: ArrayLike, pitch: float = math.nan, stroke: float = math.na
 def engine_default_mains(engine: Engine) -> FloatArray:
     """:func:`default_mains` of an engine (its pitch and largest stroke) [m]."""
     return default_mains(engine.z, engine.pitch, float(2.0 * np.max(engine.crank_radius)))
+
+
+def engine_mains(engine: Engine) -> FloatArray:
+    """The engine's main positions [m]: its ``bearings:`` section's, else the defaults."""
+    if engine.mains is not None:
+        return np.asarray(engine.mains, dtype=np.float64)
+    return engine_default_mains(engine)
 
 
 def lever_shares(load_z: ArrayLike, mains: ArrayLike) -> FloatArray:
@@ -538,7 +552,7 @@ def loads_at(
     for :func:`bearing_loads`.
     """
     th = np.asarray(theta, dtype=np.float64)
-    zm = engine_default_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
+    zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
     cws = tuple((float(z), complex(u)) for z, u in counterweights)
     model = _Model(engine, zm, cws, gas and engine.gas is not None)
     pins, main = model.cycle_loads(th)
@@ -620,7 +634,7 @@ def bearing_loads(
     any continuous function unimodal in the bracket, a kink at the peak included.
     """
     cws = tuple((float(z), complex(u)) for z, u in counterweights)
-    zm = engine_default_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
+    zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
     with_gas = gas and engine.gas is not None
     model = _Model(engine, zm, cws, with_gas)
     n_pins, n_mains = model.pin_z.size, zm.size
@@ -677,6 +691,272 @@ def bearing_loads(
     )
 
 
+# ------------------------------------------------------------------ the analysis's bearings
+
+
+@dataclass(frozen=True, eq=False)
+class Bearings:
+    r"""Bearing loads of an analysis, without and with the proposed counterweights (SI).
+
+    What :attr:`balance.core.result.Result.bearings` holds (CONTRACT §6).  The ``*_with_proposal``
+    arrays add the proposal's counterweights (balance shafts run in their own bearings and do
+    not load the mains); without a proposal, or with one without counterweights, they equal
+    the arrays without.  Curves are complex (:math:`y + \mathrm{i}x`), shape
+    (bearings, angles).
+
+    Attributes
+    ----------
+    theta : ndarray
+        Crank angles of the pin and main curves [rad], uniform over ``cycle``.
+    cycle : float
+        Length of the cycle [rad]: :math:`2\pi`, or :math:`4\pi` for a four-stroke with gas.
+    gas : bool
+        Whether the pin and main loads include gas forces (the internal moments never do).
+    pin_z, pin_throw : ndarray
+        Plane [m] and throw angle [rad] of each crank pin.
+    pin_cylinders : tuple of tuple of int
+        Cylinder numbers (1-based) on each pin.
+    pin_max, pin_mean : ndarray
+        Largest and mean magnitude of each crank-pin load [N].
+    pin_max_angle : ndarray
+        Crank angle of each pin's largest load [rad].
+    main_z : ndarray
+        Main-bearing positions [m].
+    main_max, main_mean, main_max_with_proposal, main_mean_with_proposal : ndarray
+        Largest and mean magnitude of each main-bearing load [N].
+    moment_max, moment_max_with_proposal : ndarray
+        Largest magnitude of the internal moment at each main [N m] (inertia only).
+    pin_load : ndarray of complex
+        Crank-pin loads [N] at ``theta``, engine frame.
+    main_load, main_load_with_proposal : ndarray of complex
+        Main-bearing loads [N] at ``theta``, engine frame.
+    moment_theta : ndarray
+        Crank angles of the internal-moment curves [rad] (one revolution).
+    internal_moment, internal_moment_with_proposal : ndarray of complex
+        Internal moment at each main [N m] at ``moment_theta``.
+    counterweights : tuple of (float, complex)
+        The ``(z [m], unbalance [kg m])`` of the proposal's counterweights used.
+    """
+
+    theta: FloatArray
+    cycle: float
+    gas: bool
+    pin_z: FloatArray
+    pin_throw: FloatArray
+    pin_cylinders: tuple[tuple[int, ...], ...]
+    pin_max: FloatArray
+    pin_mean: FloatArray
+    pin_max_angle: FloatArray
+    main_z: FloatArray
+    main_max: FloatArray
+    main_mean: FloatArray
+    main_max_with_proposal: FloatArray
+    main_mean_with_proposal: FloatArray
+    moment_max: FloatArray
+    moment_max_with_proposal: FloatArray
+    pin_load: ComplexArray
+    main_load: ComplexArray
+    main_load_with_proposal: ComplexArray
+    moment_theta: FloatArray
+    internal_moment: ComplexArray
+    internal_moment_with_proposal: ComplexArray
+    counterweights: tuple[tuple[float, complex], ...] = ()
+
+    @property
+    def pin_load_crank_frame(self) -> ComplexArray:
+        """:attr:`pin_load` seen from the crank (:func:`crank_frame`): real part along the
+        throw, imaginary part in the direction of rotation [N]."""
+        return crank_frame(self.pin_load, self.theta[None, :], self.pin_throw[:, None])
+
+
+def analysis_bearings(
+    engine: Engine,
+    counterweights: Iterable[tuple[float, complex]] = (),
+    mains: ArrayLike | None = None,
+    gas: bool = True,
+    curve_samples: int = 360,
+) -> Bearings:
+    r"""Bearing loads without and with counterweights, in one pass (:class:`Bearings`).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine; its ``mains`` (a ``bearings:`` section) unless ``mains`` is given, else
+        :func:`engine_default_mains`.
+    counterweights : iterable of (float, complex)
+        ``(z [m], unbalance [kg m])`` of the proposal's counterweights
+        (:func:`counterweights_of`).
+    mains : array_like, optional
+        Main-bearing positions [m] instead of the engine's.
+    gas : bool
+        Include the gas forces when the engine has them.
+    curve_samples : int
+        Crank angles per revolution of the curves.
+
+    Notes
+    -----
+    The same numbers as two calls of :func:`bearing_loads` (without and with the
+    counterweights), computed once: counterweights turn with the crank, so they add only to
+    the order-1 Fourier coefficient of the main loads and internal moments,
+    :math:`\sum_c S_{mc} U_c\omega^2` and :math:`\sum_c A_{mc} U_c\omega^2`; the pin loads,
+    which do not see them, are computed once.  With gas the loads are evaluated at the same
+    nodes for both variants.
+    """
+    cws = tuple((float(z), complex(u)) for z, u in counterweights)
+    zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
+    with_gas = gas and engine.gas is not None
+    model = _Model(engine, zm, (), with_gas)
+    n_pins, n_mains = model.pin_z.size, zm.size
+    w2 = engine.speed**2
+    cw_z = np.array([z for z, _ in cws], dtype=np.float64)
+    cw_u = np.array([u for _, u in cws], dtype=np.complex128) * w2
+    has_cw = bool(cw_z.size) and bool(np.any(cw_u != 0))
+    cw_main = lever_shares(cw_z, zm) @ cw_u if has_cw else np.zeros(n_mains, complex)
+    cw_moment = moment_arms(cw_z, zm) @ cw_u if has_cw else np.zeros(n_mains, complex)
+
+    k, coeffs = model.inertia_series()  # pins, mains, moments
+    one = (k == 1).astype(np.float64)
+    mains_c, moments_c = coeffs[n_pins : n_pins + n_mains], coeffs[n_pins + n_mains :]
+    rows = [coeffs[:n_pins], mains_c, moments_c]
+    if has_cw:
+        rows += [mains_c + cw_main[:, None] * one, moments_c + cw_moment[:, None] * one]
+    series = np.concatenate(rows, axis=0)
+    b0, b1, b2 = n_pins, n_pins + n_mains, n_pins + 2 * n_mains
+    moments_with = slice(b2 + n_mains, b2 + 2 * n_mains) if has_cw else slice(b1, b2)
+    mains_with = slice(b2, b2 + n_mains) if has_cw else slice(b0, b1)
+    theta_rev = 2.0 * np.pi * np.arange(curve_samples) / curve_samples
+    if with_gas:
+        assert engine.gas is not None
+        moment_stats = _spectral_stats(
+            k,
+            series[b1:b2]
+            if not has_cw
+            else np.concatenate([series[b1:b2], series[moments_with]], axis=0),
+        )
+        moment_max = moment_stats.maximum[:n_mains]
+        moment_max_with = moment_stats.maximum[n_mains:] if has_cw else moment_max
+        cycle = math.radians(engine.gas.cycle_deg)
+
+        def loads(t: FloatArray) -> tuple[ComplexArray, ...]:
+            pins = model.pins(t, True)
+            main = model.mains_of(model.throws(pins, t), t)
+            if not has_cw:
+                return pins, main
+            return pins, main, main + cw_main[:, None] * np.exp(1j * t)[None, :]
+
+        nodes, weights, edges = _gas_nodes(engine, model)
+        stats = _weighted_stats(lambda t: _magnitudes(loads(t)), nodes, weights, edges, cycle)
+        n_curve = round(curve_samples * engine.gas.cycle_deg / 360.0)
+        theta = cycle * np.arange(n_curve) / n_curve
+        curves = loads(theta)
+        pin_curve, main_curve = curves[0], curves[1]
+        main_curve_with = curves[2] if has_cw else main_curve
+        maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
+        main_max_with = maximum[b1 : b1 + n_mains] if has_cw else maximum[b0:b1]
+        main_mean_with = mean[b1 : b1 + n_mains] if has_cw else mean[b0:b1]
+    else:
+        stats = _spectral_stats(k, series)
+        maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
+        cycle = 2.0 * np.pi
+        theta = theta_rev
+        curves_all = _grid_values(k, series, curve_samples)
+        pin_curve, main_curve = curves_all[:b0], curves_all[b0:b1]
+        main_curve_with = curves_all[mains_with]
+        moment_max = maximum[b1:b2]
+        moment_max_with = maximum[moments_with]
+        main_max_with, main_mean_with = maximum[mains_with], mean[mains_with]
+    moment_curves = _grid_values(k, series[b1:b2], curve_samples)
+    moment_curves_with = (
+        _grid_values(k, series[moments_with], curve_samples) if has_cw else moment_curves
+    )
+    by_z = np.argsort(model.pin_z, kind="stable")  # pins in the order of their planes
+    return Bearings(
+        theta=theta,
+        cycle=cycle,
+        gas=with_gas,
+        pin_z=model.pin_z[by_z],
+        pin_throw=model.pin_throw[by_z],
+        pin_cylinders=tuple(model.cylinders[j] for j in by_z),
+        pin_max=maximum[:b0][by_z],
+        pin_mean=mean[:b0][by_z],
+        pin_max_angle=argmax[:b0][by_z],
+        main_z=zm,
+        main_max=maximum[b0:b1],
+        main_mean=mean[b0:b1],
+        main_max_with_proposal=main_max_with,
+        main_mean_with_proposal=main_mean_with,
+        moment_max=moment_max,
+        moment_max_with_proposal=moment_max_with,
+        pin_load=pin_curve[by_z],
+        main_load=main_curve,
+        main_load_with_proposal=main_curve_with,
+        moment_theta=theta_rev,
+        internal_moment=moment_curves,
+        internal_moment_with_proposal=moment_curves_with,
+        counterweights=cws,
+    )
+
+
+def largest_loads(
+    engine: Engine,
+    counterweight_sets: Sequence[Iterable[tuple[float, complex]]],
+    mains: ArrayLike | None = None,
+    gas: bool = True,
+) -> tuple[FloatArray, FloatArray]:
+    """Largest main-bearing load [N] and internal moment [N m] for each set of counterweights.
+
+    One pass for every set (a balance-factor study: one proposal per factor): the pin loads
+    are computed once and each set adds its order-1 term (:func:`analysis_bearings`).
+
+    Returns
+    -------
+    main_max, moment_max : ndarray
+        Shape (sets,): the largest over all mains of the largest magnitude over the cycle.
+    """
+    zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
+    with_gas = gas and engine.gas is not None
+    model = _Model(engine, zm, (), with_gas)
+    n_pins, n_mains, n_sets = model.pin_z.size, zm.size, len(counterweight_sets)
+    w2 = engine.speed**2
+    cw_main = np.zeros((n_sets, n_mains), dtype=np.complex128)
+    cw_moment = np.zeros((n_sets, n_mains), dtype=np.complex128)
+    for s, cws in enumerate(counterweight_sets):
+        pairs = [(float(z), complex(u)) for z, u in cws]
+        if pairs:
+            cz = np.array([z for z, _ in pairs])
+            cu = np.array([u for _, u in pairs]) * w2
+            cw_main[s] = lever_shares(cz, zm) @ cu
+            cw_moment[s] = moment_arms(cz, zm) @ cu
+    k, coeffs = model.inertia_series()
+    one = (k == 1).astype(np.float64)
+    mains_c, moments_c = coeffs[n_pins : n_pins + n_mains], coeffs[n_pins + n_mains :]
+    moment_rows = (moments_c[None] + cw_moment[:, :, None] * one).reshape(-1, k.size)
+    if with_gas:
+        assert engine.gas is not None
+        cycle = math.radians(engine.gas.cycle_deg)
+
+        def loads(t: FloatArray) -> FloatArray:
+            pins = model.pins(t, True)
+            main = model.mains_of(model.throws(pins, t), t)
+            turning = np.exp(1j * t)[None, None, :]
+            return np.abs(main[None] + cw_main[:, :, None] * turning).reshape(-1, t.size)
+
+        nodes, weights, edges = _gas_nodes(engine, model)
+        main_max = _weighted_stats(loads, nodes, weights, edges, cycle).maximum
+        moment_max = _spectral_stats(k, moment_rows).maximum
+    else:
+        main_rows = (mains_c[None] + cw_main[:, :, None] * one).reshape(-1, k.size)
+        stats = _spectral_stats(k, np.concatenate([main_rows, moment_rows], axis=0))
+        main_max, moment_max = (
+            stats.maximum[: main_rows.shape[0]],
+            stats.maximum[main_rows.shape[0] :],
+        )
+    return (
+        main_max.reshape(n_sets, n_mains).max(axis=1),
+        moment_max.reshape(n_sets, n_mains).max(axis=1),
+    )
+
+
 # --------------------------------------------------------------------------- statistics
 
 
@@ -730,19 +1010,21 @@ def _newton_extremum(
     """
     th = np.array(theta, dtype=np.float64)
     ik = 1j * k
-    stacked = np.concatenate([coeffs, ik * coeffs, ik * ik * coeffs], axis=0)
-    n_q = coeffs.shape[0]
+    c0 = coeffs.reshape(coeffs.shape[:1] + (1,) * (th.ndim - 1) + coeffs.shape[1:])
+    c1, c2 = ik * c0, ik * ik * c0
     for _ in range(NEWTON_ITERATIONS):
-        values = _series_values(k, stacked, np.concatenate([th, th, th], axis=0))
-        f, d1, d2 = values[:n_q], values[n_q : 2 * n_q], values[2 * n_q :]
+        # each row at its own few angles: the terms directly (cheaper than Horner here)
+        e = np.exp(1j * th[..., None] * k)
+        f, d1, d2 = (e * c0).sum(axis=-1), (e * c1).sum(axis=-1), (e * c2).sum(axis=-1)
         g = np.real(np.conj(f) * d1)
         dg = np.abs(d1) ** 2 + np.real(np.conj(f) * d2)
         with np.errstate(divide="ignore", invalid="ignore"):
             delta = np.clip(np.nan_to_num(np.where(dg != 0.0, g / dg, 0.0)), -step, step)
         th = th - delta
-        if np.max(np.abs(delta), initial=0.0) <= 1e-15:
+        # quadratic convergence: after a step this small the next one is below rounding
+        if np.max(np.abs(delta), initial=0.0) <= NEWTON_DONE:
             break
-    return th, np.abs(_series_values(k, coeffs, th))
+    return th, np.abs((np.exp(1j * th[..., None] * k) * c0).sum(axis=-1))
 
 
 def _spectral_stats(k: NDArray[np.intp], coeffs: ComplexArray) -> _Stats:
@@ -752,16 +1034,27 @@ def _spectral_stats(k: NDArray[np.intp], coeffs: ComplexArray) -> _Stats:
     values = np.abs(_grid_values(k, coeffs, n))
     mean = values.mean(axis=1)
     top = values.max(axis=1)
-    finer = np.abs(_grid_values(k, coeffs, 2 * n)).mean(axis=1)
-    converged = np.abs(finer - mean) <= MEAN_TOLERANCE * top
-    mean = finer
-    # maximum: Newton from the best sampled local maxima
+    # the trapezoidal rule converges geometrically: when the rule on every other point
+    # agrees with the full one, the full one is converged further still
+    coarser = values[:, ::2].mean(axis=1)
+    converged = np.abs(coarser - mean) <= MEAN_TOLERANCE * top
+    # maximum: Newton from the best sampled local maxima (a parabola through the three
+    # samples around each for the start, so that two or three steps reach rounding)
     theta = 2.0 * np.pi * np.arange(n) / n
-    peaks = (values >= np.roll(values, 1, axis=1)) & (values >= np.roll(values, -1, axis=1))
+    before, after = np.roll(values, 1, axis=1), np.roll(values, -1, axis=1)
+    peaks = (values >= before) & (values >= after)
     ranked = np.where(peaks, values, -np.inf)
     cand = np.argsort(-ranked, axis=1)[:, :CANDIDATES]
     h = 2.0 * np.pi / n
-    th, val = _newton_extremum(k, coeffs, theta[cand], h)
+    f0, fm, fp = (np.take_along_axis(v, cand, 1) for v in (values, before, after))
+    curvature = fm - 2.0 * f0 + fp
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shift = np.where(curvature < 0.0, 0.5 * (fm - fp) / curvature, 0.0)
+    start = theta[cand] + h * np.clip(np.nan_to_num(shift), -0.5, 0.5)
+    # fewer local maxima than candidates: the spare ones repeat the best (a start that is
+    # no peak would wander, limited to a step per iteration, and never converge)
+    start = np.where(np.take_along_axis(peaks, cand, 1), start, start[:, :1])
+    th, val = _newton_extremum(k, coeffs, start, h)
     sampled = np.take_along_axis(values, cand, 1)
     val = np.where(val >= sampled, val, sampled)
     th = np.where(val >= sampled, th, theta[cand])
@@ -777,25 +1070,31 @@ def _spectral_stats(k: NDArray[np.intp], coeffs: ComplexArray) -> _Stats:
         if near.size == 0:
             near = np.array([int(np.argmin(values[row]))])
         starts = theta[near][None, :]
-        th_min, _ = _newton_extremum(k, coeffs[row : row + 1], starts, h)
-        t, w = _graded_rule(th_min[0], top_order)
+        th_min, f_min = _newton_extremum(k, coeffs[row : row + 1], starts, h)
+        # |F| is smooth on the scale m/|F'| around a minimum m; |F'| <= k_max max|F|
+        # (Bernstein), so grading down to that scale (two levels more) is enough
+        scale = max(float(np.min(f_min)), _EPS * top[row]) / (max(top_order, 1) * top[row])
+        depth = math.ceil(math.log(scale * max(top_order, 1) / 8.0) / math.log(GRADED_RATIO))
+        t, w = _graded_rule(th_min[0], top_order, min(GRADED_LEVELS, max(4, depth + 2)))
         f = np.abs(_series_values(k, coeffs[row : row + 1], t[None, :]))[0]
         mean[row] = f @ w / (2.0 * np.pi)
-    return _Stats(maximum, argmax, mean, 2 * n)
+    return _Stats(maximum, argmax, mean, n)
 
 
-def _graded_rule(points: FloatArray, top_order: int) -> tuple[FloatArray, FloatArray]:
+def _graded_rule(
+    points: FloatArray, top_order: int, depth: int = GRADED_LEVELS
+) -> tuple[FloatArray, FloatArray]:
     """Gauss–Legendre nodes and weights over one period, graded towards ``points``.
 
     Between consecutive points (cyclically), panels no longer than :math:`h` with
     :math:`k_{max} h \\le 8`; the panels touching a point are subdivided geometrically
-    (ratio :data:`GRADED_RATIO`, :data:`GRADED_LEVELS` levels) towards it.
+    (ratio :data:`GRADED_RATIO`, ``depth`` levels, at most :data:`GRADED_LEVELS`) towards it.
     """
     x, w = _gauss(GRADED_NODES)
     p = np.sort(np.mod(points, 2.0 * np.pi))
     p = np.concatenate([p, [p[0] + 2.0 * np.pi]])
     h_max = 8.0 / max(top_order, 1)
-    levels = GRADED_RATIO ** np.arange(1, GRADED_LEVELS + 1)
+    levels = GRADED_RATIO ** np.arange(1, depth + 1)
     edges_all = []
     for a, b in itertools.pairwise(p):
         length = b - a

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 from balance.core.errors import InputError
 from balance.core.gas import GasInput
 from balance.core.masses import MassParts
+from balance.core.mounts import MountSystem
 
 __all__ = ["CYLINDER_FIELDS", "STRATEGIES", "BalanceSettings", "Engine"]
 
@@ -106,6 +107,12 @@ class Engine:
     mass_parts : MassParts or None
         The parts behind the lumped masses of a by-part layout (None for lumped masses), so
         that a sweep of a part or of the conrod length lumps them again.
+    mounts : MountSystem or None
+        The powertrain on its mounts (a ``mounts:`` section or ``--mounts FILE``,
+        :mod:`balance.core.mounts`); None when not given.
+    mains : tuple of float or None
+        Main-bearing positions [m] of a ``bearings:`` section, strictly increasing; None for
+        the default mains (:func:`balance.core.bearings.engine_default_mains`).
     """
 
     name: str
@@ -131,6 +138,8 @@ class Engine:
     balance: BalanceSettings | None = None
     gas: GasInput | None = field(default=None, repr=False)
     mass_parts: MassParts | None = field(default=None, repr=False)
+    mounts: MountSystem | None = field(default=None, repr=False)
+    mains: tuple[float, ...] | None = None
 
     @property
     def n_cylinders(self) -> int:
@@ -143,9 +152,12 @@ class Engine:
         return float(np.sum(np.pi / 4 * self.bore**2 * 2 * self.crank_radius))
 
     def with_speed(self, speed: float) -> Engine:
-        """The same layout at another crank speed [rad/s]."""
-        if not (math.isfinite(speed) and speed > 0):
-            raise InputError(f"speed must be a finite number above zero, got {speed!r} rad/s")
+        """The same layout at another crank speed [rad/s].
+
+        Precondition: ``speed`` is finite and above zero; the input is checked once, where
+        it is read (:func:`balance.io.fields.check_speed`).
+        """
+        assert math.isfinite(speed) and speed > 0, "speed: checked by io.fields.check_speed"
         return replace(self, speed=float(speed))
 
     def reordered(self, order: NDArray[np.intp] | list[int]) -> Engine:

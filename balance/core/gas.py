@@ -40,7 +40,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.core.kinematics import normalised_slider
+from balance.core.kinematics import normalised_slider, offset_ratio, rod_ratio
 
 __all__ = [
     "GasInput",
@@ -201,7 +201,9 @@ def cylinder_volume(
     area = math.pi / 4.0 * bore**2
     s_max = math.sqrt((length + radius) ** 2 - offset**2)
     s_min = math.sqrt((length - radius) ** 2 - offset**2)
-    s, _, _ = normalised_slider(np.radians(alpha_deg), radius / length, offset / radius)
+    s, _, _ = normalised_slider(
+        np.radians(alpha_deg), rod_ratio(radius, length), offset_ratio(offset, radius)
+    )
     swept = area * (s_max - s_min)
     return np.asarray(swept / (ratio - 1.0) + area * (s_max - radius * s))
 

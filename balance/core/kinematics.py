@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core.errors import AnalysisError
+from balance.core.speed import speed_squared
 
 __all__ = [
     "MODELS",
@@ -38,9 +39,11 @@ __all__ = [
     "fourier_coefficients",
     "normalised_acceleration",
     "normalised_slider",
+    "offset_ratio",
     "piston_acceleration",
     "piston_position",
     "piston_velocity",
+    "rod_ratio",
     "roll_coefficients",
     "series_coefficients_centred",
     "textbook_slider",
@@ -54,6 +57,28 @@ MODELS = ("exact", "series", "textbook")
 #: Largest number of samples the exact FFT model may use.
 MAX_SAMPLES = 2**21
 _EPS = float(np.finfo(np.float64).eps)
+
+
+def rod_ratio(crank_radius: ArrayLike, conrod_length: ArrayLike) -> FloatArray:
+    r"""The rod ratio :math:`\lambda = r / l` (crank radius over conrod length).
+
+    Every place that needs :math:`\lambda` forms it here, by the one division, so that a
+    sweep, a single analysis and a view agree bit for bit.  Precondition: ``conrod_length``
+    is positive (checked where the layout is read).
+    """
+    return np.asarray(
+        np.asarray(crank_radius, dtype=np.float64) / np.asarray(conrod_length, dtype=np.float64)
+    )
+
+
+def offset_ratio(offset: ArrayLike, crank_radius: ArrayLike) -> FloatArray:
+    r"""The offset (desaxé) ratio :math:`\varepsilon = e / r` (pin offset over crank radius).
+
+    Precondition: ``crank_radius`` is positive (checked where the layout is read).
+    """
+    return np.asarray(
+        np.asarray(offset, dtype=np.float64) / np.asarray(crank_radius, dtype=np.float64)
+    )
 
 
 def _conrod_terms(
@@ -153,6 +178,13 @@ def normalised_acceleration(
     return cos_b + lam * ((cos_b**2 - u * sin_b) / D + (lam * u * cos_b) ** 2 / D**3)
 
 
+def _slider(
+    beta: ArrayLike, r: FloatArray, conrod_length: ArrayLike, offset: ArrayLike
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """:func:`normalised_slider` of a crank radius, conrod length and offset in metres."""
+    return normalised_slider(beta, rod_ratio(r, conrod_length), offset_ratio(offset, r))
+
+
 def piston_position(
     beta: ArrayLike, crank_radius: ArrayLike, conrod_length: ArrayLike, offset: ArrayLike = 0.0
 ) -> FloatArray:
@@ -161,7 +193,7 @@ def piston_position(
     :math:`s(\beta) = r\cos\beta + \sqrt{l^2 - (r\sin\beta - e)^2}`.
     """
     r = np.asarray(crank_radius, dtype=np.float64)
-    s, _, _ = normalised_slider(beta, r / np.asarray(conrod_length), np.asarray(offset) / r)
+    s, _, _ = _slider(beta, r, conrod_length, offset)
     return r * s
 
 
@@ -177,7 +209,7 @@ def piston_velocity(
     :math:`v = \omega\, s'(\beta)`; with ``speed=1`` this is :math:`s'` [m/rad].
     """
     r = np.asarray(crank_radius, dtype=np.float64)
-    _, ds, _ = normalised_slider(beta, r / np.asarray(conrod_length), np.asarray(offset) / r)
+    _, ds, _ = _slider(beta, r, conrod_length, offset)
     return np.asarray(speed) * r * ds
 
 
@@ -193,8 +225,8 @@ def piston_acceleration(
     :math:`a = \omega^2 s''(\beta)`; with ``speed=1`` this is :math:`s''` [m/rad^2].
     """
     r = np.asarray(crank_radius, dtype=np.float64)
-    _, _, d2s = normalised_slider(beta, r / np.asarray(conrod_length), np.asarray(offset) / r)
-    return np.asarray(speed) ** 2 * r * d2s
+    _, _, d2s = _slider(beta, r, conrod_length, offset)
+    return speed_squared(speed) * r * d2s
 
 
 def conrod_angle(

@@ -61,7 +61,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -71,9 +71,11 @@ __all__ = [
     "Modes",
     "MountPoint",
     "MountSystem",
+    "MountsResult",
     "assemble",
     "axis_distances",
     "crank_loads",
+    "crossings",
     "damping_matrix",
     "elastic_axis_offsets",
     "harmonic_response",
@@ -81,10 +83,13 @@ __all__ = [
     "mass_matrix",
     "mount_forces",
     "mount_matrices",
+    "mount_response",
     "normal_modes",
     "order_frequencies",
+    "peak_force",
     "point_motion",
     "point_transfer",
+    "speed_sweep",
     "stiffness_matrix",
     "torque_roll_axis",
 ]
@@ -716,3 +721,251 @@ def elastic_axis_offsets(
     skew = np.abs(np.einsum("nk,njk->nj", rel, n)) / np.where(parallel, 1.0, size)
     perpendicular = np.linalg.norm(np.cross(rel, a), axis=-1)[:, None]
     return np.asarray(np.where(parallel, perpendicular, skew), dtype=np.float64)
+
+
+# ---------------------------------------------------------------------------------------
+# the whole answer
+
+
+def peak_force(forces: ArrayLike) -> FloatArray:
+    r"""Largest magnitude over a cycle of harmonic force vectors.
+
+    Parameters
+    ----------
+    forces : array_like of complex, shape (..., 3)
+        Complex amplitudes :math:`\hat{\mathbf{F}}` [N] (:func:`mount_forces`).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        :math:`\max_t |\mathrm{Re}(\hat{\mathbf{F}}e^{i\Omega t})| =
+        \sqrt{(\hat{\mathbf{F}}^{\mathsf H}\hat{\mathbf{F}} +
+        |\hat{\mathbf{F}}^{\mathsf T}\hat{\mathbf{F}}|)/2}` [N]: the semi-major axis of
+        the ellipse the force vector draws (its components peak at different times).
+    """
+    f = np.asarray(forces, dtype=np.complex128)
+    power = np.sum(np.abs(f) ** 2, axis=-1)
+    square = np.abs(np.sum(f * f, axis=-1))
+    return np.asarray(np.sqrt(0.5 * (power + square)), dtype=np.float64)
+
+
+@dataclass(frozen=True, eq=False)
+class MountsResult:
+    """The engine on its mounts: modes and the steady-state response per order.
+
+    Attributes
+    ----------
+    system : MountSystem
+        The body and its mounts.
+    modes : Modes
+        The six undamped modes (:func:`normal_modes`).
+    orders : ndarray, shape (K,)
+        Orders of the response (halves for a four-stroke with gas forces).
+    speed : ndarray, shape () or (S,)
+        Crank speed [rad/s] (a speed sweep has one entry per speed).
+    loads : ndarray of complex, shape (..., K, 6)
+        Complex amplitudes of the loads on the block in CG coordinates [N, N m]
+        (:func:`crank_loads`).
+    response : ndarray of complex, shape (..., K, 6)
+        CG translations [m] and rotations [rad] (:func:`harmonic_response`).
+    forces : ndarray of complex, shape (..., K, n, 3)
+        Force of each mount in engine axes [N] (:func:`mount_forces`).
+    roll_axis : ndarray, shape (3,)
+        Direction of the torque-roll axis through the CG (:func:`torque_roll_axis`).
+    axis_distance : ndarray, shape (n,)
+        Distance of each mount's elastic centre from the torque-roll axis [m].
+    elastic_offsets : ndarray, shape (n, 3)
+        Distance of each mount's elastic axes 1, 2, 3 from the torque-roll axis [m]
+        (:func:`elastic_axis_offsets`).
+    with_proposal : bool
+        Whether the loads include the proposed counterweights and balance shafts.
+    gas : bool
+        Whether the roll torque includes the gas torque's reaction.
+    gas_loads : ndarray of complex, shape (K, 6), or None
+        The part of :attr:`loads` from the gas torque (which does not scale with speed);
+        None without gas.
+    """
+
+    system: MountSystem
+    modes: Modes
+    orders: FloatArray
+    speed: FloatArray
+    loads: ComplexArray
+    response: ComplexArray
+    forces: ComplexArray
+    roll_axis: FloatArray
+    axis_distance: FloatArray
+    elastic_offsets: FloatArray
+    with_proposal: bool = False
+    gas: bool = False
+    gas_loads: ComplexArray | None = None
+
+    @property
+    def translation(self) -> FloatArray:
+        """Amplitudes of the CG's x, y, z motion [m], shape ``(..., K, 3)``."""
+        return np.asarray(np.abs(self.response[..., :3]), dtype=np.float64)
+
+    @property
+    def rotation(self) -> FloatArray:
+        """Amplitudes of the rotations about x, y, z [rad], shape ``(..., K, 3)``."""
+        return np.asarray(np.abs(self.response[..., 3:]), dtype=np.float64)
+
+    @property
+    def force_amplitude(self) -> FloatArray:
+        """Amplitudes of each mount's force components [N], shape ``(..., K, n, 3)``."""
+        return np.asarray(np.abs(self.forces), dtype=np.float64)
+
+    @property
+    def force_peak(self) -> FloatArray:
+        """Largest magnitude of each mount's force over a cycle [N], ``(..., K, n)``
+        (:func:`peak_force`)."""
+        return peak_force(self.forces)
+
+    @property
+    def largest_force(self) -> FloatArray:
+        """The largest :attr:`force_peak` of all mounts [N], shape ``(..., K)``."""
+        return np.asarray(np.max(self.force_peak, axis=-1), dtype=np.float64)
+
+
+def mount_response(
+    system: MountSystem,
+    speed: ArrayLike,
+    orders: ArrayLike,
+    reference_z: float,
+    force_forward: ArrayLike = 0.0,
+    force_backward: ArrayLike = 0.0,
+    moment_forward: ArrayLike = 0.0,
+    moment_backward: ArrayLike = 0.0,
+    roll: ArrayLike = 0.0,
+    *,
+    with_proposal: bool = False,
+    gas_roll: ArrayLike | None = None,
+) -> MountsResult:
+    r"""Modes and steady-state response of a mount system to the crank train's loads.
+
+    Parameters
+    ----------
+    system : MountSystem
+        The body and its mounts.
+    speed : array_like, shape () or (S,)
+        Crank speed [rad/s].
+    orders : array_like, shape (K,)
+        Orders (halves allowed).
+    reference_z : float
+        Where the free forces act on the crank axis, and the moments' reference [m].
+    force_forward, force_backward, moment_forward, moment_backward, roll : array_like
+        Phasors per order [N, N m] (:func:`crank_loads`), shape ``(K,)`` or ``(S, K)``.
+    with_proposal : bool
+        Recorded on the result (whether the loads hold the proposal).
+    gas_roll : array_like of complex, optional
+        The part of ``roll`` that is the gas torque's reaction [N m] (kept apart so that a
+        speed sweep scales only the inertia loads, :func:`speed_sweep`).
+
+    Returns
+    -------
+    MountsResult
+
+    Notes
+    -----
+    All speeds and orders are solved by one batched call of :func:`harmonic_response`.
+    """
+    w = np.asarray(speed, dtype=np.float64)
+    ks = np.asarray(orders, dtype=np.float64)
+    omega = order_frequencies(w, ks)
+    loads = crank_loads(
+        reference_z, system.cg, force_forward, force_backward, moment_forward, moment_backward, roll
+    )
+    m = mass_matrix(system.mass, system.inertia)
+    k = stiffness_matrix(system)
+    response = harmonic_response(m, k, damping_matrix(system), omega, loads)
+    axis = torque_roll_axis(system.inertia)
+    return MountsResult(
+        system=system,
+        modes=normal_modes(m, k),
+        orders=ks,
+        speed=w,
+        loads=loads,
+        response=response,
+        forces=mount_forces(system, response, omega),
+        roll_axis=axis,
+        axis_distance=axis_distances(system.positions, system.cg, axis),
+        elastic_offsets=elastic_axis_offsets(system, system.cg, axis),
+        with_proposal=with_proposal,
+        gas=gas_roll is not None,
+        gas_loads=None
+        if gas_roll is None
+        else crank_loads(reference_z, system.cg, roll=np.asarray(gas_roll, dtype=np.complex128)),
+    )
+
+
+def speed_sweep(base: MountsResult, speeds: ArrayLike) -> MountsResult:
+    r"""The response of :func:`mount_response` at other crank speeds, in one batched solve.
+
+    Parameters
+    ----------
+    base : MountsResult
+        A response at one speed :math:`\omega_0` (scalar :attr:`MountsResult.speed`).
+    speeds : array_like, shape (S,)
+        Crank speeds [rad/s].
+
+    Returns
+    -------
+    MountsResult
+        With ``speed`` of shape ``(S,)`` and loads, response and forces of shape
+        ``(S, K, ...)``.
+
+    Notes
+    -----
+    Every inertia load (free forces, moments, inertia roll, proposed masses) is
+    proportional to :math:`\omega^2`, so :math:`\hat{\mathbf{f}}(\omega) =
+    (\hat{\mathbf{f}}_0 - \hat{\mathbf{f}}_{gas})(\omega/\omega_0)^2 +
+    \hat{\mathbf{f}}_{gas}`: the gas torque's reaction (one pressure trace at every
+    speed) is kept as it is.
+    """
+    system = base.system
+    w = np.asarray(speeds, dtype=np.float64)
+    w0 = float(base.speed)
+    gas = base.gas_loads if base.gas_loads is not None else np.zeros_like(base.loads)
+    scale = (w / w0) ** 2
+    loads = (base.loads - gas) * scale[..., None, None] + gas
+    omega = order_frequencies(w, base.orders)
+    m = mass_matrix(system.mass, system.inertia)
+    response = harmonic_response(m, stiffness_matrix(system), damping_matrix(system), omega, loads)
+    return replace(
+        base,
+        speed=w,
+        loads=loads,
+        response=response,
+        forces=mount_forces(system, response, omega),
+    )
+
+
+def crossings(
+    frequency: ArrayLike, orders: ArrayLike, low: float, high: float
+) -> list[tuple[float, int, float]]:
+    r"""Where the orders cross the modes within a speed range.
+
+    Parameters
+    ----------
+    frequency : array_like, shape (6,)
+        Mode frequencies [Hz].
+    orders : array_like, shape (K,)
+        Orders.
+    low, high : float
+        Speed range [rad/s].
+
+    Returns
+    -------
+    list of (order, mode, speed)
+        Order :math:`k` excites mode :math:`j` (0-based) at the crank speed
+        :math:`\omega = 2\pi f_j / k` [rad/s] (:math:`60 f_j / k` rpm), for every pair whose
+        speed lies in ``[low, high]``; ascending speed.
+    """
+    out = []
+    for k in np.asarray(orders, dtype=np.float64):
+        for j, f in enumerate(np.asarray(frequency, dtype=np.float64)):
+            if k > 0 and f > 0:
+                speed = 2.0 * math.pi * f / k
+                if low <= speed <= high:
+                    out.append((float(k), j, float(speed)))
+    return sorted(out, key=lambda c: c[2])

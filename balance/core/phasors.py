@@ -26,7 +26,6 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "CANCELLATION_FACTOR",
     "cancel_to_zero",
-    "peak",
     "reciprocating_force_and_moment",
     "reciprocating_phasors",
     "roll_phasors",
@@ -328,11 +327,3 @@ def roll_phasors(
     return _complex_dot(
         [(a_rec, u_rec.real, u_rec.imag), (a_rod, u_rod.real, u_rod.imag)], scale, 2 * n
     )
-
-
-def peak(forward: ArrayLike, backward: ArrayLike | None = None) -> FloatArray:
-    """Largest magnitude over a revolution, :math:`|P^{+}| + |P^{-}|`."""
-    total = np.abs(np.asarray(forward))
-    if backward is not None:
-        total = total + np.abs(np.asarray(backward))
-    return np.asarray(total, dtype=np.float64)

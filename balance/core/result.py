@@ -16,7 +16,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core.balancing import Proposal
+from balance.core.bearings import Bearings
 from balance.core.engine import Engine
+from balance.core.mounts import MountsResult
 from balance.core.torque import TorqueResult
 
 __all__ = ["Balanced", "Phasors", "Request", "Result"]
@@ -94,6 +96,13 @@ class Request:
         Proposal settings (None: the engine's ``balance:`` section, else the defaults).
     cancel_roll : bool
         Place same-order shaft pairs so that they also cancel that order's roll.
+    mounts : bool
+        Compute the response of the engine on its mounts (needs :attr:`Engine.mounts`).
+    mounts_with_proposal : bool
+        Load the mounts with the residual (the proposal added) instead of the bare engine.
+    bearings : bool
+        Compute the crank-pin and main-bearing loads and the internal moments
+        (:mod:`balance.core.bearings`), without and with the proposed counterweights.
     """
 
     orders: tuple[int, ...] = (1, 2, 3, 4, 5, 6, 7, 8)
@@ -111,6 +120,9 @@ class Request:
     balance_factor: float | None = None
     counterweight_radius: float | None = None
     cancel_roll: bool = False
+    mounts: bool = False
+    mounts_with_proposal: bool = False
+    bearings: bool = False
 
     @classmethod
     def of(cls, orders: Iterable[int], **settings: object) -> Request:
@@ -149,6 +161,12 @@ class Result:
         :math:`F_1 a` [N m] (NaN without a pitch).
     reference_roll : float
         :math:`m_{rec} r^2 \\omega^2` with engine means [N m].
+    mounts : MountsResult or None
+        Modes and response of the engine on its mounts (:mod:`balance.core.mounts`), when
+        asked.
+    bearings : Bearings or None
+        Crank-pin and main-bearing loads and internal moments, without and with the
+        proposed counterweights (:class:`balance.core.bearings.Bearings`), when asked.
     """
 
     engine: Engine
@@ -163,6 +181,8 @@ class Result:
     pitch: float
     reference_moment: float
     reference_roll: float
+    mounts: MountsResult | None = None
+    bearings: Bearings | None = None
 
     @property
     def orders(self) -> NDArray[np.intp]:

@@ -19,7 +19,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core.balancing import Proposal
 from balance.core.engine import Engine
-from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
+from balance.core.kinematics import (
+    conrod_angle_derivatives,
+    normalised_slider,
+    offset_ratio,
+    rod_ratio,
+)
+from balance.core.speed import speed_squared
 
 __all__ = [
     "crank_angles",
@@ -56,8 +62,11 @@ def reciprocating_force_samples(
     th = np.asarray(theta, dtype=np.float64)[:, None]
     beta = th + layout.throw - layout.bank
     r = layout.crank_radius
-    _, _, d2s = normalised_slider(beta, r / layout.conrod_length, layout.offset / r)
-    force = -layout.reciprocating_mass * layout.speed**2 * r * d2s * np.exp(1j * layout.bank)
+    _, _, d2s = normalised_slider(
+        beta, rod_ratio(r, layout.conrod_length), offset_ratio(layout.offset, r)
+    )
+    w2 = speed_squared(layout.speed)
+    force = -layout.reciprocating_mass * w2 * r * d2s * np.exp(1j * layout.bank)
     if lever:
         force = force * (layout.z - layout.reference_z)
     return np.asarray(force.sum(axis=1), dtype=np.complex128)
@@ -69,7 +78,7 @@ def rotating_force_samples(layout: Engine, theta: ArrayLike, lever: bool = False
     force = (
         layout.rotating_mass
         * layout.crank_radius
-        * layout.speed**2
+        * speed_squared(layout.speed)
         * np.exp(1j * (th + layout.throw))
     )
     if lever:
@@ -204,10 +213,11 @@ def _newton_euler(
     r = layout.crank_radius
     length = layout.conrod_length
     e = layout.offset
-    w2 = layout.speed**2
-    lam = r / length
-    s_n, _, d2s_n = normalised_slider(beta, lam, e / r)
-    _, d2g = conrod_angle_derivatives(beta, lam, e / r)
+    w2 = speed_squared(layout.speed)
+    lam = rod_ratio(r, length)
+    eps = offset_ratio(e, r)
+    s_n, _, d2s_n = normalised_slider(beta, lam, eps)
+    _, d2g = conrod_angle_derivatives(beta, lam, eps)
     s = r * s_n
     small = small_end_share * layout.reciprocating_mass
     m_p = layout.reciprocating_mass - small

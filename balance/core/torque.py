@@ -49,7 +49,13 @@ from balance.core import phasors
 from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.core.gas import pressure_at
-from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
+from balance.core.kinematics import (
+    conrod_angle_derivatives,
+    normalised_slider,
+    offset_ratio,
+    rod_ratio,
+)
+from balance.core.speed import speed_squared
 
 __all__ = ["CYCLE_SAMPLES_PER_DEGREE", "TorqueResult", "compute_torque", "roll_orders"]
 
@@ -146,9 +152,9 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     r = layout.crank_radius[:, None]
     length = layout.conrod_length[:, None]
     e = layout.offset[:, None]
-    lam = r / length
-    eps = e / r
-    w2 = layout.speed**2
+    lam = rod_ratio(r, length)
+    eps = offset_ratio(e, r)
+    w2 = float(speed_squared(layout.speed))
     pressure = pressure_at(
         gas, alpha, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle
     )

@@ -47,12 +47,20 @@ import sys
 from collections.abc import Callable
 from functools import cache
 from pathlib import Path
+from typing import NoReturn
 
 from balance.core.errors import InputError
 
-__all__ = ["check_directory_target", "check_target", "write_atomic", "write_atomic_directory"]
+__all__ = [
+    "check_directory_target",
+    "check_target",
+    "exit_now",
+    "write_atomic",
+    "write_atomic_directory",
+    "writing",
+]
 
-Writer = Callable[[Path], None]
+Writer = Callable[[Path], object]
 
 
 def _check_parent(target: Path) -> None:
@@ -182,6 +190,25 @@ def _clean_up_at_exit() -> None:
         _PENDING.pop(path, None)
 
 
+def writing() -> bool:
+    """Whether this process has a write under way (or a failed one not yet cleaned up)."""
+    pid = os.getpid()
+    return any(owner == pid for owner, _ in list(_PENDING.values()))
+
+
+def exit_now(code: int) -> NoReturn:
+    """Remove this process's temporaries and end it at once (``os._exit(code)``).
+
+    For a signal handler (the command line's, for SIGTERM and for SIGINT during a write):
+    no code of the interrupted write runs on.  Raising an exception from the handler
+    instead unwinds through whatever library code was running, which may then hang on a
+    lock it held when the exception arrived (xarray's netCDF writer does), or go on
+    writing.
+    """
+    _clean_up_at_exit()
+    os._exit(code)
+
+
 def _remove_orphans(directory: str | Path) -> list[Path]:
     """Remove the temporaries in ``directory`` left by writes whose process was killed.
 
@@ -220,6 +247,29 @@ def _remove_orphans(directory: str | Path) -> list[Path]:
 # --------------------------------------------------------------------------- files
 
 
+class _NotLinked(Exception):
+    """Linking a file in through /proc is not possible here."""
+
+
+def _through_temporary(target: Path, fill: Callable[[Path], None]) -> None:
+    """``fill(temporary)`` a file next to ``target``, then move it onto ``target``.
+
+    The temporary is registered before it exists and removed on any failure or interrupt,
+    so that no partial or temporary file is left behind, whatever the timing.  After a
+    failure it stays registered and is removed again at exit, in case a thread of the
+    writer was still writing to it.
+    """
+    tmp = _temporary(target, "part")
+    _register(tmp, lambda: _discard(tmp))  # before the file exists: no unknown temporary
+    try:
+        fill(tmp)
+        os.replace(tmp, target)
+    except BaseException:
+        _discard(tmp)
+        raise
+    _unregister(tmp)
+
+
 def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: bool) -> bool:
     """Write ``data`` to an anonymous file and link it in as ``target``.
 
@@ -246,6 +296,12 @@ def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: b
             # linkat(AT_SYMLINK_FOLLOW) on /proc/self/fd/N: the file gets its first name
             os.link(str(fd), name, src_dir_fd=fds, follow_symlinks=True)
 
+        def link_temporary(tmp: Path) -> None:
+            try:
+                link(tmp)
+            except OSError as exc:
+                raise _NotLinked from exc
+
         if not os.path.lexists(target):
             try:
                 link(target)  # appears whole, at once
@@ -255,19 +311,10 @@ def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: b
                     raise InputError(f"{target}: file exists; use --force to replace it") from None
             except OSError:
                 return False
-        tmp = _temporary(target, "part")
-        _register(tmp, lambda: _discard(tmp))
         try:
-            try:
-                link(tmp)
-            except OSError:
-                return False
-            os.replace(tmp, target)
-        except BaseException:
-            _discard(tmp)
-            raise
-        finally:
-            _unregister(tmp)
+            _through_temporary(target, link_temporary)
+        except _NotLinked:
+            return False
         return True
     finally:
         os.close(fd)
@@ -309,17 +356,12 @@ def write_atomic(
 
     else:
         writer = write
-    tmp = _temporary(target, "part")
-    _register(tmp, lambda: _discard(tmp))  # before the file exists: no unknown temporary
-    try:
+
+    def fill(tmp: Path) -> None:
         os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, 0o666))
         writer(tmp)
-        os.replace(tmp, target)
-    except BaseException:
-        _discard(tmp)
-        raise
-    finally:
-        _unregister(tmp)
+
+    _through_temporary(target, fill)
     return target
 
 
@@ -400,7 +442,9 @@ def write_atomic_directory(
                 os.replace(tmp, target)
     finally:
         _discard(tmp)
-        _unregister(tmp)
+    # a failed write stays registered: removed again at exit, after the threads of the
+    # writer (Zarr writes chunks from a thread pool) have finished with it
+    _unregister(tmp)
     return target
 
 

@@ -18,21 +18,29 @@ What is valid
 * throws beyond the outermost main are allowed: they are carried as a cantilever by the
   two nearest mains.
 
-Problems are raised as :class:`~balance.io.schema.FieldProblem` with the offending entry in
+Problems are raised as :class:`~balance.io.problems.FieldProblem` with the offending entry in
 ``at`` (``("mains", j)``), so that :mod:`balance.io.layout_file` can name its line.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Annotated
+
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
 from balance.core.bearings import engine_default_mains
 from balance.core.engine import Engine
-from balance.io.schema import FieldProblem, Length
+from balance.io.problems import FieldProblem
+from balance.io.units import parse_quantity
 
-__all__ = ["PLANE_TOLERANCE", "BearingsSpec", "main_positions"]
+#: A length with its unit (the schema's ``Length``; kept here so that the schema can import
+#: this section without an import cycle).
+Length = Annotated[float, BeforeValidator(lambda value: parse_quantity(value, "length"))]
+
+__all__ = ["PLANE_TOLERANCE", "BearingsSpec", "check_mains", "main_positions"]
 
 #: A main closer than this to a crank pin's plane is in that plane [m].
 PLANE_TOLERANCE = 1e-6
@@ -76,19 +84,30 @@ def main_positions(spec: BearingsSpec | None, engine: Engine) -> NDArray[np.floa
     """
     if spec is None or spec.mains is None:
         return engine_default_mains(engine)
-    mains = np.asarray(spec.mains, dtype=np.float64)
-    for j, zm in enumerate(mains):
-        hit = np.flatnonzero(np.abs(engine.z - zm) < PLANE_TOLERANCE)
+    return check_mains(spec.mains, engine.z)
+
+
+def check_mains(mains: Sequence[float], z: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The mains [m] as an array, none in the plane of a crank pin (cylinder planes ``z``).
+
+    Raises
+    ------
+    FieldProblem
+        When a main lies in the plane of a crank pin (``at = ("mains", j)``).
+    """
+    zm = np.asarray(mains, dtype=np.float64)
+    for j, value in enumerate(zm):
+        hit = np.flatnonzero(np.abs(np.asarray(z) - value) < PLANE_TOLERANCE)
         if hit.size:
             numbers = ", ".join(str(int(i) + 1) for i in hit)
             noun = "cylinder" if hit.size == 1 else "cylinders"
             raise FieldProblem(
-                f"main {j + 1} at {_mm(float(zm))} is in the plane of the crank pin of "
+                f"main {j + 1} at {_mm(float(value))} is in the plane of the crank pin of "
                 f"{noun} {numbers}",
                 "put main bearings between throw planes (or beyond the end throws)",
                 ("mains", j),
             )
-    return mains
+    return zm
 
 
 def _mm(value: float) -> str:

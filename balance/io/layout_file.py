@@ -20,10 +20,14 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ValidationError
 
+from balance.core.bearings import default_mains
 from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine
 from balance.core.errors import InputError, LayoutError, Location
 from balance.core.gas import GasInput, GasModel, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
+from balance.core.mounts import MountSystem
+from balance.core.speed import rad_per_s_to_rpm
+from balance.io.bearings_section import check_mains
 from balance.io.schema import (
     GEOMETRY_KEYS,
     LUMPED_KEYS,
@@ -405,8 +409,41 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         balance=_balance_settings(spec.balance),
         gas=gas,
         mass_parts=_mass_parts(part_rows) if part_rows else None,
+        mounts=_mounts(spec, doc),
+        mains=_mains(spec, doc, arrays["z"], pitch, 2.0 * float(np.max(arrays["crank_radius"]))),
         **arrays,
     )
+
+
+def _mains(
+    spec: LayoutSpec, doc: SourceDocument, z: NDArray[np.float64], pitch: float, stroke: float
+) -> tuple[float, ...] | None:
+    """The ``bearings:`` section's main positions [m], checked against the pin planes (the
+    default mains for a section without ``mains``; None without a section)."""
+    if spec.bearings is None:
+        return None
+    if spec.bearings.mains is None:
+        return tuple(float(v) for v in default_mains(z, pitch, stroke))
+    try:
+        mains = check_mains(spec.bearings.mains, z)
+    except FieldProblem as problem:
+        path = ("bearings", *problem.at)
+        raise LayoutError(
+            str(problem), doc.location(path), field=dotted_path(path), valid=problem.valid
+        ) from None
+    return tuple(float(v) for v in mains)
+
+
+def _mounts(spec: LayoutSpec, doc: SourceDocument) -> MountSystem | None:
+    """The ``mounts:`` section as a mount system, its errors located in the file."""
+    if spec.mounts is None:
+        return None
+    from balance.io.mounts_section import MountsSpec, mount_system, section_error
+
+    try:
+        return mount_system(MountsSpec.model_validate(spec.mounts))
+    except ValidationError as exc:
+        raise section_error(exc, doc, ("mounts",)) from None
 
 
 def _balance_settings(section: BalanceSpec | None) -> BalanceSettings | None:
@@ -602,7 +639,7 @@ def expand_layout(source: str | Path) -> str:
         out["description"] = spec.description
     if spec.source:
         out["source"] = spec.source
-    out["speed"] = _fmt(spec.speed * 60 / (2 * math.pi), "rpm")
+    out["speed"] = _fmt(rad_per_s_to_rpm(spec.speed), "rpm")
     out["cycle"] = spec.cycle
     geometry: dict[str, str] = {}
     g = spec.geometry
@@ -643,6 +680,11 @@ def expand_layout(source: str | Path) -> str:
         if spec.flywheel.speed_fluctuation is not None:
             fly["speed_fluctuation"] = _fmt(spec.flywheel.speed_fluctuation, "%", 100)
         out["flywheel"] = fly
+    if spec.mounts is not None:
+        out["mounts"] = spec.mounts  # as written (validated in _build)
+    if spec.bearings is not None:  # the mains used: the section's, or the defaults
+        assert layout.mains is not None
+        out["bearings"] = {"mains": [_fmt(z, "mm", 1e3) for z in layout.mains]}
 
     class _Dumper(yaml.SafeDumper):
         pass

@@ -2,7 +2,8 @@
 
 :class:`MountsSpec` is the section's pydantic model (quantities read with units, like the
 rest of the layout file: lengths, a mass, inertias, stiffnesses in ``N/mm`` or ``N/m``,
-dampings in ``N s/m``; plain numbers are SI).  :func:`mount_system` turns a validated
+dampings in ``N s/m``; a bare number other than 0 is refused, ``CONTRACT`` §3).
+:func:`mount_system` turns a validated
 section into a :class:`balance.core.mounts.MountSystem`.  :func:`load_mounts` reads a
 standalone mounts file (``--mounts FILE``): the section's keys at the top level, or the
 section under ``mounts:``.  Every problem is a :class:`~balance.core.errors.LayoutError`
@@ -72,12 +73,20 @@ _DAMPING_UNITS = {
 }
 
 
-def _per_unit(value: Any, what: str, si: str, units: dict[str, float], example: str) -> float:
-    """A stiffness or damping [SI] from a plain number (SI) or text with a unit."""
-    valid = f"give {what} with a unit, e.g. {example}, or a plain number in {si}"
+def _per_unit(
+    value: Any, what: str, si: str, units: dict[str, float], example: str, likely: str
+) -> float:
+    """A stiffness or damping [SI] from text with a unit; a bare number other than 0 is
+    refused with the likely unit proposed (``CONTRACT`` §3)."""
+    valid = f"give {what} with a unit, e.g. {example}"
     if isinstance(value, bool) or not isinstance(value, int | float | str):
         shown = "a list" if isinstance(value, list) else repr(value)
         raise UnitProblem(f"expected {what}, got {shown}", valid)
+    bare = value if not isinstance(value, str) else None
+    if isinstance(value, str) and (match := _NUMBER.match(value)) and not match.group(2):
+        bare = float(match.group(1))
+    if bare is not None and bare != 0:
+        raise UnitProblem(f"{value!r} has no unit", f"give a unit, e.g. '{bare:g} {likely}'")
     if isinstance(value, str):
         match = _NUMBER.match(value) if len(value) <= 80 else None
         if match is None:
@@ -105,11 +114,11 @@ def _per_unit(value: Any, what: str, si: str, units: dict[str, float], example: 
 
 
 def _stiffness(value: Any) -> float:
-    return _per_unit(value, "a stiffness", "N/m", _STIFFNESS_UNITS, "'250 N/mm'")
+    return _per_unit(value, "a stiffness", "N/m", _STIFFNESS_UNITS, "'250 N/mm'", "N/mm")
 
 
 def _damping(value: Any) -> float:
-    return _per_unit(value, "a damping", "N s/m", _DAMPING_UNITS, "'300 N s/m'")
+    return _per_unit(value, "a damping", "N s/m", _DAMPING_UNITS, "'300 N s/m'", "N s/m")
 
 
 Inertia = Annotated[float, _q("inertia")]

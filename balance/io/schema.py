@@ -11,6 +11,8 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
+from balance.io.bearings_section import BearingsSpec
+from balance.io.problems import FieldProblem
 from balance.io.units import parse_quantity
 
 __all__ = [
@@ -25,15 +27,6 @@ __all__ = [
     "LayoutSpec",
     "MassesSpec",
 ]
-
-
-class FieldProblem(ValueError):
-    """A validation problem tied to a field below the model that found it."""
-
-    def __init__(self, message: str, valid: str = "", at: tuple[str | int, ...] = ()) -> None:
-        super().__init__(message)
-        self.valid = valid
-        self.at = at
 
 
 def _q(kind: str) -> BeforeValidator:
@@ -102,6 +95,23 @@ def _positive(value: float | None, name: str, allow_zero: bool = False) -> None:
         raise FieldProblem(f"{name} is {value:g}", f"{name} must be {need}", (name,))
 
 
+def _exactly_one(
+    spec: BaseModel, first: str, second: str, example: str, *, at: str = "", what: str = ""
+) -> None:
+    """Raise unless exactly one of the fields ``first`` and ``second`` of ``spec`` is given.
+
+    When both are given the problem is located at ``at`` (``second`` unless named); ``what``
+    replaces ``"first and second"`` in the message.
+    """
+    if (getattr(spec, first) is None) == (getattr(spec, second) is None):
+        at = at or second
+        raise FieldProblem(
+            f"give exactly one of {what or f'{first} and {second}'}",
+            example,
+            (at,) if getattr(spec, at) is not None else (),
+        )
+
+
 class GeometrySpec(_Strict):
     """Engine-wide crank-slider geometry (SI)."""
 
@@ -113,12 +123,13 @@ class GeometrySpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> GeometrySpec:
-        if (self.stroke is None) == (self.crank_radius is None):
-            raise FieldProblem(
-                "give exactly one of stroke and crank_radius",
-                "for example 'stroke: 86 mm' (crank_radius is half the stroke)",
-                ("stroke",) if self.stroke is not None else (),
-            )
+        _exactly_one(
+            self,
+            "stroke",
+            "crank_radius",
+            "for example 'stroke: 86 mm' (crank_radius is half the stroke)",
+            at="stroke",
+        )
         _positive(self.stroke, "stroke")
         _positive(self.crank_radius, "crank_radius")
         _positive(self.conrod_length, "conrod_length")
@@ -207,12 +218,12 @@ class CylinderSpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> CylinderSpec:
-        if (self.throw is None) == (self.tdc is None):
-            raise FieldProblem(
-                "give exactly one of throw and tdc",
-                "for example 'throw: 180 deg' or 'tdc: 540 deg' (then throw = bank - tdc)",
-                ("tdc",) if self.tdc is not None else (),
-            )
+        _exactly_one(
+            self,
+            "throw",
+            "tdc",
+            "for example 'throw: 180 deg' or 'tdc: 540 deg' (then throw = bank - tdc)",
+        )
         if self.stroke is not None and self.crank_radius is not None:
             raise FieldProblem(
                 "give at most one of stroke and crank_radius",
@@ -321,13 +332,13 @@ class GasModelSpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> GasModelSpec:
-        if (self.heat_released is None) == (self.peak_pressure is None):
-            raise FieldProblem(
-                "give exactly one of heat_released and peak_pressure",
-                "for example 'peak_pressure: 75 bar' or 'heat_released: 1.6 kJ' (per cylinder "
-                "and cycle)",
-                ("peak_pressure",) if self.peak_pressure is not None else (),
-            )
+        _exactly_one(
+            self,
+            "heat_released",
+            "peak_pressure",
+            "for example 'peak_pressure: 75 bar' or 'heat_released: 1.6 kJ' (per cylinder "
+            "and cycle)",
+        )
         if not 1.0 < self.compression_ratio <= 50.0:
             raise FieldProblem(
                 f"compression_ratio is {self.compression_ratio:g}",
@@ -386,13 +397,13 @@ class GasSpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> GasSpec:
-        if (self.pressure_trace is None) == (self.model is None):
-            raise FieldProblem(
-                "give exactly one of pressure_trace and model",
-                "pressure_trace: a CSV file of crank angle [deg from firing TDC] and absolute "
-                "pressure; or model: {compression_ratio: ..., peak_pressure: ...}",
-                ("model",) if self.model is not None else (),
-            )
+        _exactly_one(
+            self,
+            "pressure_trace",
+            "model",
+            "pressure_trace: a CSV file of crank angle [deg from firing TDC] and absolute "
+            "pressure; or model: {compression_ratio: ..., peak_pressure: ...}",
+        )
         _positive(self.crankcase_pressure, "crankcase_pressure", allow_zero=True)
         _positive(self.bore, "bore")
         return self
@@ -406,12 +417,12 @@ class FlywheelSpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> FlywheelSpec:
-        if (self.inertia is None) == (self.speed_fluctuation is None):
-            raise FieldProblem(
-                "give exactly one of inertia and speed_fluctuation",
-                "for example '{inertia: 0.12 kg m^2}' or '{speed_fluctuation: 1 %}'",
-                ("speed_fluctuation",) if self.speed_fluctuation is not None else (),
-            )
+        _exactly_one(
+            self,
+            "inertia",
+            "speed_fluctuation",
+            "for example '{inertia: 0.12 kg m^2}' or '{speed_fluctuation: 1 %}'",
+        )
         _positive(self.inertia, "inertia")
         if self.speed_fluctuation is not None and not 0.0 < self.speed_fluctuation < 1.0:
             raise FieldProblem(
@@ -440,15 +451,20 @@ class LayoutSpec(_Strict):
     balance: BalanceSettings | None = None
     gas: GasSpec | None = None
     flywheel: FlywheelSpec | None = None
+    # validated by balance.io.mounts_section.MountsSpec in balance.io.layout_file (that
+    # module reads this one, so the model cannot be named here without an import cycle)
+    mounts: dict[str, Any] | None = None
+    bearings: BearingsSpec | None = None
 
     @model_validator(mode="after")
     def _check(self) -> LayoutSpec:
-        if (self.cylinders is None) == (self.crank is None):
-            raise FieldProblem(
-                "give exactly one of 'cylinders' (explicit list) and 'crank' (compact form)",
-                "for example 'cylinders: [{throw: 0 deg, bank: 0 deg, z: 0 mm}, ...]'",
-                ("crank",) if self.crank is not None else (),
-            )
+        _exactly_one(
+            self,
+            "cylinders",
+            "crank",
+            "for example 'cylinders: [{throw: 0 deg, bank: 0 deg, z: 0 mm}, ...]'",
+            what="'cylinders' (explicit list) and 'crank' (compact form)",
+        )
         if self.speed <= 0:
             raise FieldProblem(
                 f"speed is {self.speed:g} rad/s", "speed must be more than zero", ("speed",)

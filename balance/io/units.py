@@ -20,6 +20,8 @@ import re
 from functools import cache
 from typing import TYPE_CHECKING, Any
 
+from balance.core.speed import RAD_PER_S_PER_RPM
+
 if TYPE_CHECKING:  # pragma: no cover
     import pint
 
@@ -166,8 +168,8 @@ _FAST_UNITS: dict[str, tuple[str, float]] = {
     "degrees": ("angle", 1.0),
     "°": ("angle", 1.0),
     "rad": ("angle", 180.0 / math.pi),
-    "rpm": ("speed", 2.0 * math.pi / 60.0),
-    "rev/min": ("speed", 2.0 * math.pi / 60.0),
+    "rpm": ("speed", RAD_PER_S_PER_RPM),
+    "rev/min": ("speed", RAD_PER_S_PER_RPM),
     "rad/s": ("speed", 1.0),
     "Hz": ("speed", 2.0 * math.pi),
     "%": ("fraction", 0.01),

@@ -10,6 +10,7 @@ nested deeper than any layout needs.
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -85,6 +86,18 @@ def _first_line(exc: BaseException) -> str:
     return text[0] if text else type(exc).__name__
 
 
+def _check_tag(
+    node: yaml.Node, allowed: Collection[str], what: str, doc: SourceDocument, line: int, col: int
+) -> None:
+    """Refuse a node whose tag is not one of ``allowed`` (plain YAML ``what`` only)."""
+    if node.tag not in allowed:
+        raise LayoutError(
+            f"tag {node.tag!r} is not allowed",
+            Location(doc.file, line, col),
+            valid=f"plain YAML {what} only (no tags)",
+        )
+
+
 def _convert(
     node: yaml.Node,
     path: Path,
@@ -109,31 +122,16 @@ def _convert(
         )
     doc.value_marks.setdefault(path, (line, col))
     if isinstance(node, yaml.ScalarNode):
-        if node.tag not in _CORE_TAGS:
-            raise LayoutError(
-                f"tag {node.tag!r} is not allowed",
-                Location(doc.file, line, col),
-                valid="plain YAML values only (no tags)",
-            )
+        _check_tag(node, _CORE_TAGS, "values", doc, line, col)
         return _scalar(node, constructor, doc)
     if isinstance(node, yaml.SequenceNode):
-        if node.tag != "tag:yaml.org,2002:seq":
-            raise LayoutError(
-                f"tag {node.tag!r} is not allowed",
-                Location(doc.file, line, col),
-                valid="plain YAML lists only (no tags)",
-            )
+        _check_tag(node, _SEQ_TAGS, "lists", doc, line, col)
         return [
             _convert(item, (*path, i), depth + 1, doc, constructor, budget)
             for i, item in enumerate(node.value)
         ]
     if isinstance(node, yaml.MappingNode):
-        if node.tag != "tag:yaml.org,2002:map":
-            raise LayoutError(
-                f"tag {node.tag!r} is not allowed",
-                Location(doc.file, line, col),
-                valid="plain YAML mappings only (no tags)",
-            )
+        _check_tag(node, _MAP_TAGS, "mappings", doc, line, col)
         out: dict[str, Any] = {}
         for key_node, value_node in node.value:
             kline, kcol = key_node.start_mark.line + 1, key_node.start_mark.column + 1
@@ -169,6 +167,8 @@ def _convert(
     )
 
 
+_SEQ_TAGS = frozenset({"tag:yaml.org,2002:seq"})
+_MAP_TAGS = frozenset({"tag:yaml.org,2002:map"})
 _CORE_TAGS = {
     "tag:yaml.org,2002:str",
     "tag:yaml.org,2002:int",
@@ -259,12 +259,6 @@ def parse_yaml(text: str, file: str = "<input>") -> SourceDocument:
             ) from None
         except yaml.YAMLError as exc:
             raise LayoutError(f"YAML error: {_first_line(exc)}", Location(file)) from None
-        except RecursionError:
-            raise LayoutError(
-                "nested too deeply to read",
-                Location(file),
-                valid=f"a layout is at most {MAX_DEPTH} levels deep",
-            ) from None
         if node is None:
             raise LayoutError(
                 "the file is empty",
@@ -272,14 +266,13 @@ def parse_yaml(text: str, file: str = "<input>") -> SourceDocument:
                 valid="a layout is a mapping with name, speed, geometry, masses and cylinders",
             )
         budget = [MAX_NODES]
-        try:
-            doc.data = _convert(node, (), 0, doc, loader, budget)
-        except RecursionError:
-            raise LayoutError(
-                "nested too deeply to read",
-                Location(file),
-                valid=f"a layout is at most {MAX_DEPTH} levels deep",
-            ) from None
+        doc.data = _convert(node, (), 0, doc, loader, budget)
+    except RecursionError:  # in the parser or in the conversion
+        raise LayoutError(
+            "nested too deeply to read",
+            Location(file),
+            valid=f"a layout is at most {MAX_DEPTH} levels deep",
+        ) from None
     finally:
         loader.dispose()
     return doc

@@ -8,12 +8,19 @@ from numpy.typing import ArrayLike
 
 from balance.core.balancing import balance_factor_study, optimal_balance_factor
 from balance.core.engine import Engine
-from balance.core.kinematics import acceleration_coefficients
+from balance.core.kinematics import acceleration_coefficients, offset_ratio, rod_ratio
 
 __all__ = ["factor_study_dataset"]
 
 
-def factor_study_dataset(layout: Engine, factors: ArrayLike | None = None) -> xr.Dataset:
+def factor_study_dataset(
+    layout: Engine,
+    factors: ArrayLike | None = None,
+    *,
+    bearings: bool = False,
+    strategy: str | None = None,
+    counterweight_radius: float | None = None,
+) -> xr.Dataset:
     """Residual first-order force against balance factor, as a Dataset.
 
     Parameters
@@ -27,11 +34,15 @@ def factor_study_dataset(layout: Engine, factors: ArrayLike | None = None) -> xr
     xarray.Dataset
         ``study_vertical_peak`` and ``study_horizontal_peak`` [N], ``study_moment_peak``
         [N m] over ``study_factor``, and ``optimal_balance_factor``: the factor that makes
-        the larger of the two force peaks smallest.
+        the larger of the two force peaks smallest.  With ``bearings``, also
+        ``study_largest_main_load`` [N] and ``study_largest_internal_moment`` [N m]: the
+        largest main-bearing load and internal moment with each factor's proposed
+        counterweights (``strategy``, ``counterweight_radius`` as for the proposal).
     """
     f = np.linspace(0.0, 1.0, 21) if factors is None else np.asarray(factors, dtype=np.float64)
     r = layout.crank_radius
-    g1 = acceleration_coefficients(r / layout.conrod_length, layout.offset / r, [1])[..., 0]
+    ratio, eps = rod_ratio(r, layout.conrod_length), offset_ratio(layout.offset, r)
+    g1 = acceleration_coefficients(ratio, eps, [1])[..., 0]
     study = balance_factor_study(layout, g1, f)
     best = optimal_balance_factor(layout, g1)
 
@@ -40,8 +51,22 @@ def factor_study_dataset(layout: Engine, factors: ArrayLike | None = None) -> xr
             ("study_factor",), np.asarray(data), attrs={"units": units, "long_name": long_name}
         )
 
+    extra = {}
+    if bearings:
+        from balance.studies.factor_bearings import factor_bearing_loads
+
+        main_max, moment_max = factor_bearing_loads(layout, f, strategy, counterweight_radius)
+        extra = {
+            "study_largest_main_load": var(
+                main_max, "N", "largest main-bearing load with the proposed counterweights"
+            ),
+            "study_largest_internal_moment": var(
+                moment_max, "N m", "largest internal moment with the proposed counterweights"
+            ),
+        }
     return xr.Dataset(
         {
+            **extra,
             "study_vertical_peak": var(
                 study["vertical_peak"], "N", "peak residual first-order force along y"
             ),

@@ -29,6 +29,7 @@ from balance.core import kinematics
 from balance.core.analysis import FreePhasors, free_phasors_of, speed_squared
 from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import AnalysisError, InputError
+from balance.core.speed import rad_per_s_to_rpm
 from balance.io.fields import (
     Vary,
     check_varies,
@@ -355,7 +356,7 @@ def _attrs(plan: _Plan) -> dict[str, Any]:
         "source_file": plan.layout.path or "",
         "model": plan.model,
         "varied_fields": ";".join(v.field.text for v in plan.varies),
-        "speed_rpm": float(f"{plan.layout.speed * 60.0 / (2.0 * math.pi):.12g}"),
+        "speed_rpm": float(f"{rad_per_s_to_rpm(plan.layout.speed):.12g}"),
         "balance_version": __version__,
         "conventions": "balance CONTRACT; values of every analysis as 'balance analyse' gives "
         "them for the layout with the varied fields set",
@@ -370,19 +371,11 @@ def _run_chunks(
 ) -> Iterator[tuple[tuple[slice, ...], dict[str, FloatArray]]]:
     """Results chunk by chunk, in-process or on a Dask client (in order of completion)."""
 
-    def points(where: tuple[slice, ...]) -> int:
-        return math.prod(s.stop - s.start for s in where)
-
-    if progress is not None:
-        progress.start(math.prod(plan.shape))
-    try:
+    def results() -> Iterator[tuple[tuple[slice, ...], dict[str, FloatArray]]]:
         if client is None:
             cache: dict[Any, FreePhasors] = {}
             for where in chunks:
-                result = _chunk(plan, where, cache)
-                if progress is not None:
-                    progress.advance(points(where))
-                yield where, result
+                yield where, _chunk(plan, where, cache)
             return
         from distributed import as_completed
 
@@ -392,8 +385,14 @@ def _run_chunks(
             where = futures.pop(future)
             result = future.result()
             future.release()
+            yield where, result
+
+    if progress is not None:
+        progress.start(math.prod(plan.shape))
+    try:
+        for where, result in results():
             if progress is not None:
-                progress.advance(points(where))
+                progress.advance(math.prod(s.stop - s.start for s in where))
             yield where, result
     finally:
         if progress is not None:

@@ -8,14 +8,13 @@ print it.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from balance.core.speed import rad_per_s_to_rpm
-from balance.views.json import order_entries
+from balance.views.json import json_number, order_entries
 from balance.views.table import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -93,6 +92,11 @@ def comparison_dataset(
                 "sum of the proposed counterweight unbalances",
             ),
             "n_shafts": (int(ds.sizes.get("shaft", 0)), "1", "number of proposed balance shafts"),
+            "mount_force_max": (
+                _largest_mount_force(result),
+                "N",
+                "largest mount force of any order at the layout's speed (NaN without mounts)",
+            ),
         }
         for name, (value, units, long_name) in extra.items():
             piece[name] = xr.Variable((), value, attrs={"units": units, "long_name": long_name})
@@ -121,6 +125,16 @@ def comparison_dataset(
     return out
 
 
+def _largest_mount_force(result: Result) -> float:
+    """The largest force of any mount and order [N] (NaN when the engine has no mounts)."""
+    if result.engine.mounts is None:
+        return float("nan")
+    from balance.core.mount_loads import mounts_of
+
+    mounts = result.mounts if result.mounts is not None else mounts_of(result)
+    return float(np.max(mounts.largest_force))
+
+
 def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], list[list[str]]]:
     """Headers and formatted rows of a comparison (zeros print as 0).
 
@@ -137,6 +151,9 @@ def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], l
     headers += [f"rot F{force_unit}", f"rot M{moment_unit}"]
     headers += [f"roll {k}{roll_unit}" for k in ks]
     headers += ["cw mass [kg]", "shafts"]
+    mounts = "mount_force_max" in ds and bool(np.isfinite(ds["mount_force_max"].values).any())
+    if mounts:
+        headers += ["mount F max [N]"]
     rows = []
     for label in ds["layout"].values:
         one = ds.sel(layout=label)
@@ -155,6 +172,9 @@ def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], l
         roll = "roll_amplitude_normalised" if normalised else "roll_amplitude"
         row += [format_number(float(one[roll].sel(roll_order=float(k)))) for k in ks]
         row += [format_number(float(one["counterweight_total_mass"])), str(int(one["n_shafts"]))]
+        if mounts:
+            value = float(one["mount_force_max"])
+            row += [format_number(value) if np.isfinite(value) else "-"]
         rows.append(row)
     return headers, rows
 
@@ -182,43 +202,40 @@ def compare_json(ds: xr.Dataset) -> dict[str, object]:
             {
                 "layout": str(label),
                 "n_cylinders": int(one["n_cylinders"]),
-                "displacement_m3": _num(one["displacement"]),
-                "scale_factor": _num(one["scale_factor"]),
-                "speed_rpm": _num(rad_per_s_to_rpm(float(one["speed"]))),
+                "displacement_m3": json_number(one["displacement"]),
+                "scale_factor": json_number(one["scale_factor"]),
+                "speed_rpm": json_number(rad_per_s_to_rpm(float(one["speed"]))),
                 "reciprocating": {
                     "force": _orders(one, "reciprocating_force"),
                     "moment": _orders(one, "reciprocating_moment"),
                 },
                 "rotating": {
                     what: {
-                        "peak": _num(one[f"rotating_{what}_magnitude"]),
-                        "peak_normalised": _num(one[f"rotating_{what}_normalised"]),
+                        "peak": json_number(one[f"rotating_{what}_magnitude"]),
+                        "peak_normalised": json_number(one[f"rotating_{what}_normalised"]),
                     }
                     for what in ("force", "moment")
                 },
                 "roll": [
                     {
                         "order": float(k),
-                        "amplitude": _num(one["roll_amplitude"].sel(roll_order=k)),
-                        "amplitude_normalised": _num(
+                        "amplitude": json_number(one["roll_amplitude"].sel(roll_order=k)),
+                        "amplitude_normalised": json_number(
                             one["roll_amplitude_normalised"].sel(roll_order=k)
                         ),
                     }
                     for k in one["roll_order"].values
                 ],
                 "balancing": {
-                    "counterweight_total_mass_kg": _num(one["counterweight_total_mass"]),
-                    "counterweight_total_unbalance_kgm": _num(one["counterweight_total_unbalance"]),
+                    "counterweight_total_mass_kg": json_number(one["counterweight_total_mass"]),
+                    "counterweight_total_unbalance_kgm": json_number(
+                        one["counterweight_total_unbalance"]
+                    ),
                     "n_shafts": int(one["n_shafts"]),
                 },
             }
         )
     return {"schema": "balance.comparison/1", "model": ds.attrs["model"], "layouts": entries}
-
-
-def _num(value: Any) -> float | None:
-    number = float(value)
-    return number if math.isfinite(number) else None
 
 
 def _orders(ds: xr.Dataset, prefix: str) -> list[dict[str, Any]]:

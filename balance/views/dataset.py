@@ -36,7 +36,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from balance.views.polar import SCHEMA, phase_deg, safe_ratio, speed_rpm
+from balance.views.polar import CONVENTIONS, SCHEMA, phase_deg, safe_ratio, speed_rpm
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Balanced, Result
@@ -275,8 +275,7 @@ def build_dataset(result: Result) -> xr.Dataset:
         "speed_rpm": speed_rpm(layout.speed),
         "firing_order": ",".join(map(str, layout.firing_order or ())),
         "balance_version": __version__,
-        "conventions": "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
-        "direction of rotation; (x, y) as y + i x",
+        "conventions": CONVENTIONS,
     }
     balanced = result.balanced
     if balanced is not None:
@@ -300,6 +299,18 @@ def build_dataset(result: Result) -> xr.Dataset:
         attrs["gas_pressure_source"] = layout.gas.source if layout.gas is not None else ""
     if result.roll is None:  # roll not asked for
         coords = {k: v for k, v in coords.items() if k != "roll_order"}
+    if result.mounts is not None:
+        from balance.views.mounts import mounts_dataset_variables
+
+        mount_data, mount_coords = mounts_dataset_variables(result.mounts)
+        data.update(mount_data)
+        coords.update(mount_coords)
+    if result.bearings is not None:
+        from balance.views.bearings import bearings_dataset_variables
+
+        bearing_data, bearing_coords = bearings_dataset_variables(result.bearings)
+        data.update(bearing_data)
+        coords.update(bearing_coords)
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
 
 

@@ -21,14 +21,18 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
     from balance.core.torque import TorqueResult
 
-__all__ = ["order_entries", "to_dict", "to_json"]
+__all__ = ["json_number", "order_entries", "to_dict", "to_json"]
 
 ComplexArray = NDArray[np.complex128]
 
 
-def _num(value: Any) -> float | None:
+def json_number(value: Any) -> float | None:
+    """A number as the JSON views write it: a float, or None (null) where it is not finite."""
     number = float(value)
     return number if math.isfinite(number) else None
+
+
+_num = json_number  # the short name this module uses
 
 
 def _order_value(order: float) -> float | int:
@@ -142,7 +146,21 @@ def to_dict(result: Result, factor_study: Mapping[str, Any] | None = None) -> di
         }
     if factor_study is not None:
         out["balance_factor_study"] = _factor_study(factor_study)
+    if result.mounts is not None:
+        out["mounts"] = _mounts(result)
+    if result.bearings is not None:
+        from balance.views.bearings import bearings_json
+
+        out["bearings"] = bearings_json(result.bearings)
     return out
+
+
+def _mounts(result: Result) -> dict[str, Any]:
+    """The ``mounts`` block (CONTRACT §7), from :mod:`balance.views.mounts`."""
+    from balance.views.mounts import mounts_json
+
+    assert result.mounts is not None
+    return mounts_json(result.mounts)
 
 
 def _torque(t: TorqueResult) -> dict[str, Any]:

@@ -278,16 +278,24 @@ def _denoise(values: NDArray[Any], reference: float) -> NDArray[Any]:
 
 
 def _order_signals(
-    orders: NDArray[Any],
-    forward: NDArray[np.complex128],
-    backward: NDArray[np.complex128],
+    result: Result,
+    quantity: Quantity,
+    source: Source,
+    orders: Iterable[float] | None,
+    normalised: bool,
     theta_deg: NDArray[np.float64],
-    divisor: float,
-) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """Each order's signal and their sum, scaled by ``divisor`` and without round-off."""
-    per_order = synthesis.signal_per_order(forward, backward, orders, theta_deg) / divisor
-    reference = float(np.nansum(synthesis.peaks(forward, backward))) / divisor
-    return _denoise(per_order, reference), _denoise(per_order.sum(axis=0), reference)
+) -> tuple[NDArray[Any], NDArray[np.complex128], NDArray[np.complex128], str, NDArray[np.bool_]]:
+    """The orders picked, each one's signal and their sum (scaled and without round-off),
+    the unit, and which orders are large enough to draw."""
+    ks, forward, backward = synthesis.phasors_of(result, quantity, source)
+    keep = _pick_orders(ks, orders)
+    ks, forward, backward = ks[keep], forward[keep], backward[keep]
+    divisor, unit, _ = _scale(result, quantity, normalised)
+    per_order = synthesis.signal_per_order(forward, backward, ks, theta_deg) / divisor
+    peaks = synthesis.peaks(forward, backward)
+    reference = float(np.nansum(peaks)) / divisor
+    total = per_order.sum(axis=0)
+    return ks, _denoise(per_order, reference), _denoise(total, reference), unit, _significant(peaks)
 
 
 def _degree_axis(axes: Axes, span: float = 360.0) -> None:
@@ -553,10 +561,9 @@ def plot_crank_angle(
     with _styled():
         fig, axes_list, owned = _new_figure(ax, 4, (10.0, 7.0), nrows=2, kind="crank_angle")
         for row, quantity in enumerate(synthesis.QUANTITIES):
-            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
-            keep = _pick_orders(ks, orders)
-            divisor, unit, _ = _scale(result, quantity, normalised)
-            per_order, total = _order_signals(ks[keep], fwd[keep], bwd[keep], theta, divisor)
+            ks, per_order, total, unit, shown = _order_signals(
+                result, quantity, source, orders, normalised, theta
+            )
             split = (
                 synthesis.transverse_components
                 if quantity == "force"
@@ -569,7 +576,6 @@ def plot_crank_angle(
                 names = ("vertical force F_y", "horizontal force F_x")
             else:
                 names = ("pitch couple M_x", "yaw couple M_y")
-            shown = _significant(synthesis.peaks(fwd[keep], bwd[keep]))
             components = zip((first, second), (first_total, second_total), names, strict=True)
             for col, (values, total_values, name) in enumerate(components):
                 axes = axes_list[2 * row + col]
@@ -579,7 +585,7 @@ def plot_crank_angle(
                 if np.isnan(values).all():
                     _empty_note(axes, "not computed")
                     continue
-                for k, line, visible in zip(ks[keep], values, shown, strict=True):
+                for k, line, visible in zip(ks, values, shown, strict=True):
                     if visible:
                         axes.plot(
                             theta,
@@ -653,10 +659,9 @@ def plot_locus(
     with _styled():
         fig, axes_list, owned = _new_figure(ax, 2, (10.5, 5.2), kind="locus")
         for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
-            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
-            keep = _pick_orders(ks, orders)
-            divisor, unit, _ = _scale(result, quantity, normalised)
-            per_order, total = _order_signals(ks[keep], fwd[keep], bwd[keep], theta, divisor)
+            ks, per_order, total, unit, shown = _order_signals(
+                result, quantity, source, orders, normalised, theta
+            )
             name = "force F" if quantity == "force" else "moment Σ Δz·F"
             axes.set_title(name)
             axes.set_xlabel(_axis_label(f"{name}, x", unit))
@@ -665,10 +670,9 @@ def plot_locus(
             if np.isnan(per_order).all():
                 _empty_note(axes, "not computed")
                 continue
-            shown = _significant(synthesis.peaks(fwd[keep], bwd[keep]))
             curves = [
                 (values, _order_colour(int(k)), 1.2, f"order {int(k)}")
-                for k, values, visible in zip(ks[keep], per_order, shown, strict=True)
+                for k, values, visible in zip(ks, per_order, shown, strict=True)
                 if visible
             ]
             curves.insert(0, (total, TOTAL_COLOUR, 2.6, "total"))
@@ -1144,6 +1148,34 @@ def plot_forces(
         return _finish(fig, owned, title, f"{_layout_name(result)}: forces on cylinder {cylinder}")
 
 
+def _plot_mounts(result: Result, **options: Any) -> Figure:
+    """Mount force against speed with the mode lines (:mod:`balance.views.mounts`)."""
+    from balance.views.mounts import plot_mounts
+
+    return plot_mounts(result, **options)
+
+
+def _plot_pin_load(result: Result, **options: Any) -> Figure:
+    """Crank-pin load in the crank-fixed frame (:mod:`balance.views.bearings`)."""
+    from balance.views.bearings import plot_pin_load
+
+    return plot_pin_load(result, **options)
+
+
+def _plot_main_loads(result: Result, **options: Any) -> Figure:
+    """Each main bearing's load in the engine frame (:mod:`balance.views.bearings`)."""
+    from balance.views.bearings import plot_main_loads
+
+    return plot_main_loads(result, **options)
+
+
+def _plot_internal_moment(result: Result, **options: Any) -> Figure:
+    """Internal moment along the crank (:mod:`balance.views.bearings`)."""
+    from balance.views.bearings import plot_internal_moment
+
+    return plot_internal_moment(result, **options)
+
+
 #: Every figure kind and the function that draws it.
 PLOT_KINDS: dict[str, Callable[..., Figure]] = {
     "crank_star": plot_crank_star,
@@ -1155,7 +1187,14 @@ PLOT_KINDS: dict[str, Callable[..., Figure]] = {
     "balance": plot_balance,
     "torque": plot_torque,
     "forces": plot_forces,
+    "mounts": _plot_mounts,
+    "pin_load": _plot_pin_load,
+    "main_loads": _plot_main_loads,
+    "internal_moment": _plot_internal_moment,
 }
+
+#: Plot kinds that need the bearing loads (``Request.bearings``).
+BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
 
 
 def _metadata(fmt: str) -> dict[str, Any]:
@@ -1224,7 +1263,13 @@ def save_plots(
     if fmt not in FORMATS:
         raise InputError(f"format {fmt!r}: expected one of {', '.join(FORMATS)}")
     if kinds is None:
-        chosen = [k for k in PLOT_KINDS if k != "balance" or synthesis.has_proposal(result)]
+        chosen = [
+            k
+            for k in PLOT_KINDS
+            if (k != "balance" or synthesis.has_proposal(result))
+            and (k != "mounts" or result.mounts is not None)
+            and (k not in BEARING_KINDS or result.bearings is not None)
+        ]
     else:
         chosen = list(kinds)
         unknown = [k for k in chosen if k not in PLOT_KINDS]

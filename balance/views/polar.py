@@ -12,10 +12,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["SCHEMA", "phase_deg", "safe_ratio", "speed_rpm"]
+from balance.core.speed import rad_per_s_to_rpm
+
+__all__ = ["CONVENTIONS", "SCHEMA", "phase_deg", "safe_ratio", "speed_rpm"]
 
 #: Schema name of the analysis JSON and the result Dataset.
 SCHEMA = "balance.analysis/1"
+
+#: The frame and sign conventions, as the result Dataset's ``conventions`` attribute and
+#: the report state them.
+CONVENTIONS = (
+    "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
+    "direction of rotation; (x, y) as y + i x"
+)
 
 
 def phase_deg(phasor: ArrayLike) -> NDArray[np.float64]:
@@ -42,4 +51,4 @@ def safe_ratio(values: Any, scale: float) -> Any:
 def speed_rpm(speed: float) -> float:
     """Crank speed [rad/s] in rpm as reported, to 12 significant digits (8000 rpm read from
     a file stays 8000, not 7999.999999999999)."""
-    return float(f"{speed * 60.0 / (2.0 * math.pi):.12g}")
+    return float(f"{rad_per_s_to_rpm(speed):.12g}")

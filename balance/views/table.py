@@ -105,6 +105,14 @@ def render(result: Result) -> RenderableType:
         parts.append(render_torque(result.torque))
     if result.balanced is not None:
         parts.extend(render_proposal(result))
+    if result.mounts is not None:
+        from balance.views.mounts import mounts_tables
+
+        parts.extend(mounts_tables(result.mounts))
+    if result.bearings is not None:
+        from balance.views.bearings import bearings_tables
+
+        parts.extend(bearings_tables(result.bearings))
     return Group(*parts)
 
 
@@ -256,17 +264,31 @@ def render_factor_study(study: Mapping[str, Any]) -> list[RenderableType]:
         title="Balance factor study: residual first order (rotating masses balanced in full)",
         title_justify="left",
     )
-    for label in ("factor", "vertical peak [N]", "horizontal peak [N]", "moment peak [N m]"):
+    labels = ["factor", "vertical peak [N]", "horizontal peak [N]", "moment peak [N m]"]
+    bearing_columns = [  # with --bearings (balance.studies.factor_bearings)
+        name
+        for name in ("study_largest_main_load", "study_largest_internal_moment")
+        if name in study
+    ]
+    labels += [
+        {"study_largest_main_load": "largest main load [N]"}.get(
+            name, "largest internal moment [N m]"
+        )
+        for name in bearing_columns
+    ]
+    for label in labels:
         table.add_column(label, justify="right")
     vertical = np.asarray(study["study_vertical_peak"])
     horizontal = np.asarray(study["study_horizontal_peak"])
     moment = np.asarray(study["study_moment_peak"])
+    extra = [np.asarray(study[name]) for name in bearing_columns]
     for i, f in enumerate(np.asarray(study["study_factor"])):
         table.add_row(
             f"{f:.0%}",
             format_number(float(vertical[i])),
             format_number(float(horizontal[i])),
             format_number(float(moment[i])),
+            *(format_number(float(column[i])) for column in extra),
         )
     best = float(np.asarray(study["optimal_balance_factor"]))
     return [table, Text(f"Factor minimising the larger force peak: {best:.1%}")]

@@ -1,0 +1,486 @@
+"""Views of the bearing loads (:class:`balance.core.bearings.Bearings`, CONTRACT §6).
+
+Every function reads a :class:`~balance.core.result.Result` (or its ``bearings``) and
+nothing else: the JSON block, the rich tables, the Dataset variables (``units`` and
+``long_name`` on each), the three figures (crank-pin load in the crank-fixed frame, each
+main's load in the engine frame, internal moment along the crank), the report section and
+the side-by-side comparison of the two counterweight strategies.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from balance.core.bearings import Bearings
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from rich.console import RenderableType
+
+    from balance.core.result import Result
+
+__all__ = [
+    "bearings_dataset_variables",
+    "bearings_json",
+    "bearings_report_section",
+    "bearings_tables",
+    "largest",
+    "plot_internal_moment",
+    "plot_main_loads",
+    "plot_pin_load",
+    "strategy_table",
+]
+
+#: What to add to a command for the bearing loads.
+ASK = "give --bearings (or a bearings: section in the layout)"
+
+
+def _fmt(value: float) -> str:
+    """Compact number: 0 stays 0, NaN shows as a dash."""
+    if not math.isfinite(value):
+        return "-"
+    if value == 0.0:
+        return "0"
+    return f"{value:.4g}"
+
+
+def _mm(value: float) -> str:
+    return f"{value * 1e3:.4g}"
+
+
+def largest(b: Bearings) -> dict[str, float]:
+    """The largest main-bearing load [N] and internal moment [N m], without and with the
+    proposal (the figures a strategy or balance factor is chosen by)."""
+    return {
+        "main_max_N": float(np.max(b.main_max)),
+        "main_max_with_proposal_N": float(np.max(b.main_max_with_proposal)),
+        "internal_moment_max_Nm": float(np.max(b.moment_max)),
+        "internal_moment_max_with_proposal_Nm": float(np.max(b.moment_max_with_proposal)),
+    }
+
+
+# --------------------------------------------------------------------------- JSON
+
+
+def bearings_json(b: Bearings) -> dict[str, Any]:
+    """The ``"bearings"`` block of the JSON result, exactly as CONTRACT §6."""
+    return {
+        "crank_pins": [
+            {
+                "z_m": float(b.pin_z[j]),
+                "cylinders": list(b.pin_cylinders[j]),
+                "max_N": float(b.pin_max[j]),
+                "mean_N": float(b.pin_mean[j]),
+            }
+            for j in range(b.pin_z.size)
+        ],
+        "mains": [
+            {
+                "z_m": float(b.main_z[m]),
+                "max_N": float(b.main_max[m]),
+                "mean_N": float(b.main_mean[m]),
+                "max_with_proposal_N": float(b.main_max_with_proposal[m]),
+                "mean_with_proposal_N": float(b.main_mean_with_proposal[m]),
+            }
+            for m in range(b.main_z.size)
+        ],
+        "internal_moment": [
+            {
+                "z_m": float(b.main_z[m]),
+                "max_Nm": float(b.moment_max[m]),
+                "max_with_proposal_Nm": float(b.moment_max_with_proposal[m]),
+            }
+            for m in range(b.main_z.size)
+        ],
+    }
+
+
+# --------------------------------------------------------------------------- tables
+
+
+def bearings_tables(b: Bearings) -> list[RenderableType]:
+    """Rich tables: crank-pin loads; main-bearing loads and internal moments, without and
+    with the proposed counterweights."""
+    from rich.table import Table
+    from rich.text import Text
+
+    gas = "with gas forces, over the working cycle" if b.gas else "inertia only"
+    pins = Table(title=f"Crank-pin loads ({gas})", title_justify="left")
+    for label in ("pin", "z \\[mm]", "cylinders", "max [N]", "at \\[deg]", "mean [N]"):
+        pins.add_column(label, justify="right")
+    for j in range(b.pin_z.size):
+        pins.add_row(
+            str(j + 1),
+            _mm(float(b.pin_z[j])),
+            " ".join(map(str, b.pin_cylinders[j])),
+            _fmt(float(b.pin_max[j])),
+            f"{round(math.degrees(float(b.pin_max_angle[j])), 1) % 360.0:.1f}",
+            _fmt(float(b.pin_mean[j])),
+        )
+    mains = Table(
+        title=f"Main-bearing loads ({gas}) and internal moments (inertia only); "
+        "without / with the proposed counterweights",
+        title_justify="left",
+    )
+    for label in (
+        "main",
+        "z \\[mm]",
+        "max [N]",
+        "mean [N]",
+        "max with proposal [N]",
+        "mean with proposal [N]",
+        "moment max [N m]",
+        "moment max with proposal [N m]",
+    ):
+        mains.add_column(label, justify="right")
+    for m in range(b.main_z.size):
+        mains.add_row(
+            str(m + 1),
+            _mm(float(b.main_z[m])),
+            _fmt(float(b.main_max[m])),
+            _fmt(float(b.main_mean[m])),
+            _fmt(float(b.main_max_with_proposal[m])),
+            _fmt(float(b.main_mean_with_proposal[m])),
+            _fmt(float(b.moment_max[m])),
+            _fmt(float(b.moment_max_with_proposal[m])),
+        )
+    big = largest(b)
+    note = Text(
+        f"Largest main load {_fmt(big['main_max_N'])} N, with proposal "
+        f"{_fmt(big['main_max_with_proposal_N'])} N; largest internal moment "
+        f"{_fmt(big['internal_moment_max_Nm'])} N m, with proposal "
+        f"{_fmt(big['internal_moment_max_with_proposal_Nm'])} N m"
+        + ("" if b.counterweights else " (the proposal has no counterweights)")
+    )
+    return [pins, mains, note]
+
+
+def strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType]:
+    """The counterweight strategies side by side: largest main load and internal moment
+    with each one's counterweights (``rows``: strategy name and its bearing loads)."""
+    from rich.table import Table
+
+    table = Table(
+        title="Counterweight strategies: largest main-bearing load and internal moment",
+        title_justify="left",
+    )
+    for label in (
+        "strategy",
+        "counterweights",
+        "largest main load [N]",
+        "largest internal moment [N m]",
+    ):
+        table.add_column(label, justify="right")
+    if rows:
+        base = largest(rows[0][1])
+        table.add_row("none", "0", _fmt(base["main_max_N"]), _fmt(base["internal_moment_max_Nm"]))
+    for name, b in rows:
+        big = largest(b)
+        table.add_row(
+            name,
+            str(len(b.counterweights)),
+            _fmt(big["main_max_with_proposal_N"]),
+            _fmt(big["internal_moment_max_with_proposal_Nm"]),
+        )
+    return [table]
+
+
+# --------------------------------------------------------------------------- Dataset
+
+
+def bearings_dataset_variables(b: Bearings) -> tuple[dict[str, xr.Variable], dict[str, Any]]:
+    """Dataset variables (``units`` and ``long_name`` on each) and coordinates.
+
+    Curves are stored as their ``y`` and ``x`` components (netCDF has no complex numbers).
+    """
+    import xarray as xr
+
+    def var(dims: tuple[str, ...], data: Any, units: str, long_name: str) -> xr.Variable:
+        return xr.Variable(dims, np.asarray(data), attrs={"units": units, "long_name": long_name})
+
+    pin, main = ("crank_pin",), ("main_bearing",)
+    pin_curve, main_curve = (
+        ("crank_pin", "bearing_crank_angle"),
+        ("main_bearing", "bearing_crank_angle"),
+    )
+    moment_curve = ("main_bearing", "moment_crank_angle")
+    gas = " (with gas forces)" if b.gas else ""
+    data = {
+        "crank_pin_z": var(pin, b.pin_z, "m", "axial position of the crank pin"),
+        "crank_pin_cylinders": var(
+            pin,
+            [" ".join(map(str, c)) for c in b.pin_cylinders],
+            "1",
+            "cylinders whose rods act on the crank pin",
+        ),
+        "crank_pin_max_load": var(pin, b.pin_max, "N", f"largest crank-pin load{gas}"),
+        "crank_pin_mean_load": var(
+            pin, b.pin_mean, "N", f"mean magnitude of the crank-pin load{gas}"
+        ),
+        "crank_pin_max_angle": var(
+            pin, np.degrees(b.pin_max_angle), "deg", "crank angle of the largest crank-pin load"
+        ),
+        "main_bearing_z": var(main, b.main_z, "m", "axial position of the main bearing"),
+        "main_bearing_max_load": var(main, b.main_max, "N", f"largest main-bearing load{gas}"),
+        "main_bearing_mean_load": var(
+            main, b.main_mean, "N", f"mean magnitude of the main-bearing load{gas}"
+        ),
+        "main_bearing_max_load_with_proposal": var(
+            main,
+            b.main_max_with_proposal,
+            "N",
+            f"largest main-bearing load with the proposed counterweights{gas}",
+        ),
+        "main_bearing_mean_load_with_proposal": var(
+            main,
+            b.main_mean_with_proposal,
+            "N",
+            f"mean magnitude of the main-bearing load with the proposed counterweights{gas}",
+        ),
+        "internal_moment_max": var(
+            main,
+            b.moment_max,
+            "N m",
+            "largest internal bending moment of the crankshaft at the main",
+        ),
+        "internal_moment_max_with_proposal": var(
+            main,
+            b.moment_max_with_proposal,
+            "N m",
+            "largest internal bending moment at the main with the proposed counterweights",
+        ),
+    }
+    for name, curve, dims, units, what in (
+        ("crank_pin_load", b.pin_load, pin_curve, "N", "crank-pin load"),
+        ("main_bearing_load", b.main_load, main_curve, "N", "main-bearing load"),
+        (
+            "main_bearing_load_with_proposal",
+            b.main_load_with_proposal,
+            main_curve,
+            "N",
+            "main-bearing load with the proposed counterweights",
+        ),
+        ("internal_moment", b.internal_moment, moment_curve, "N m", "internal moment"),
+        (
+            "internal_moment_with_proposal",
+            b.internal_moment_with_proposal,
+            moment_curve,
+            "N m",
+            "internal moment with the proposed counterweights",
+        ),
+    ):
+        data[f"{name}_y"] = var(dims, curve.real, units, f"{what}, y component (engine frame)")
+        data[f"{name}_x"] = var(dims, curve.imag, units, f"{what}, x component (engine frame)")
+    coords = {
+        "crank_pin": var(pin, np.arange(1, b.pin_z.size + 1), "1", "crank pin number"),
+        "main_bearing": var(main, np.arange(1, b.main_z.size + 1), "1", "main bearing number"),
+        "bearing_crank_angle": var(
+            ("bearing_crank_angle",),
+            np.degrees(b.theta),
+            "deg",
+            "crank angle theta of the bearing-load curves",
+        ),
+        "moment_crank_angle": var(
+            ("moment_crank_angle",),
+            np.degrees(b.moment_theta),
+            "deg",
+            "crank angle theta of the internal-moment curves",
+        ),
+    }
+    return data, coords
+
+
+# --------------------------------------------------------------------------- figures
+
+
+def _not_computed(result: Result, kind: str, title: str | None) -> Figure:
+    """A figure that says the bearing loads were not asked for (like the other kinds do for
+    what was not computed)."""
+    fig, (ax,) = _figure(1, (6.0, 3.0), 1)
+    ax.set_axis_off()
+    ax.text(0.5, 0.5, f"no bearing loads in this result:\n{ASK}", ha="center", va="center")
+    fig.suptitle(title or f"{result.engine.name}: {kind.replace('_', ' ')}")
+    return fig
+
+
+def _figure(n_axes: int, size: tuple[float, float], ncols: int) -> tuple[Figure, list[Axes]]:
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size, layout="constrained")
+    nrows = math.ceil(n_axes / ncols)
+    grid = fig.subplots(nrows, ncols, squeeze=False)
+    axes = list(np.ravel(grid))
+    for extra in axes[n_axes:]:
+        extra.set_visible(False)
+    return fig, axes[:n_axes]
+
+
+def _polar_diagram(
+    ax: Axes, curves: Sequence[tuple[np.ndarray, str, str]], x_label: str, y_label: str
+) -> None:
+    """Loads as x-y curves through the origin, equal scales, in kN."""
+    for load, style, label in curves:
+        closed = np.concatenate([load, load[:1]]) / 1e3
+        ax.plot(closed.imag, closed.real, style, lw=1.2, label=label)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.axvline(0.0, color="0.6", lw=0.6)
+    ax.plot([0.0], [0.0], "k+", ms=6)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+
+
+def plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
+    """Plot kind ``pin_load``: polar diagram of each crank-pin load in the crank-fixed frame
+    (up: outwards along the throw; right: in the direction of rotation), the textbook chart."""
+    if result.bearings is None:
+        return _not_computed(result, "pin_load", title)
+    b = result.bearings
+    crank = b.pin_load_crank_frame
+    # pins with the same diagram (a V's or an inline's equal throws) are drawn once
+    shown: list[int] = []
+    for j in range(crank.shape[0]):
+        scale = max(float(np.max(np.abs(crank[j]))), 1e-300)
+        if not any(np.max(np.abs(crank[j] - crank[i])) <= 1e-9 * scale for i in shown):
+            shown.append(j)
+    ncols = min(3, len(shown))
+    fig, axes = _figure(len(shown), (4.2 * ncols, 4.2 * math.ceil(len(shown) / ncols)), ncols)
+    for ax, j in zip(axes, shown, strict=True):
+        same = [
+            i + 1
+            for i in range(crank.shape[0])
+            if np.max(np.abs(crank[i] - crank[j]))
+            <= 1e-9 * max(float(np.max(np.abs(crank[j]))), 1e-300)
+        ]
+        _polar_diagram(
+            ax,
+            [(crank[j], "C0-", "pin load")],
+            "along rotation [kN]",
+            "along the throw, outwards [kN]",
+        )
+        peak = int(np.argmax(np.abs(crank[j])))
+        ax.plot([0.0, crank[j][peak].imag / 1e3], [0.0, crank[j][peak].real / 1e3], "C3-", lw=0.8)
+        cyl = ", ".join(" ".join(map(str, b.pin_cylinders[i - 1])) for i in same)
+        ax.set_title(
+            f"pin{'s' if len(same) > 1 else ''} {', '.join(map(str, same))} (cyl. {cyl}): "
+            f"max {_fmt(float(b.pin_max[j]) / 1e3)} kN",
+            fontsize=9,
+        )
+    gas = "with gas forces" if b.gas else "inertia only"
+    fig.suptitle(title or f"{result.engine.name}: crank-pin load in the crank-fixed frame ({gas})")
+    return fig
+
+
+def plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
+    """Plot kind ``main_loads``: polar diagram of each main bearing's load in the engine
+    frame (up: +y, right: +x), without and with the proposed counterweights."""
+    if result.bearings is None:
+        return _not_computed(result, "main_loads", title)
+    b = result.bearings
+    n = b.main_z.size
+    ncols = min(4, n)
+    fig, axes = _figure(n, (3.6 * ncols, 3.6 * math.ceil(n / ncols)), ncols)
+    with_cw = bool(b.counterweights)
+    for m, ax in enumerate(axes):
+        curves = [(b.main_load[m], "C0-", "without counterweights")]
+        if with_cw:
+            curves.append((b.main_load_with_proposal[m], "C1--", "with the proposal"))
+        _polar_diagram(ax, curves, "x [kN]", "y [kN]")
+        z_mm, top = _mm(float(b.main_z[m])), _fmt(float(b.main_max[m]) / 1e3)
+        text = f"main {m + 1}, z = {z_mm} mm: max {top}"
+        if with_cw:
+            text += f" / {_fmt(float(b.main_max_with_proposal[m]) / 1e3)}"
+        ax.set_title(text + " kN", fontsize=9)
+    if with_cw:
+        axes[0].legend(fontsize=7, loc="best")
+    gas = "with gas forces" if b.gas else "inertia only"
+    fig.suptitle(title or f"{result.engine.name}: main-bearing loads in the engine frame ({gas})")
+    return fig
+
+
+def plot_internal_moment(result: Result, *, title: str | None = None) -> Figure:
+    """Plot kind ``internal_moment``: the largest internal bending moment at each main along
+    the crank, without and with the proposed counterweights, and the throw planes."""
+    if result.bearings is None:
+        return _not_computed(result, "internal_moment", title)
+    b = result.bearings
+    fig, (ax,) = _figure(1, (7.0, 4.2), 1)
+    z = b.main_z * 1e3
+    ax.plot(z, b.moment_max, "C0o-", label="without counterweights")
+    if b.counterweights:
+        ax.plot(z, b.moment_max_with_proposal, "C1s--", label="with the proposal")
+    for zp in np.unique(np.round(b.pin_z, 9)):
+        ax.axvline(zp * 1e3, color="0.8", lw=0.8)
+    ax.set_xlabel("z of the main bearing [mm] (grey: throw planes)")
+    ax.set_ylabel("largest internal moment [N m]")
+    ax.set_ylim(bottom=0.0)
+    ax.legend(fontsize=8)
+    fig.suptitle(title or f"{result.engine.name}: internal bending moment of the crankshaft")
+    return fig
+
+
+# --------------------------------------------------------------------------- report
+
+
+def bearings_report_section(
+    b: Bearings,
+    table: Callable[..., str],
+    escape: Callable[[object], str],
+) -> str:
+    """HTML of the report's bearings section (``table(headers, rows, caption)`` and
+    ``escape(text)`` are the report's own helpers)."""
+    gas = "with gas forces over the working cycle" if b.gas else "inertia only"
+    pins = table(
+        ["pin", "z [mm]", "cylinders", "max [N]", "mean [N]"],
+        [
+            [
+                str(j + 1),
+                _mm(float(b.pin_z[j])),
+                " ".join(map(str, b.pin_cylinders[j])),
+                _fmt(float(b.pin_max[j])),
+                _fmt(float(b.pin_mean[j])),
+            ]
+            for j in range(b.pin_z.size)
+        ],
+        f"Crank-pin loads ({gas})",
+    )
+    mains = table(
+        [
+            "main",
+            "z [mm]",
+            "max [N]",
+            "mean [N]",
+            "max with proposal [N]",
+            "mean with proposal [N]",
+            "moment max [N m]",
+            "moment max with proposal [N m]",
+        ],
+        [
+            [
+                str(m + 1),
+                _mm(float(b.main_z[m])),
+                _fmt(float(b.main_max[m])),
+                _fmt(float(b.main_mean[m])),
+                _fmt(float(b.main_max_with_proposal[m])),
+                _fmt(float(b.main_mean_with_proposal[m])),
+                _fmt(float(b.moment_max[m])),
+                _fmt(float(b.moment_max_with_proposal[m])),
+            ]
+            for m in range(b.main_z.size)
+        ],
+        f"Main-bearing loads ({gas}) and internal moments (inertia only)",
+    )
+    text = (
+        "Loads are the forces the crankshaft puts on each bearing; the mains share each "
+        "throw's load by the lever rule of a crankshaft cut at every main; the internal "
+        "moment at a main is that of the throw loads on its side of smaller z. "
+        "'With proposal' adds the proposed counterweights (balance shafts run in their own "
+        "bearings)."
+    )
+    return f"<p>{escape(text)}</p>\n{pins}\n{mains}"

@@ -1,0 +1,495 @@
+"""Views of the engine on its mounts (``CONTRACT`` §7): JSON, tables, Dataset, figure, report.
+
+Everything here reads a :class:`~balance.core.mounts.MountsResult` (``result.mounts``, or a
+speed sweep from :func:`balance.core.mounts.speed_sweep`).  Amplitudes are magnitudes of
+complex amplitudes; the "largest force" of a mount is the largest magnitude of its force
+vector over a cycle (:func:`balance.core.mounts.peak_force`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from balance.core.mounts import COORDINATES, MountsResult, crossings
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
+    from matplotlib.figure import Figure
+    from rich.console import RenderableType
+
+    from balance.core.result import Result
+
+__all__ = [
+    "crossing_entries",
+    "mounts_dataset_variables",
+    "mounts_json",
+    "mounts_report_section",
+    "mounts_tables",
+    "plot_mount_sweep",
+    "plot_mounts",
+    "sweep_csv",
+    "sweep_json",
+    "sweep_tables",
+]
+
+RPM = 30.0 / math.pi  # rad/s -> rpm
+
+
+def _num(value: Any) -> float | None:
+    number = float(value)
+    return number if math.isfinite(number) else None
+
+
+def _order(k: float) -> float | int:
+    return int(k) if float(k).is_integer() else float(k)
+
+
+def _share(value: float) -> str:
+    """A percentage of energy; round-off below 1e-9 % shown as 0."""
+    return "0" if abs(value) < 1e-9 else _fmt(value, 3)
+
+
+def _h(text: str) -> str:
+    """A column header with its unit in brackets, escaped from rich markup."""
+    from rich.markup import escape
+
+    return escape(text)
+
+
+def _fmt(value: float, digits: int = 4) -> str:
+    if not math.isfinite(value):
+        return "-"
+    if value == 0:
+        return "0"
+    return f"{value:.{digits}g}"
+
+
+# ---------------------------------------------------------------------------------------
+# JSON
+
+
+def mounts_json(m: MountsResult) -> dict[str, Any]:
+    """The ``mounts`` block of the contract JSON (``CONTRACT`` §7), with extras."""
+    modes = [
+        {
+            "frequency_Hz": _num(m.modes.frequency[j]),
+            "energy_share": {
+                c: _num(m.modes.energy_share[j, i]) for i, c in enumerate(COORDINATES)
+            },
+        }
+        for j in range(6)
+    ]
+    translation, rotation, forces = m.translation, m.rotation, m.force_amplitude
+    peak = m.force_peak
+    response = [
+        {
+            "order": _order(k),
+            "cg_translation_m": [_num(v) for v in translation[i]],
+            "rotation_rad": [_num(v) for v in rotation[i]],
+            "mount_forces_N": [[_num(v) for v in forces[i, n]] for n in range(forces.shape[1])],
+            "mount_force_peak_N": [_num(v) for v in peak[i]],
+        }
+        for i, k in enumerate(m.orders)
+    ]
+    return {
+        "modes": modes,
+        "response": response,
+        "with_proposal": bool(m.with_proposal),
+        "gas": bool(m.gas),
+        "torque_roll_axis": [_num(v) for v in m.roll_axis],
+        "mounts": [
+            {
+                "position_m": [_num(v) for v in m.system.positions[n]],
+                "distance_to_torque_roll_axis_m": _num(m.axis_distance[n]),
+                "elastic_axis_offsets_m": [_num(v) for v in m.elastic_offsets[n]],
+            }
+            for n in range(m.system.n_mounts)
+        ],
+    }
+
+
+def crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
+    """Which order crosses which mode at which speed, within a sweep's speed range."""
+    speeds = np.atleast_1d(m.speed)
+    return [
+        {
+            "order": _order(k),
+            "mode": j + 1,
+            "frequency_Hz": _num(m.modes.frequency[j]),
+            "speed_rpm": _num(w * RPM),
+        }
+        for k, j, w in crossings(
+            m.modes.frequency, m.orders, float(speeds.min()), float(speeds.max())
+        )
+    ]
+
+
+def sweep_json(m: MountsResult, layout: str) -> dict[str, Any]:
+    """A speed sweep (``balance mounts``) as plain data: the largest mount force per order
+    and speed, the modes and the crossings."""
+    largest = m.largest_force  # (S, K)
+    return {
+        "schema": "balance.mounts_sweep/1",
+        "layout": layout,
+        "with_proposal": bool(m.with_proposal),
+        "gas": bool(m.gas),
+        "speed_rpm": [_num(w * RPM) for w in m.speed],
+        "orders": [_order(k) for k in m.orders],
+        "modes": mounts_json(_at_first(m))["modes"],
+        "largest_mount_force_N": [[_num(v) for v in row] for row in largest.T],
+        "crossings": crossing_entries(m),
+    }
+
+
+def _at_first(m: MountsResult) -> MountsResult:
+    from dataclasses import replace
+
+    if m.response.ndim == 2:
+        return m
+    return replace(
+        m, speed=m.speed[0], loads=m.loads[0], response=m.response[0], forces=m.forces[0]
+    )
+
+
+def sweep_csv(m: MountsResult) -> str:
+    """A speed sweep as CSV: speed, then the largest mount force of each order [N]."""
+    head = "speed_rpm," + ",".join(f"order_{_order(k)}_N" for k in m.orders)
+    rows = [
+        f"{w * RPM:.6g}," + ",".join(f"{v:.6g}" for v in row)
+        for w, row in zip(m.speed, m.largest_force, strict=True)
+    ]
+    return "\n".join([head, *rows]) + "\n"
+
+
+# ---------------------------------------------------------------------------------------
+# tables
+
+
+def _modes_table(m: MountsResult) -> Any:
+    from rich.table import Table
+
+    table = Table(title="Rigid-body modes on the mounts (undamped)", title_justify="left")
+    table.add_column("mode", justify="right")
+    table.add_column(_h("frequency [Hz]"), justify="right")
+    table.add_column("rpm for order 1", justify="right")
+    for c in COORDINATES:
+        table.add_column(_h(f"{c} [%]"), justify="right")
+    for j in range(6):
+        f = float(m.modes.frequency[j])
+        shares = [_share(100 * float(v)) for v in m.modes.energy_share[j]]
+        table.add_row(str(j + 1), _fmt(f), _fmt(60 * f), *shares)
+    return table
+
+
+def mounts_tables(m: MountsResult) -> list[RenderableType]:
+    """Modes with energy shares, the response per order, the torque-roll axis and each
+    mount's distance from it."""
+    from rich.table import Table
+    from rich.text import Text
+
+    parts: list[RenderableType] = [_modes_table(m)]
+    what = "with the proposal" if m.with_proposal else "without balancing masses"
+    table = Table(
+        title=f"Response on the mounts per order ({what}"
+        + (", with the gas torque" if m.gas else "")
+        + ")",
+        title_justify="left",
+    )
+    table.add_column("order", justify="right")
+    for label in ("CG x [mm]", "CG y [mm]", "CG z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]"):
+        table.add_column(_h(label), justify="right")
+    table.add_column(_h("largest mount force [N]"), justify="right")
+    table.add_column("at mount", justify="right")
+    peak = m.force_peak
+    for i, k in enumerate(m.orders):
+        cells = [_fmt(1e3 * float(v)) for v in m.translation[i]]
+        cells += [_fmt(1e3 * float(v)) for v in m.rotation[i]]
+        n = int(np.argmax(peak[i]))
+        table.add_row(str(_order(k)), *cells, _fmt(float(peak[i, n])), str(n + 1))
+    parts.append(table)
+    axis = m.roll_axis
+    tilt = math.degrees(math.acos(min(1.0, abs(float(axis[2])))))
+    parts.append(
+        Text(
+            "Torque-roll axis through the CG, direction "
+            f"[{', '.join(f'{v:.4f}' for v in axis)}] ({tilt:.1f} deg from the crank axis)"
+        )
+    )
+    mounts = Table(title="Mounts and the torque-roll axis", title_justify="left")
+    mounts.add_column("mount", justify="right")
+    for label in (
+        "x [mm]",
+        "y [mm]",
+        "z [mm]",
+        "distance to TRA [mm]",
+        "axis 1 off TRA [mm]",
+        "axis 2 off TRA [mm]",
+        "axis 3 off TRA [mm]",
+    ):
+        mounts.add_column(_h(label), justify="right")
+    for n in range(m.system.n_mounts):
+        mounts.add_row(
+            str(n + 1),
+            *(_fmt(1e3 * float(v)) for v in m.system.positions[n]),
+            _fmt(1e3 * float(m.axis_distance[n])),
+            *(_fmt(1e3 * float(v)) for v in m.elastic_offsets[n]),
+        )
+    parts.append(mounts)
+    return parts
+
+
+def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
+    """A speed sweep: the modes, the largest mount force per order against speed (a row
+    every few speeds), and the crossings."""
+    from rich.table import Table
+    from rich.text import Text
+
+    what = "with the proposal" if m.with_proposal else "without balancing masses"
+    parts: list[RenderableType] = [
+        Text(f"{layout} on its mounts, {what}", style="bold"),
+        _modes_table(m),
+    ]
+    table = Table(title="Largest mount force [N] against speed", title_justify="left")
+    table.add_column(_h("speed [rpm]"), justify="right")
+    for k in m.orders:
+        table.add_column(f"order {_order(k)}", justify="right")
+    step = max(1, m.speed.size // 25)
+    largest = m.largest_force
+    for s in range(0, m.speed.size, step):
+        table.add_row(_fmt(float(m.speed[s]) * RPM, 5), *(_fmt(float(v)) for v in largest[s]))
+    parts.append(table)
+    found = crossing_entries(m)
+    cross = Table(title="Orders crossing modes in the speed range", title_justify="left")
+    for label in ("order", "mode", "frequency [Hz]", "speed [rpm]"):
+        cross.add_column(_h(label), justify="right")
+    for c in found:
+        cross.add_row(
+            str(c["order"]), str(c["mode"]), _fmt(c["frequency_Hz"]), _fmt(c["speed_rpm"], 5)
+        )
+    parts.append(cross if found else Text("No order crosses a mode in the speed range."))
+    if m.gas:
+        parts.append(
+            Text(
+                "With gas: the inertia loads scale with speed squared; the gas torque is "
+                "the same pressure trace at every speed."
+            )
+        )
+    return parts
+
+
+# ---------------------------------------------------------------------------------------
+# Dataset
+
+
+def mounts_dataset_variables(m: MountsResult) -> tuple[dict[str, xr.Variable], dict[str, Any]]:
+    """Dataset variables (with ``units`` and ``long_name``) and coordinates of a response."""
+    import xarray as xr
+
+    def var(dims: tuple[str, ...], data: Any, units: str, long_name: str) -> xr.Variable:
+        return xr.Variable(dims, np.asarray(data), attrs={"units": units, "long_name": long_name})
+
+    coords = {
+        "mount_mode": xr.IndexVariable(
+            ("mount_mode",),
+            np.arange(1, 7),
+            attrs={"units": "1", "long_name": "rigid-body mode number"},
+        ),
+        "mount_coordinate": xr.IndexVariable(
+            ("mount_coordinate",),
+            list(COORDINATES),
+            attrs={"units": "1", "long_name": "CG coordinate"},
+        ),
+        "mount_order": xr.IndexVariable(
+            ("mount_order",),
+            np.asarray(m.orders),
+            attrs={"units": "1", "long_name": "order of the mount response"},
+        ),
+        "mount": xr.IndexVariable(
+            ("mount",),
+            np.arange(1, m.system.n_mounts + 1),
+            attrs={"units": "1", "long_name": "mount number"},
+        ),
+        "axis": xr.IndexVariable(
+            ("axis",), ["x", "y", "z"], attrs={"units": "1", "long_name": "engine axis"}
+        ),
+    }
+    data = {
+        "mount_mode_frequency": var(
+            ("mount_mode",),
+            m.modes.frequency,
+            "Hz",
+            "undamped rigid-body mode frequency on the mounts",
+        ),
+        "mount_mode_energy_share": var(
+            ("mount_mode", "mount_coordinate"),
+            m.modes.energy_share,
+            "1",
+            "share of the mode's kinetic energy per CG coordinate",
+        ),
+        "mount_cg_translation": var(
+            ("mount_order", "axis"), m.translation, "m", "amplitude of the CG translation"
+        ),
+        "mount_rotation": var(
+            ("mount_order", "axis"),
+            m.rotation,
+            "rad",
+            "amplitude of the rotation about axes through the CG",
+        ),
+        "mount_force": var(
+            ("mount_order", "mount", "axis"),
+            m.force_amplitude,
+            "N",
+            "amplitude of the force each mount passes on, engine axes",
+        ),
+        "mount_force_peak": var(
+            ("mount_order", "mount"),
+            m.force_peak,
+            "N",
+            "largest magnitude of each mount's force over a cycle",
+        ),
+        "torque_roll_axis": var(
+            ("axis",), m.roll_axis, "1", "direction of the torque-roll axis through the CG"
+        ),
+        "mount_distance_to_torque_roll_axis": var(
+            ("mount",), m.axis_distance, "m", "distance of each mount from the torque-roll axis"
+        ),
+    }
+    return data, coords
+
+
+# ---------------------------------------------------------------------------------------
+# figure
+
+
+def _sweep_of(result: Result) -> MountsResult:
+    from balance.core.mounts import speed_sweep
+
+    assert result.mounts is not None
+    w0 = float(result.engine.speed)
+    return speed_sweep(result.mounts, np.linspace(0.15 * w0, 1.3 * w0, 231))
+
+
+def plot_mount_sweep(m: MountsResult, *, title: str | None = None, layout: str = "") -> Figure:
+    """Largest mount force of each order against speed, with each order's mode crossings
+    (dotted lines at 60 f_j / k rpm) and the mode frequencies in the legend."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8.0, 5.0), layout="constrained")
+    ax = fig.subplots()
+    rpm = np.asarray(m.speed) * RPM
+    largest = m.largest_force
+    for i, k in enumerate(m.orders):
+        if np.max(largest[:, i]) <= 0:
+            continue
+        ax.semilogy(rpm, largest[:, i], label=f"order {_order(k)}", color=f"C{i % 10}")
+    for k, j, w in crossings(
+        m.modes.frequency, m.orders, float(m.speed.min()), float(m.speed.max())
+    ):
+        i = int(np.searchsorted(m.orders, k))
+        ax.axvline(w * RPM, color=f"C{i % 10}", linestyle=":", linewidth=0.8)
+        ax.annotate(
+            f"{_order(k)}×m{j + 1}",
+            (w * RPM, 1.0),
+            xycoords=("data", "axes fraction"),
+            rotation=90,
+            fontsize=7,
+            va="top",
+            ha="right",
+        )
+    modes = ", ".join(f"{f:.3g}" for f in m.modes.frequency)
+    ax.set_xlabel("crank speed [rpm]")
+    ax.set_ylabel("largest mount force [N]")
+    ax.set_title(f"modes [Hz]: {modes}; dotted: order k meets mode j at 60 f_j / k rpm", fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="lower right", ncols=2, fontsize=8)
+    what = "with the proposal" if m.with_proposal else "without balancing masses"
+    import textwrap
+
+    text = title if title is not None else f"{layout}: mount forces against speed ({what})"
+    fig.suptitle(textwrap.fill(text, 80))
+    return fig
+
+
+def plot_mounts(result: Result, *, title: str | None = None) -> Figure:
+    """Plot kind ``mounts``: mount force against speed (0.15 to 1.3 times the analysis
+    speed) with the mode lines.  Without mounts in the result the figure says so (like the
+    other kinds without what they draw)."""
+    if result.mounts is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(8.0, 5.0), layout="constrained")
+        ax = fig.subplots()
+        ax.set_axis_off()
+        ax.text(
+            0.5,
+            0.5,
+            "no mounts in this analysis: give a mounts: section or --mounts FILE",
+            ha="center",
+            va="center",
+            transform=ax.transAxes,
+        )
+        fig.suptitle(title if title is not None else f"{result.engine.name}: mounts")
+        return fig
+    return plot_mount_sweep(_sweep_of(result), title=title, layout=str(result.engine.name))
+
+
+# ---------------------------------------------------------------------------------------
+# report
+
+
+def mounts_report_section(m: MountsResult, table: Any, escape: Any) -> str:
+    """HTML of the report's mounts section (``table(headers, rows, caption)`` and
+    ``escape(text)`` are the report's own helpers)."""
+    modes = table(
+        ["mode", "frequency [Hz]", *(f"{c} [%]" for c in COORDINATES)],
+        [
+            [
+                str(j + 1),
+                _fmt(float(m.modes.frequency[j])),
+                *(_share(100 * float(v)) for v in m.modes.energy_share[j]),
+            ]
+            for j in range(6)
+        ],
+        "Rigid-body modes on the mounts (undamped) and their kinetic-energy shares",
+    )
+    peak = m.force_peak
+    response = table(
+        [
+            "order",
+            "CG x [mm]",
+            "CG y [mm]",
+            "CG z [mm]",
+            "rx [mrad]",
+            "ry [mrad]",
+            "rz [mrad]",
+            "largest mount force [N]",
+        ],
+        [
+            [
+                str(_order(k)),
+                *(_fmt(1e3 * float(v)) for v in m.translation[i]),
+                *(_fmt(1e3 * float(v)) for v in m.rotation[i]),
+                _fmt(float(peak[i].max())),
+            ]
+            for i, k in enumerate(m.orders)
+        ],
+        "Response per order" + (" with the proposal" if m.with_proposal else ""),
+    )
+    mounts = table(
+        ["mount", "x [mm]", "y [mm]", "z [mm]", "distance to torque-roll axis [mm]"],
+        [
+            [
+                str(n + 1),
+                *(_fmt(1e3 * float(v)) for v in m.system.positions[n]),
+                _fmt(1e3 * float(m.axis_distance[n])),
+            ]
+            for n in range(m.system.n_mounts)
+        ],
+        "Mounts and the torque-roll axis",
+    )
+    axis = ", ".join(f"{v:.4f}" for v in m.roll_axis)
+    text = escape(f"Torque-roll axis through the CG along [{axis}] (engine axes).")
+    return f"<p>{text}</p>\n{modes}\n{response}\n{mounts}"

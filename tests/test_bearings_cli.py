@@ -1,0 +1,235 @@
+"""The bearing loads through the command line and the views (issue 15, CONTRACT §6)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from balance.cli import app
+from balance.core.analysis import compute
+from balance.core.bearings import analysis_bearings, bearing_loads, counterweights_of
+from balance.core.result import Request
+from balance.io.layout_file import load_layout
+
+runner = CliRunner()
+
+LAYOUT = """\
+name: twin with mains
+speed: 6000 rpm
+geometry: {stroke: 86 mm, conrod_length: 143 mm}
+masses: {reciprocating: 0.6 kg, rotating: 0.4 kg}
+crank: {throws: [0, 180], spacing: 90 mm}
+"""
+
+
+def run(*args: str):
+    return runner.invoke(app, list(args))
+
+
+def write(tmp_path: Path, text: str) -> str:
+    path = tmp_path / "layout.yaml"
+    path.write_text(text)
+    return str(path)
+
+
+def test_json_block_is_the_contract():
+    result = run("analyse", "inline-4", "--bearings", "--format", "json")
+    assert result.exit_code == 0, result.stderr
+    block = json.loads(result.stdout)["bearings"]
+    assert set(block) == {"crank_pins", "mains", "internal_moment"}
+    assert set(block["crank_pins"][0]) == {"z_m", "cylinders", "max_N", "mean_N"}
+    assert set(block["mains"][0]) == {
+        "z_m",
+        "max_N",
+        "mean_N",
+        "max_with_proposal_N",
+        "mean_with_proposal_N",
+    }
+    assert set(block["internal_moment"][0]) == {"z_m", "max_Nm", "max_with_proposal_Nm"}
+    assert [p["cylinders"] for p in block["crank_pins"]] == [[1], [2], [3], [4]]
+    assert [m["z_m"] for m in block["mains"]] == pytest.approx([-0.045, 0.045, 0.135, 0.225, 0.315])
+
+
+def test_not_computed_unless_asked():
+    result = run("analyse", "inline-4", "--format", "json")
+    assert result.exit_code == 0
+    assert "bearings" not in json.loads(result.stdout)
+    assert compute(load_layout("inline-4"), Request()).bearings is None
+
+
+def test_section_sets_the_mains_and_asks(tmp_path):
+    path = write(tmp_path, LAYOUT + "bearings:\n  mains: [-50 mm, 40 mm, 140 mm]\n")
+    result = run("analyse", path, "--format", "json")
+    assert result.exit_code == 0, result.stderr
+    mains = json.loads(result.stdout)["bearings"]["mains"]
+    assert [m["z_m"] for m in mains] == pytest.approx([-0.05, 0.04, 0.14])
+
+
+def test_empty_section_means_default_mains(tmp_path):
+    path = write(tmp_path, LAYOUT + "bearings: {}\n")
+    engine = load_layout(path)
+    assert engine.mains == pytest.approx((-0.045, 0.045, 0.135))
+
+
+@pytest.mark.parametrize(
+    ("section", "line", "field", "words"),
+    [
+        ("bearings:\n  mains: [0.05 mm]\n", 7, "bearings.mains", "at least two"),
+        ("bearings:\n  mains: [-45 mm, 45 mm, 40 mm]\n", 7, "bearings.mains[3]", "not after"),
+        ("bearings:\n  mains: [-45 mm, 90 mm, 135 mm]\n", 7, "bearings.mains[2]", "crank pin"),
+        ("bearings:\n  mains: [-45 mm, 45 kg]\n", 7, "bearings.mains", "length"),
+        ("bearings:\n  main: [-45 mm, 45 mm]\n", 7, "bearings.main", "mains"),
+    ],
+)
+def test_bad_section_names_line_and_field(tmp_path, section, line, field, words):
+    path = write(tmp_path, LAYOUT + section)
+    result = run("analyse", path, "--bearings")
+    assert result.exit_code != 0
+    message = result.stderr
+    assert f"{path}:{line}:" in message, message
+    assert field in message, message
+    assert words in message, message
+
+
+def test_table_shows_both_variants():
+    result = run("analyse", "inline-4", "--bearings")
+    assert result.exit_code == 0, result.stderr
+    for words in ("Crank-pin loads", "Main-bearing loads", "max with proposal [N]", "mean [N]"):
+        assert words in result.stdout
+
+
+def test_propose_shows_both_strategies_side_by_side():
+    result = run("propose", "inline-4", "--bearings", "--strategy", "per-throw")
+    assert result.exit_code == 0, result.stderr
+    out = result.stdout
+    assert "Counterweight strategies" in out
+    assert "two-plane" in out and "per-throw" in out
+    assert "largest main load [N]" in out and "largest internal moment [N m]" in out
+
+
+def test_factor_study_columns():
+    result = run("propose", "single", "--factor-study", "--bearings")
+    assert result.exit_code == 0, result.stderr
+    assert "largest main load [N]" in result.stdout
+    assert "largest internal moment [N m]" in result.stdout
+    plain = run("propose", "single", "--factor-study")
+    assert "largest main load" not in plain.stdout
+
+
+def test_factor_study_dataset_matches_single_analyses():
+    from balance.studies.factor import factor_study_dataset
+
+    engine = load_layout("single")
+    study = factor_study_dataset(engine, [0.0, 0.5, 1.0], bearings=True)
+    for i, f in enumerate((0.0, 0.5, 1.0)):
+        result = compute(engine, Request(balance_factor=f, bearings=True))
+        b = result.bearings
+        assert b is not None
+        assert float(study["study_largest_main_load"][i]) == pytest.approx(
+            float(np.max(b.main_max_with_proposal)), rel=1e-12
+        )
+        assert float(study["study_largest_internal_moment"][i]) == pytest.approx(
+            float(np.max(b.moment_max_with_proposal)), rel=1e-12
+        )
+        assert study["study_largest_main_load"].attrs["units"] == "N"
+
+
+def test_dataset_variables_have_units_and_long_names():
+    from balance.views.dataset import build_dataset
+
+    ds = build_dataset(compute(load_layout("inline-4"), Request(bearings=True)))
+    names = [v for v in ds.variables if "bearing" in v or "crank_pin" in v or "internal" in v]
+    assert "main_bearing_max_load_with_proposal" in names
+    assert "crank_pin_load_y" in names and "internal_moment_max" in names
+    for name in names:
+        assert ds[name].attrs.get("units"), name
+        assert ds[name].attrs.get("long_name"), name
+
+
+@pytest.mark.parametrize("strategy", ["two-plane", "per-throw"])
+@pytest.mark.parametrize("layout", ["inline-4", "v8-crossplane-gas", "single"])
+def test_result_equals_two_separate_computations(layout, strategy):
+    engine = load_layout(layout)
+    result = compute(engine, Request(bearings=True, strategy=strategy))
+    b = result.bearings
+    assert b is not None
+    cws = counterweights_of(result.balanced.proposal if result.balanced else None)
+    without, with_cw = bearing_loads(engine), bearing_loads(engine, counterweights=cws)
+    order = np.argsort(without.pin_z, kind="stable")
+    np.testing.assert_allclose(b.pin_max, without.pin_max[order], rtol=1e-12)
+    np.testing.assert_allclose(b.main_max, without.main_max, rtol=1e-12)
+    np.testing.assert_allclose(b.main_mean, without.main_mean, rtol=1e-12)
+    np.testing.assert_allclose(b.main_max_with_proposal, with_cw.main_max, rtol=1e-12)
+    np.testing.assert_allclose(b.main_mean_with_proposal, with_cw.main_mean, rtol=1e-12)
+    scale = float(np.max(with_cw.moment_max))
+    np.testing.assert_allclose(b.moment_max_with_proposal, with_cw.moment_max, atol=1e-12 * scale)
+    assert b.gas == (engine.gas is not None)
+
+
+def test_per_throw_counterweights_unload_the_centre_main_of_an_inline_4():
+    """The worked example of docs/bearings.md."""
+    engine = load_layout("inline-4")
+    two = analysis_bearings(
+        engine, counterweights_of(compute(engine, Request(strategy="two-plane")).balanced.proposal)
+    )
+    per = analysis_bearings(
+        engine, counterweights_of(compute(engine, Request(strategy="per-throw")).balanced.proposal)
+    )
+    centre = 2
+    assert per.main_max_with_proposal[centre] < 0.5 * two.main_max_with_proposal[centre]
+    assert np.max(per.moment_max_with_proposal) < np.max(two.moment_max_with_proposal)
+
+
+def test_plots_and_report(tmp_path):
+    result = run(
+        "plot",
+        "inline-4",
+        "-k",
+        "pin-load",
+        "-k",
+        "main-loads",
+        "-k",
+        "internal-moment",
+        "-o",
+        str(tmp_path),
+        "-f",
+        "svg",
+    )
+    assert result.exit_code == 0, result.stderr
+    for kind in ("pin_load", "main_loads", "internal_moment"):
+        assert (tmp_path / f"inline-4-{kind}.svg").stat().st_size > 1000
+    report = tmp_path / "r.html"
+    result = run("report", "inline-4", "--bearings", "-o", str(report))
+    assert result.exit_code == 0, result.stderr
+    html = report.read_text()
+    assert 'id="bearings"' in html and "Crank-pin loads" in html
+    assert 'id="figure-pin_load"' in html
+
+
+def test_default_plots_leave_out_bearing_kinds_without_loads(tmp_path):
+    from balance.views.plots import BEARING_KINDS, PLOT_KINDS
+
+    assert set(BEARING_KINDS) <= set(PLOT_KINDS)
+    result = compute(load_layout("inline-2-180"), Request())
+    for kind in BEARING_KINDS:  # a figure that says what to ask for, not an error
+        fig = PLOT_KINDS[kind](result)
+        texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+        assert any("--bearings" in t for t in texts)
+    written = __import__("balance.views.plots", fromlist=["save_plots"]).save_plots(
+        result, tmp_path, fmt="svg"
+    )
+    assert not any(kind in p.name for p in written for kind in BEARING_KINDS)
+
+
+def test_expand_keeps_the_mains(tmp_path):
+    path = write(tmp_path, LAYOUT + "bearings: {}\n")
+    result = run("layout", "expand", path)
+    assert result.exit_code == 0, result.stderr
+    assert "bearings:" in result.stdout and "-45 mm" in result.stdout
+    again = tmp_path / "expanded.yaml"
+    again.write_text(result.stdout)
+    assert load_layout(str(again)).mains == pytest.approx((-0.045, 0.045, 0.135))
