@@ -34,8 +34,8 @@ With **lumped** masses the rod's inertia is not known: the model is the two-mass
 throw and main loads do not depend on this split).  Without ``conrod_inertia`` a by-part
 rod is likewise taken with the two-mass inertia :math:`m_c a (l - a)`.
 
-References
-----------
+.. rubric:: References
+
 C. F. Taylor, *The Internal-Combustion Engine in Theory and Practice*, vol. 2, 2nd ed., MIT
 Press 1985, ch. 8 (inertia forces of the reciprocating and rotating parts, the two-mass
 conrod).  A. Kolchin and V. Demidov, *Design of Automotive Engines*, Mir 1984 (forces on
@@ -58,6 +58,7 @@ from balance.core.balancing import Proposal, throw_groups
 from balance.core.engine import Engine
 from balance.core.gas import model_pressure
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
+from balance.core.speed import speed_squared
 
 __all__ = [
     "BearingLoads",
@@ -336,7 +337,7 @@ def big_end_forces(
     beta = th + col(engine.throw) - col(engine.bank)
     _, _, d2s = normalised_slider(beta, lam, e / r)
     _, d2g = conrod_angle_derivatives(beta, lam, e / r)
-    w2 = engine.speed**2
+    w2 = float(speed_squared(engine.speed))
     sin_b, cos_b = np.sin(beta), np.cos(beta)
     u = lam * (sin_b - e / r)
     d_x = -length * u
@@ -479,7 +480,7 @@ class _Model:
         self.pin_throw[group] = engine.throw
         self.sum_pins = np.zeros((n_pins, engine.n_cylinders))
         self.sum_pins[group, np.arange(engine.n_cylinders)] = 1.0
-        w2 = engine.speed**2
+        w2 = float(speed_squared(engine.speed))
         # centrifugal force of each cylinder's share of the crank unbalance, at theta = 0
         unbalance = crank_unbalance_share(engine) * engine.crank_radius * w2
         self.throw_extra = self.sum_pins @ (unbalance * np.exp(1j * engine.throw))
@@ -807,7 +808,7 @@ def analysis_bearings(
     with_gas = gas and engine.gas is not None
     model = _Model(engine, zm, (), with_gas)
     n_pins, n_mains = model.pin_z.size, zm.size
-    w2 = engine.speed**2
+    w2 = float(speed_squared(engine.speed))
     cw_z = np.array([z for z, _ in cws], dtype=np.float64)
     cw_u = np.array([u for _, u in cws], dtype=np.complex128) * w2
     has_cw = bool(cw_z.size) and bool(np.any(cw_u != 0))
@@ -917,7 +918,7 @@ def largest_loads(
     with_gas = gas and engine.gas is not None
     model = _Model(engine, zm, (), with_gas)
     n_pins, n_mains, n_sets = model.pin_z.size, zm.size, len(counterweight_sets)
-    w2 = engine.speed**2
+    w2 = float(speed_squared(engine.speed))
     cw_main = np.zeros((n_sets, n_mains), dtype=np.complex128)
     cw_moment = np.zeros((n_sets, n_mains), dtype=np.complex128)
     for s, cws in enumerate(counterweight_sets):

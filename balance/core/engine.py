@@ -9,14 +9,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from balance.core.errors import InputError
-from balance.core.gas import GasInput
-from balance.core.masses import MassParts
-from balance.core.mounts import MountSystem
+
+if TYPE_CHECKING:  # pragma: no cover (annotations only: gas and mounts load when used)
+    from balance.core.gas import GasInput
+    from balance.core.masses import MassParts
+    from balance.core.mounts import MountSystem
 
 __all__ = ["CYLINDER_FIELDS", "STRATEGIES", "BalanceSettings", "Engine"]
 

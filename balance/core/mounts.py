@@ -43,19 +43,18 @@ all orders is one batched linear solve).  The core assumes valid input:
 :mod:`balance.io.mounts_section` checks a ``mounts:`` section before building a
 :class:`MountSystem`.
 
-References
-----------
-.. [1] C. M. Harris and A. G. Piersol (eds.), *Harris' Shock and Vibration Handbook*,
-   5th ed., McGraw-Hill, 2002, ch. 3 (H. Himelblau and S. Rubin, "Vibration of a
-   resiliently supported rigid body"): equations of motion in CG coordinates, the
-   stiffness matrix of a set of resilient supports, decoupled modes of symmetric systems.
-.. [2] F. F. Timpner, "Design considerations in engine mounting", SAE Technical Paper
-   650093, 1965: the engine as a rigid body on mounts, the torque-roll axis, decoupling.
-.. [3] T. Jeong and R. Singh, "Analytical methods of decoupling the automotive engine
-   torque roll axis", *Journal of Sound and Vibration* 234(1), 2000, pp. 85-114: the
-   torque-roll axis as the direction :math:`\mathbf{J}^{-1}\hat{\mathbf{e}}` of the free
-   body's rotation under a torque about the crank axis, and the conditions for a mount
-   system to decouple it.
+.. rubric:: References
+
+C. M. Harris and A. G. Piersol (eds.), *Harris' Shock and Vibration Handbook*, 5th ed.,
+McGraw-Hill, 2002, ch. 3 (H. Himelblau and S. Rubin, "Vibration of a resiliently supported
+rigid body"): equations of motion in CG coordinates, the stiffness matrix of a set of
+resilient supports, decoupled modes of symmetric systems.  F. F. Timpner, "Design
+considerations in engine mounting", SAE Technical Paper 650093, 1965: the engine as a rigid
+body on mounts, the torque-roll axis, decoupling.  T. Jeong and R. Singh, "Analytical
+methods of decoupling the automotive engine torque roll axis", *Journal of Sound and
+Vibration* 234(1), 2000, pp. 85-114: the torque-roll axis as the direction
+:math:`\mathbf{J}^{-1}\hat{\mathbf{e}}` of the free body's rotation under a torque about the
+crank axis, and the conditions for a mount system to decouple it.
 """
 
 from __future__ import annotations

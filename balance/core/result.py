@@ -11,15 +11,17 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.core.balancing import Proposal
-from balance.core.bearings import Bearings
-from balance.core.engine import Engine
-from balance.core.mounts import MountsResult
-from balance.core.torque import TorqueResult
+if TYPE_CHECKING:  # pragma: no cover (annotations only: each part loads when computed)
+    from balance.core.balancing import Proposal
+    from balance.core.bearings import Bearings
+    from balance.core.engine import Engine
+    from balance.core.mounts import MountsResult
+    from balance.core.torque import TorqueResult
 
 __all__ = ["Balanced", "Phasors", "Request", "Result"]
 

@@ -31,7 +31,6 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from balance.core.bearings import engine_default_mains
 from balance.core.engine import Engine
 from balance.io.problems import FieldProblem
 from balance.io.units import parse_quantity
@@ -83,6 +82,8 @@ def main_positions(spec: BearingsSpec | None, engine: Engine) -> NDArray[np.floa
         When a main lies in the plane of a crank pin (``at = ("mains", j)``).
     """
     if spec is None or spec.mains is None:
+        from balance.core.bearings import engine_default_mains
+
         return engine_default_mains(engine)
     return check_mains(spec.mains, engine.z)
 

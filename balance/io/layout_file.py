@@ -14,18 +14,16 @@ import difflib
 import math
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ValidationError
 
-from balance.core.bearings import default_mains
 from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine
 from balance.core.errors import InputError, LayoutError, Location
 from balance.core.gas import GasInput, GasModel, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
-from balance.core.mounts import MountSystem
 from balance.core.speed import rad_per_s_to_rpm
 from balance.io.bearings_section import check_mains
 from balance.io.schema import (
@@ -42,7 +40,10 @@ from balance.io.schema import (
 )
 from balance.io.traces import read_pressure_trace
 from balance.io.units import UnitProblem
-from balance.io.yamlsource import SourceDocument, decode_text, dotted_path, parse_yaml
+
+if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.mounts import MountSystem
+from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
 
 __all__ = [
     "builtin_layout_names",
@@ -133,16 +134,7 @@ def _read_document(source: str | Path) -> SourceDocument:
         and not source.endswith((".yaml", ".yml"))
     ):
         path = builtin_layout_path(source)
-    if not path.exists():
-        raise InputError(f"{source}: no such file")
-    if path.is_dir():
-        raise InputError(f"{source}: is a directory, not a layout file")
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{source}: cannot read ({exc.strerror})") from None
-    text = decode_text(raw, str(source))
-    return parse_yaml(text, str(path))
+    return read_yaml_file(path, source, "layout file")
 
 
 def layout_from_text(text: str, file: str = "<input>") -> Engine:
@@ -423,6 +415,8 @@ def _mains(
     if spec.bearings is None:
         return None
     if spec.bearings.mains is None:
+        from balance.core.bearings import default_mains
+
         return tuple(float(v) for v in default_mains(z, pitch, stroke))
     try:
         mains = check_mains(spec.bearings.mains, z)

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, BeforeValidator, Field, ValidationError, model_validator
 
-from balance.core.errors import InputError, LayoutError
+from balance.core.errors import LayoutError
 from balance.core.mounts import (
     COORDINATES,
     MountPoint,
@@ -34,7 +34,7 @@ from balance.core.mounts import (
 )
 from balance.io.schema import FieldProblem, Length, Mass, _q, _Strict
 from balance.io.units import UnitProblem, registry
-from balance.io.yamlsource import SourceDocument, decode_text, dotted_path, parse_yaml
+from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
 
 __all__ = [
     "InertiaSpec",
@@ -300,32 +300,11 @@ def load_mounts(source: str | Path) -> MountSystem:
     InputError
         If the file cannot be found or read.
     """
-    path = Path(source)
-    if not path.exists():
-        raise InputError(f"{source}: no such file")
-    if path.is_dir():
-        raise InputError(f"{source}: is a directory, not a mounts file")
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise InputError(f"{source}: cannot read ({exc.strerror})") from None
-    return _from_document(parse_yaml(decode_text(raw, str(source)), str(path)))
+    return _from_document(read_yaml_file(Path(source), source, "mounts file"))
 
 
 def mounts_from_text(text: str, file: str = "<input>") -> MountSystem:
-    """A mount system from YAML text (see :func:`load_mounts`).
-
-    Parameters
-    ----------
-    text : str
-        The YAML document.
-    file : str
-        Name used in error messages.
-
-    Returns
-    -------
-    MountSystem
-    """
+    """A mount system from YAML text (see :func:`load_mounts`); ``file`` names it in messages."""
     return _from_document(parse_yaml(text, file))
 
 

@@ -10,13 +10,14 @@ nested deeper than any layout needs.
 
 from __future__ import annotations
 
+import pathlib
 from collections.abc import Collection
 from dataclasses import dataclass, field
 from typing import Any
 
 import yaml
 
-from balance.core.errors import LayoutError, Location
+from balance.core.errors import InputError, LayoutError, Location
 
 __all__ = [
     "MAX_BYTES",
@@ -26,6 +27,7 @@ __all__ = [
     "decode_text",
     "dotted_path",
     "parse_yaml",
+    "read_yaml_file",
 ]
 
 #: Largest layout file read [bytes].  Real layouts are a few kilobytes.
@@ -212,6 +214,25 @@ def decode_text(raw: bytes, file: str) -> str:
             valid="save the file as UTF-8 text",
         ) from None
     return text
+
+
+def read_yaml_file(path: pathlib.Path, source: str | pathlib.Path, what: str) -> SourceDocument:
+    """Read, decode and parse a YAML file (a layout, a mounts file).
+
+    ``source`` is the name the user gave (used in the messages), ``what`` names the kind of
+    file for the message when ``path`` is a directory. A missing, unreadable or directory
+    path is an :class:`~balance.core.errors.InputError`; the text is decoded by
+    :func:`decode_text` and parsed by :func:`parse_yaml`.
+    """
+    if not path.exists():
+        raise InputError(f"{source}: no such file")
+    if path.is_dir():
+        raise InputError(f"{source}: is a directory, not a {what}")
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{source}: cannot read ({exc.strerror})") from None
+    return parse_yaml(decode_text(raw, str(source)), str(path))
 
 
 def parse_yaml(text: str, file: str = "<input>") -> SourceDocument:

@@ -54,6 +54,24 @@ def _mm(value: float) -> str:
     return f"{value * 1e3:.4g}"
 
 
+def _main_rows(b: Bearings) -> list[list[str]]:
+    """One row of text per main (table and report): number, z, loads without and with the
+    proposal, internal moments."""
+    return [
+        [
+            str(m + 1),
+            _mm(float(b.main_z[m])),
+            _fmt(float(b.main_max[m])),
+            _fmt(float(b.main_mean[m])),
+            _fmt(float(b.main_max_with_proposal[m])),
+            _fmt(float(b.main_mean_with_proposal[m])),
+            _fmt(float(b.moment_max[m])),
+            _fmt(float(b.moment_max_with_proposal[m])),
+        ]
+        for m in range(b.main_z.size)
+    ]
+
+
 def largest(b: Bearings) -> dict[str, float]:
     """The largest main-bearing load [N] and internal moment [N m], without and with the
     proposal (the figures a strategy or balance factor is chosen by)."""
@@ -68,36 +86,38 @@ def largest(b: Bearings) -> dict[str, float]:
 # --------------------------------------------------------------------------- JSON
 
 
+def _records(columns: dict[str, Any]) -> list[dict[str, Any]]:
+    """Rows of a JSON list from equal-length columns, in the order of the keys: numbers as
+    ``float``, tuples (cylinder numbers) as lists."""
+    n = len(next(iter(columns.values())))
+    return [
+        {k: list(v[i]) if isinstance(v[i], tuple) else float(v[i]) for k, v in columns.items()}
+        for i in range(n)
+    ]
+
+
 def bearings_json(b: Bearings) -> dict[str, Any]:
     """The ``"bearings"`` block of the JSON result, exactly as CONTRACT §6."""
     return {
-        "crank_pins": [
+        "crank_pins": _records(
+            {"z_m": b.pin_z, "cylinders": b.pin_cylinders, "max_N": b.pin_max, "mean_N": b.pin_mean}
+        ),
+        "mains": _records(
             {
-                "z_m": float(b.pin_z[j]),
-                "cylinders": list(b.pin_cylinders[j]),
-                "max_N": float(b.pin_max[j]),
-                "mean_N": float(b.pin_mean[j]),
+                "z_m": b.main_z,
+                "max_N": b.main_max,
+                "mean_N": b.main_mean,
+                "max_with_proposal_N": b.main_max_with_proposal,
+                "mean_with_proposal_N": b.main_mean_with_proposal,
             }
-            for j in range(b.pin_z.size)
-        ],
-        "mains": [
+        ),
+        "internal_moment": _records(
             {
-                "z_m": float(b.main_z[m]),
-                "max_N": float(b.main_max[m]),
-                "mean_N": float(b.main_mean[m]),
-                "max_with_proposal_N": float(b.main_max_with_proposal[m]),
-                "mean_with_proposal_N": float(b.main_mean_with_proposal[m]),
+                "z_m": b.main_z,
+                "max_Nm": b.moment_max,
+                "max_with_proposal_Nm": b.moment_max_with_proposal,
             }
-            for m in range(b.main_z.size)
-        ],
-        "internal_moment": [
-            {
-                "z_m": float(b.main_z[m]),
-                "max_Nm": float(b.moment_max[m]),
-                "max_with_proposal_Nm": float(b.moment_max_with_proposal[m]),
-            }
-            for m in range(b.main_z.size)
-        ],
+        ),
     }
 
 
@@ -139,17 +159,8 @@ def bearings_tables(b: Bearings) -> list[RenderableType]:
         "moment max with proposal [N m]",
     ):
         mains.add_column(label, justify="right")
-    for m in range(b.main_z.size):
-        mains.add_row(
-            str(m + 1),
-            _mm(float(b.main_z[m])),
-            _fmt(float(b.main_max[m])),
-            _fmt(float(b.main_mean[m])),
-            _fmt(float(b.main_max_with_proposal[m])),
-            _fmt(float(b.main_mean_with_proposal[m])),
-            _fmt(float(b.moment_max[m])),
-            _fmt(float(b.moment_max_with_proposal[m])),
-        )
+    for cells in _main_rows(b):
+        mains.add_row(*cells)
     big = largest(b)
     note = Text(
         f"Largest main load {_fmt(big['main_max_N'])} N, with proposal "
@@ -461,19 +472,7 @@ def bearings_report_section(
             "moment max [N m]",
             "moment max with proposal [N m]",
         ],
-        [
-            [
-                str(m + 1),
-                _mm(float(b.main_z[m])),
-                _fmt(float(b.main_max[m])),
-                _fmt(float(b.main_mean[m])),
-                _fmt(float(b.main_max_with_proposal[m])),
-                _fmt(float(b.main_mean_with_proposal[m])),
-                _fmt(float(b.moment_max[m])),
-                _fmt(float(b.moment_max_with_proposal[m])),
-            ]
-            for m in range(b.main_z.size)
-        ],
+        _main_rows(b),
         f"Main-bearing loads ({gas}) and internal moments (inertia only)",
     )
     text = (

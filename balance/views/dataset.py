@@ -1,4 +1,10 @@
-"""The result Dataset: built once, every view (table, JSON, CSV, netCDF) reads it.
+"""The result Dataset, a view of the :class:`~balance.core.result.Result`.
+
+Every view reads the ``Result``; this one, :func:`build_dataset` (``build_dataset(result)``),
+builds the ``xarray.Dataset`` for the Python API and the netCDF writer.  JSON, CSV and the
+table read the ``Result`` directly and do not go through the Dataset.  With bearing loads
+or mounts in the result, their variables are added (:mod:`balance.views.bearings`,
+:mod:`balance.views.mounts`).
 
 Variables (every one has ``units`` and ``long_name``):
 
