@@ -828,12 +828,12 @@ def analysis_bearings(
     theta_rev = 2.0 * np.pi * np.arange(curve_samples) / curve_samples
     if with_gas:
         assert engine.gas is not None
-        moment_stats = _spectral_stats(
-            k,
+        moment_rows = (
             series[b1:b2]
             if not has_cw
-            else np.concatenate([series[b1:b2], series[moments_with]], axis=0),
+            else np.concatenate([series[b1:b2], series[moments_with]], axis=0)
         )
+        moment_stats = _spectral_stats(k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool))
         moment_max = moment_stats.maximum[:n_mains]
         moment_max_with = moment_stats.maximum[n_mains:] if has_cw else moment_max
         cycle = math.radians(engine.gas.cycle_deg)
@@ -856,7 +856,10 @@ def analysis_bearings(
         main_max_with = maximum[b1 : b1 + n_mains] if has_cw else maximum[b0:b1]
         main_mean_with = mean[b1 : b1 + n_mains] if has_cw else mean[b0:b1]
     else:
-        stats = _spectral_stats(k, series)
+        mean_wanted = np.zeros(series.shape[0], dtype=bool)
+        mean_wanted[:b1] = True
+        mean_wanted[mains_with] = True
+        stats = _spectral_stats(k, series, mean_wanted)
         maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
         cycle = 2.0 * np.pi
         theta = theta_rev
@@ -944,10 +947,13 @@ def largest_loads(
 
         nodes, weights, edges = _gas_nodes(engine, model)
         main_max = _weighted_stats(loads, nodes, weights, edges, cycle).maximum
-        moment_max = _spectral_stats(k, moment_rows).maximum
+        moment_max = _spectral_stats(
+            k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool)
+        ).maximum
     else:
         main_rows = (mains_c[None] + cw_main[:, :, None] * one).reshape(-1, k.size)
-        stats = _spectral_stats(k, np.concatenate([main_rows, moment_rows], axis=0))
+        rows = np.concatenate([main_rows, moment_rows], axis=0)
+        stats = _spectral_stats(k, rows, np.zeros(rows.shape[0], dtype=bool))
         main_max, moment_max = (
             stats.maximum[: main_rows.shape[0]],
             stats.maximum[main_rows.shape[0] :],
@@ -1028,8 +1034,15 @@ def _newton_extremum(
     return th, np.abs((np.exp(1j * th[..., None] * k) * c0).sum(axis=-1))
 
 
-def _spectral_stats(k: NDArray[np.intp], coeffs: ComplexArray) -> _Stats:
-    """Refined maximum and mean of :math:`|F|` for each row of Fourier coefficients."""
+def _spectral_stats(
+    k: NDArray[np.intp], coeffs: ComplexArray, mean_wanted: NDArray[np.bool_] | None = None
+) -> _Stats:
+    """Refined maximum and mean of :math:`|F|` for each row of Fourier coefficients.
+
+    ``mean_wanted`` (a mask over the rows, default all) names the rows whose mean is
+    reported; the others get the sampled mean only, without the graded refinement near a
+    zero of :math:`|F|` (internal moments report their maximum alone).
+    """
     n_q = coeffs.shape[0]
     n = max(START_GRID, 4 * k.size)
     values = np.abs(_grid_values(k, coeffs, n))
@@ -1063,7 +1076,8 @@ def _spectral_stats(k: NDArray[np.intp], coeffs: ComplexArray) -> _Stats:
     rows = np.arange(n_q)
     maximum, argmax = val[rows, pick], np.mod(th[rows, pick], 2.0 * np.pi)
     # near-singular quantities: graded Gauss-Legendre from the minimum of |F|
-    slow = np.flatnonzero(~converged & (top > 0))
+    wanted = np.ones(n_q, dtype=bool) if mean_wanted is None else mean_wanted
+    slow = np.flatnonzero(~converged & (top > 0) & wanted)
     dips = (values <= np.roll(values, 1, axis=1)) & (values <= np.roll(values, -1, axis=1))
     top_order = int(np.max(np.abs(k)))
     for row in slow:
