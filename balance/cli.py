@@ -979,7 +979,8 @@ def expand_command(
 
 def _terminate(signum: int, frame: Any) -> None:
     """SIGTERM, and SIGINT during a write: remove the run's temporary files and end at once
-    (:func:`balance.io.atomic.exit_now`).  An exception raised here would unwind through
+    (:func:`balance.io.atomic.exit_now`), or, while a Zarr store is written, at its next
+    checkpoint (a second signal: at once).  An exception raised here would unwind through
     the interrupted library code, which can hang on a lock it held (xarray's netCDF writer)."""
     atomic = sys.modules.get("balance.io.atomic")
     writing = atomic is not None and atomic.writing()
@@ -988,6 +989,8 @@ def _terminate(signum: int, frame: Any) -> None:
             raise KeyboardInterrupt
         os.write(2, b"balance: interrupted\n")
     if atomic is not None:
+        if atomic.stop_at_checkpoint(128 + signum):  # a Zarr store: stop between chunks
+            return
         atomic.exit_now(128 + signum)
     os._exit(128 + signum)
 

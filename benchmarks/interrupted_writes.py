@@ -180,7 +180,9 @@ def warm_up() -> None:
             sys.argv = ["balance", *argv]
             with contextlib.suppress(SystemExit), contextlib.redirect_stderr(io.StringIO()):
                 main()
+    # main() set its handlers; a child must start as a fresh interpreter does
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 if __name__ == "interrupted_writes" and os.environ.pop("INTERRUPTED_WRITES_WARM_UP", ""):
@@ -191,13 +193,13 @@ def run_cli(argv: list[str]) -> None:
     """A forked ``balance`` run: the command line's main, then what interpreter exit does."""
     import atexit
 
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, 1)
-    os.dup2(devnull, 2)
-    threading.Thread(target=time.sleep, args=(3600,), daemon=True).start()  # as OpenBLAS
-    sys.argv = ["balance", *argv]
     code: Any = 0
-    try:
+    try:  # (a signal may come at any moment, this one included)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 1)
+        os.dup2(devnull, 2)
+        threading.Thread(target=time.sleep, args=(3600,), daemon=True).start()  # as OpenBLAS
+        sys.argv = ["balance", *argv]
         from balance.cli import main
 
         main()
@@ -416,6 +418,7 @@ def kill_once(
             tally.problem(f"{key}: a completed write left {temporaries}")
         elif sig_name == "KILL":
             tally.add("hidden temporaries left by SIGKILL", len(fresh))
+            tally.add(f"left by SIGKILL in {scenario.name}", len(fresh))
         else:
             tally.add(f"temporaries left by SIG{sig_name}", len(fresh))
             tally.problem(f"{key} {mode} rc={rc}: SIG{sig_name} left {fresh}")
@@ -505,8 +508,13 @@ def main() -> int:
         f"({args.jobs} at a time, {args.load} CPU burners)"
     )
     for key, value in counts.items():
-        if not key.startswith("runs of "):
+        if not key.startswith(("runs of ", "left by SIGKILL in ")):
             print(f"  {key}: {value}")
+    print("  hidden temporaries left by SIGKILL (removed by the next write), per scenario:")
+    for scenario in SCENARIOS:
+        kills = counts.get(f"runs of {scenario.name} SIGKILL", 0)
+        left = counts.get(f"left by SIGKILL in {scenario.name}", 0)
+        print(f"    {scenario.name}: {left} after {kills} kills")
     print("  per scenario and signal:")
     for key, value in counts.items():
         if key.startswith("runs of "):

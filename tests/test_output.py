@@ -98,6 +98,62 @@ def test_killed_netcdf_write_leaves_the_old_file_intact(tmp_path, sig):
     assert hits, "never caught the run while it was writing"
 
 
+def test_terminated_zarr_sweep_keeps_the_old_store(tmp_path):
+    """SIGTERM while a Zarr store is written (its chunks by zarr's thread pool): the run
+    stops at the next chunk, when no thread writes, and leaves nothing behind."""
+    target = tmp_path / "out" / "sweep.zarr"
+    target.parent.mkdir()
+    vary = ["--vary", "speed=1000rpm:8000rpm:200", "--vary", "conrod_length=130mm:160mm:100"]
+    command = [sys.executable, "-m", "balance", "sweep", "inline-4", *vary, "--chunk-size", "250"]
+    for _ in range(10):
+        shutil.rmtree(target, ignore_errors=True)
+        target.mkdir()
+        (target / "zarr.json").write_bytes(OLD)  # a store balance may replace
+        proc = subprocess.Popen(
+            [*command, "-o", str(target), "--force"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and proc.poll() is None:
+            if list(target.parent.glob(".sweep.zarr.*.part/*/c/3")):  # chunks being written
+                proc.send_signal(signal.SIGTERM)
+                break
+            time.sleep(0.0002)
+        proc.wait(timeout=120)
+        assert os.listdir(target.parent) == ["sweep.zarr"]
+        kept = os.listdir(target) == ["zarr.json"] and (target / "zarr.json").read_bytes() == OLD
+        if kept and proc.returncode == 128 + signal.SIGTERM:
+            break
+        import xarray as xr
+
+        with xr.open_zarr(target) as ds:  # else the run had finished: the whole new store
+            assert ds.sizes["speed"] == 200 and ds.sizes["conrod_length"] == 100
+    else:
+        pytest.fail("never caught the run while it was writing")
+
+
+def test_a_signal_during_a_directory_write_stops_it_at_a_checkpoint(tmp_path, monkeypatch):
+    monkeypatch.setattr(atomic, "_STOP", [])
+    target = tmp_path / "store.zarr"
+    target.mkdir()
+    (target / "zarr.json").write_bytes(OLD)
+    assert not atomic.stop_at_checkpoint(143)  # no threaded write: the handler exits at once
+    asked = []
+
+    def write(tmp: Path) -> None:
+        (tmp / "zarr.json").write_bytes(NEW)
+        asked.append(atomic.stop_at_checkpoint(143))  # a signal while chunks are written
+        asked.append(atomic.stop_at_checkpoint(143))  # a second one: end at once
+        (tmp / "c").write_bytes(NEW)  # the writer goes on to its next checkpoint
+
+    with pytest.raises(SystemExit) as stop:
+        write_atomic_directory(target, write, force=True, is_replaceable=lambda _: True)
+    assert stop.value.code == 143 and asked == [True, False]
+    assert os.listdir(target) == ["zarr.json"] and (target / "zarr.json").read_bytes() == OLD
+    assert os.listdir(tmp_path) == ["store.zarr"]
+
+
 class _Interrupt(BaseException):
     """Stands for the KeyboardInterrupt or SystemExit a signal handler raises."""
 

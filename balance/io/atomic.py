@@ -4,15 +4,23 @@ An existing file is only replaced when asked to (``force``), and the target path
 holds the previous file or the complete new one, never a part of either.  What is promised
 when a write is interrupted:
 
-* **An exception, SIGINT or SIGTERM** (the command line turns SIGTERM into ``SystemExit``):
-  no temporary file or directory is left behind, whatever the moment.  The temporary's
-  name is chosen and registered *before* it is created, so there is no moment at which it
-  exists without the code that removes it knowing its name.  (Blocking the signals around
-  the creation is not enough: a signal mask is per thread, and a process-directed signal
-  is taken by any thread that does not block it, such as the OpenBLAS workers numpy
-  starts, after which Python runs the handler in the main thread at once.)  Removal runs
-  from the exception handler and again at interpreter exit, in case a second signal
-  interrupted the first attempt.
+* **SIGTERM or SIGINT in the command line**: no temporary file or directory is left
+  behind, whatever the moment.  The command line's handler removes the run's temporaries
+  and ends the process at once (:func:`exit_now`); it raises nothing into the interrupted
+  code, which could then hang on a lock it held (xarray's netCDF writer can).  A Zarr
+  store, whose chunks zarr writes from a thread pool, is instead stopped at its next
+  :func:`checkpoint` (between chunks, when no thread writes into it); a second signal
+  ends it at once.
+* **An exception** (including the ``KeyboardInterrupt`` or ``SystemExit`` a library user's
+  signal handler raises): likewise nothing is left once the process exits.  The
+  temporary's name is chosen and registered *before* it is created, so there is no moment
+  at which it exists without the code that removes it knowing its name.  (Blocking the
+  signals around the creation is not enough: a signal mask is per thread, and a
+  process-directed signal is taken by any thread that does not block it, such as the
+  OpenBLAS workers numpy starts, after which Python runs the handler in the main thread at
+  once.)  Removal runs from the exception handler and again at interpreter exit, after
+  the other threads have finished, in case the first attempt was itself interrupted or a
+  writer's thread was still writing.
 * **SIGKILL or a crash** (no code runs): the target is still the previous file or the
   complete new one.  Output given as bytes is written to an anonymous ``O_TMPFILE`` file
   (Linux, on file systems that support it) and linked into place only when complete, so
@@ -54,7 +62,9 @@ from balance.core.errors import InputError
 __all__ = [
     "check_directory_target",
     "check_target",
+    "checkpoint",
     "exit_now",
+    "stop_at_checkpoint",
     "write_atomic",
     "write_atomic_directory",
     "writing",
@@ -169,13 +179,18 @@ def _settle_old(old: Path, target: Path) -> None:
     _discard(old)
 
 
-#: Temporaries of this process that exist or are about to, with how to remove each
+#: Temporaries of this process that exist or are about to: how to remove each, and whether
+#: its writer writes from other threads (a Zarr store's chunks are written by a thread pool)
 #: (keyed by path; the pid guards against a forked child removing its parent's files).
-_PENDING: dict[Path, tuple[int, Callable[[], None]]] = {}
+_PENDING: dict[Path, tuple[int, Callable[[], None], bool]] = {}
+
+#: Exit codes asked for by a signal while a threaded write was under way (see
+#: :func:`stop_at_checkpoint`).
+_STOP: list[int] = []
 
 
-def _register(path: Path, cleanup: Callable[[], None]) -> None:
-    _PENDING[path] = (os.getpid(), cleanup)
+def _register(path: Path, cleanup: Callable[[], None], threaded: bool = False) -> None:
+    _PENDING[path] = (os.getpid(), cleanup, threaded)
 
 
 def _unregister(path: Path) -> None:
@@ -184,7 +199,7 @@ def _unregister(path: Path) -> None:
 
 @atexit.register
 def _clean_up_at_exit() -> None:
-    for path, (pid, cleanup) in list(_PENDING.items()):
+    for path, (pid, cleanup, _) in list(_PENDING.items()):
         if pid == os.getpid():
             cleanup()
         _PENDING.pop(path, None)
@@ -193,7 +208,7 @@ def _clean_up_at_exit() -> None:
 def writing() -> bool:
     """Whether this process has a write under way (or a failed one not yet cleaned up)."""
     pid = os.getpid()
-    return any(owner == pid for owner, _ in list(_PENDING.values()))
+    return any(entry[0] == pid for entry in list(_PENDING.values()))
 
 
 def exit_now(code: int) -> NoReturn:
@@ -207,6 +222,36 @@ def exit_now(code: int) -> NoReturn:
     """
     _clean_up_at_exit()
     os._exit(code)
+
+
+def stop_at_checkpoint(code: int) -> bool:
+    """For a signal handler: if a write whose writer uses threads is under way, ask it to
+    stop at its next :func:`checkpoint` (``SystemExit(code)`` raised there) and return
+    True; return False if there is none, or if a signal has asked already (then the
+    handler should :func:`exit_now`).
+
+    Removing a directory while the writer's threads still write into it (and re-create
+    it) could leave a part behind; at a checkpoint none of them is writing.
+    """
+    pid = os.getpid()
+    threaded = any(entry[0] == pid and entry[2] for entry in list(_PENDING.values()))
+    if not threaded or _STOP:
+        return False
+    _STOP.append(code)
+    return True
+
+
+def checkpoint() -> None:
+    """Where a threaded writer has no write in flight (between the chunks of a sweep, and
+    before a written directory is moved into place): end the run if a signal asked to.
+
+    Raises
+    ------
+    SystemExit
+        With the code the signal asked for (:func:`stop_at_checkpoint`).
+    """
+    if _STOP:
+        raise SystemExit(_STOP[0])
 
 
 def _remove_orphans(directory: str | Path) -> list[Path]:
@@ -430,20 +475,24 @@ def write_atomic_directory(
     target = check_directory_target(path, force, is_replaceable)
     _remove_orphans(target.parent)
     tmp = _temporary(target, "part")
-    _register(tmp, lambda: _discard(tmp))
+    _register(tmp, lambda: _discard(tmp), threaded=True)
     try:
         os.mkdir(tmp, 0o777)
         write(tmp)
-        # after an exchange tmp holds the previous target, which the finally removes
+        checkpoint()  # a signal during the write: stop here, with the old target in place
+        # after an exchange tmp holds the previous target, removed below
         if not (os.path.lexists(target) and _exchange(tmp, target)):
             if os.path.lexists(target):
                 _replace_by_moving_aside(tmp, target)
             else:
                 os.replace(tmp, target)
-    finally:
+    except BaseException:
         _discard(tmp)
-    # a failed write stays registered: removed again at exit, after the threads of the
-    # writer (Zarr writes chunks from a thread pool) have finished with it
+        # no longer written, but still registered: removed again at exit, after the threads
+        # of the writer (Zarr writes chunks from a thread pool) have finished with it
+        _register(tmp, lambda: _discard(tmp))
+        raise
+    _discard(tmp)
     _unregister(tmp)
     return target
 

@@ -666,7 +666,7 @@ def _write_zarr(
 
     import zarr
 
-    from balance.io.atomic import write_atomic_directory
+    from balance.io.atomic import checkpoint, write_atomic_directory
 
     K = plan.orders.size
     tails = {"order": K, "rotation": 2, "roll_order": K}
@@ -700,6 +700,7 @@ def _write_zarr(
             )
 
         def sink(where: tuple[slice, ...], result: dict[str, FloatArray]) -> None:
+            checkpoint()  # no chunk in flight: where a signal may stop the write
             for key, values in result.items():
                 arrays[key][where] = values
 
