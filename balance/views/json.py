@@ -35,7 +35,8 @@ def json_number(value: Any) -> float | None:
 _num = json_number  # the short name this module uses
 
 
-def _order_value(order: float) -> float | int:
+def order_value(order: float) -> float | int:
+    """An order as JSON writes it: a whole number as an int, a half order as a float."""
     return int(order) if float(order).is_integer() else float(order)
 
 
@@ -78,7 +79,7 @@ def _roll(orders: ArrayLike, roll: ComplexArray) -> list[dict[str, Any]]:
     amplitude = np.abs(roll)
     phase = phase_deg(roll)
     return [
-        {"order": _order_value(k), "amplitude": _num(amplitude[i]), "phase_deg": _num(phase[i])}
+        {"order": order_value(k), "amplitude": _num(amplitude[i]), "phase_deg": _num(phase[i])}
         for i, k in enumerate(np.asarray(orders))
     ]
 

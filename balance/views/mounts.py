@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.mounts import COORDINATES, MountsResult, crossings
+from balance.views.json import json_number, order_value
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -35,16 +36,10 @@ __all__ = [
     "sweep_tables",
 ]
 
-RPM = 30.0 / math.pi  # rad/s -> rpm
 
-
-def _num(value: Any) -> float | None:
-    number = float(value)
-    return number if math.isfinite(number) else None
-
-
-def _order(k: float) -> float | int:
-    return int(k) if float(k).is_integer() else float(k)
+#: rad/s to rpm as one factor: 800 rpm prints as 800.0 (speed * 60 / (2 pi) gives
+#: 799.9999999999999, so the sweep's speeds stay as they were written)
+RPM = 30.0 / math.pi
 
 
 def _share(value: float) -> str:
@@ -75,9 +70,9 @@ def mounts_json(m: MountsResult) -> dict[str, Any]:
     """The ``mounts`` block of the contract JSON (``CONTRACT`` §7), with extras."""
     modes = [
         {
-            "frequency_Hz": _num(m.modes.frequency[j]),
+            "frequency_Hz": json_number(m.modes.frequency[j]),
             "energy_share": {
-                c: _num(m.modes.energy_share[j, i]) for i, c in enumerate(COORDINATES)
+                c: json_number(m.modes.energy_share[j, i]) for i, c in enumerate(COORDINATES)
             },
         }
         for j in range(6)
@@ -86,11 +81,13 @@ def mounts_json(m: MountsResult) -> dict[str, Any]:
     peak = m.force_peak
     response = [
         {
-            "order": _order(k),
-            "cg_translation_m": [_num(v) for v in translation[i]],
-            "rotation_rad": [_num(v) for v in rotation[i]],
-            "mount_forces_N": [[_num(v) for v in forces[i, n]] for n in range(forces.shape[1])],
-            "mount_force_peak_N": [_num(v) for v in peak[i]],
+            "order": order_value(k),
+            "cg_translation_m": [json_number(v) for v in translation[i]],
+            "rotation_rad": [json_number(v) for v in rotation[i]],
+            "mount_forces_N": [
+                [json_number(v) for v in forces[i, n]] for n in range(forces.shape[1])
+            ],
+            "mount_force_peak_N": [json_number(v) for v in peak[i]],
         }
         for i, k in enumerate(m.orders)
     ]
@@ -99,12 +96,12 @@ def mounts_json(m: MountsResult) -> dict[str, Any]:
         "response": response,
         "with_proposal": bool(m.with_proposal),
         "gas": bool(m.gas),
-        "torque_roll_axis": [_num(v) for v in m.roll_axis],
+        "torque_roll_axis": [json_number(v) for v in m.roll_axis],
         "mounts": [
             {
-                "position_m": [_num(v) for v in m.system.positions[n]],
-                "distance_to_torque_roll_axis_m": _num(m.axis_distance[n]),
-                "elastic_axis_offsets_m": [_num(v) for v in m.elastic_offsets[n]],
+                "position_m": [json_number(v) for v in m.system.positions[n]],
+                "distance_to_torque_roll_axis_m": json_number(m.axis_distance[n]),
+                "elastic_axis_offsets_m": [json_number(v) for v in m.elastic_offsets[n]],
             }
             for n in range(m.system.n_mounts)
         ],
@@ -116,10 +113,10 @@ def crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
     speeds = np.atleast_1d(m.speed)
     return [
         {
-            "order": _order(k),
+            "order": order_value(k),
             "mode": j + 1,
-            "frequency_Hz": _num(m.modes.frequency[j]),
-            "speed_rpm": _num(w * RPM),
+            "frequency_Hz": json_number(m.modes.frequency[j]),
+            "speed_rpm": json_number(w * RPM),
         }
         for k, j, w in crossings(
             m.modes.frequency, m.orders, float(speeds.min()), float(speeds.max())
@@ -136,10 +133,10 @@ def sweep_json(m: MountsResult, layout: str) -> dict[str, Any]:
         "layout": layout,
         "with_proposal": bool(m.with_proposal),
         "gas": bool(m.gas),
-        "speed_rpm": [_num(w * RPM) for w in m.speed],
-        "orders": [_order(k) for k in m.orders],
+        "speed_rpm": [json_number(w * RPM) for w in m.speed],
+        "orders": [order_value(k) for k in m.orders],
         "modes": mounts_json(_at_first(m))["modes"],
-        "largest_mount_force_N": [[_num(v) for v in row] for row in largest.T],
+        "largest_mount_force_N": [[json_number(v) for v in row] for row in largest.T],
         "crossings": crossing_entries(m),
     }
 
@@ -156,7 +153,7 @@ def _at_first(m: MountsResult) -> MountsResult:
 
 def sweep_csv(m: MountsResult) -> str:
     """A speed sweep as CSV: speed, then the largest mount force of each order [N]."""
-    head = "speed_rpm," + ",".join(f"order_{_order(k)}_N" for k in m.orders)
+    head = "speed_rpm," + ",".join(f"order_{order_value(k)}_N" for k in m.orders)
     rows = [
         f"{w * RPM:.6g}," + ",".join(f"{v:.6g}" for v in row)
         for w, row in zip(m.speed, m.largest_force, strict=True)
@@ -208,7 +205,7 @@ def mounts_tables(m: MountsResult) -> list[RenderableType]:
         cells = [_fmt(1e3 * float(v)) for v in m.translation[i]]
         cells += [_fmt(1e3 * float(v)) for v in m.rotation[i]]
         n = int(np.argmax(peak[i]))
-        table.add_row(str(_order(k)), *cells, _fmt(float(peak[i, n])), str(n + 1))
+        table.add_row(str(order_value(k)), *cells, _fmt(float(peak[i, n])), str(n + 1))
     parts.append(table)
     axis = m.roll_axis
     tilt = math.degrees(math.acos(min(1.0, abs(float(axis[2])))))
@@ -255,7 +252,7 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
     table = Table(title="Largest mount force [N] against speed", title_justify="left")
     table.add_column(_h("speed [rpm]"), justify="right")
     for k in m.orders:
-        table.add_column(f"order {_order(k)}", justify="right")
+        table.add_column(f"order {order_value(k)}", justify="right")
     step = max(1, m.speed.size // 25)
     largest = m.largest_force
     for s in range(0, m.speed.size, step):
@@ -384,14 +381,14 @@ def plot_mount_sweep(m: MountsResult, *, title: str | None = None, layout: str =
     for i, k in enumerate(m.orders):
         if np.max(largest[:, i]) <= 0:
             continue
-        ax.semilogy(rpm, largest[:, i], label=f"order {_order(k)}", color=f"C{i % 10}")
+        ax.semilogy(rpm, largest[:, i], label=f"order {order_value(k)}", color=f"C{i % 10}")
     for k, j, w in crossings(
         m.modes.frequency, m.orders, float(m.speed.min()), float(m.speed.max())
     ):
         i = int(np.searchsorted(m.orders, k))
         ax.axvline(w * RPM, color=f"C{i % 10}", linestyle=":", linewidth=0.8)
         ax.annotate(
-            f"{_order(k)}×m{j + 1}",
+            f"{order_value(k)}×m{j + 1}",
             (w * RPM, 1.0),
             xycoords=("data", "axes fraction"),
             rotation=90,
@@ -469,7 +466,7 @@ def mounts_report_section(m: MountsResult, table: Any, escape: Any) -> str:
         ],
         [
             [
-                str(_order(k)),
+                str(order_value(k)),
                 *(_fmt(1e3 * float(v)) for v in m.translation[i]),
                 *(_fmt(1e3 * float(v)) for v in m.rotation[i]),
                 _fmt(float(peak[i].max())),
