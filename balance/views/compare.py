@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.speed import rad_per_s_to_rpm
-from balance.views.json import json_number, order_entries
+from balance.views.json import order_entries
+from balance.views.polar import json_number
 from balance.views.table import format_number
 
 if TYPE_CHECKING:  # pragma: no cover

@@ -14,7 +14,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.views.polar import SCHEMA, phase_deg, safe_ratio, speed_rpm
+from balance.views.polar import (
+    SCHEMA,
+    json_number,
+    order_value,
+    phase_deg,
+    safe_ratio,
+    speed_rpm,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.balancing import Proposal
@@ -26,18 +33,7 @@ __all__ = ["json_number", "order_entries", "to_dict", "to_json"]
 ComplexArray = NDArray[np.complex128]
 
 
-def json_number(value: Any) -> float | None:
-    """A number as the JSON views write it: a float, or None (null) where it is not finite."""
-    number = float(value)
-    return number if math.isfinite(number) else None
-
-
 _num = json_number  # the short name this module uses
-
-
-def order_value(order: float) -> float | int:
-    """An order as JSON writes it: a whole number as an int, a half order as a float."""
-    return int(order) if float(order).is_integer() else float(order)
 
 
 def order_entries(

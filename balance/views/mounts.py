@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.mounts import COORDINATES, MountsResult, crossings
-from balance.views.json import json_number, order_value
+from balance.views.polar import json_number, order_value
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr

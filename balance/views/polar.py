@@ -14,7 +14,15 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core.speed import rad_per_s_to_rpm
 
-__all__ = ["CONVENTIONS", "SCHEMA", "phase_deg", "safe_ratio", "speed_rpm"]
+__all__ = [
+    "CONVENTIONS",
+    "SCHEMA",
+    "json_number",
+    "order_value",
+    "phase_deg",
+    "safe_ratio",
+    "speed_rpm",
+]
 
 #: Schema name of the analysis JSON and the result Dataset.
 SCHEMA = "balance.analysis/1"
@@ -52,3 +60,14 @@ def speed_rpm(speed: float) -> float:
     """Crank speed [rad/s] in rpm as reported, to 12 significant digits (8000 rpm read from
     a file stays 8000, not 7999.999999999999)."""
     return float(f"{rad_per_s_to_rpm(speed):.12g}")
+
+
+def json_number(value: Any) -> float | None:
+    """A number as the JSON views write it: a float, or None (null) where it is not finite."""
+    number = float(value)
+    return number if math.isfinite(number) else None
+
+
+def order_value(order: float) -> float | int:
+    """An order as JSON writes it: a whole number as an int, a half order as a float."""
+    return int(order) if float(order).is_integer() else float(order)
