@@ -241,7 +241,8 @@ def test_analyse_json_has_the_contract_proposal():
     for cw in proposal["counterweights"]:
         assert set(cw) == {"z_m", "mass_kg", "radius_m", "angle_deg"}
     for shaft in proposal["balance_shafts"]:
-        assert set(shaft) == {"speed_ratio", "x_m", "y_m", "planes"}
+        assert set(shaft) == {"speed_ratio", "x_m", "y_m", "position_from", "planes"}
+        assert shaft["position_from"] == {"x": "default", "y": "default"}
         for plane in shaft["planes"]:
             assert set(plane) == {"z_m", "unbalance_kgm", "angle_deg"}
     assert [s["speed_ratio"] for s in proposal["balance_shafts"]] == [-1, 2, -2]
@@ -274,7 +275,7 @@ def test_propose_options():
     table = run("propose", "inline-4", "--strategy", "per-throw", "--cancel-roll")
     assert table.exit_code == 0, table.stderr
     assert "per-throw" in table.stdout and "Balance shafts" in table.stdout
-    assert "cancel the order-2 roll" in table.stdout
+    assert "Note: order 2: shafts placed to cancel the roll" in table.stdout
 
 
 def test_propose_bad_options():

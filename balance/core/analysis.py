@@ -8,7 +8,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import accuracy, kinematics, phasors
-from balance.core.balancing import proposal_phasors, propose
-from balance.core.engine import CYLINDER_FIELDS, Engine
+from balance.core.balancing import proposal_phasors, propose, shaft_roll_phasors
+from balance.core.engine import CYLINDER_FIELDS, Engine, ShaftPosition
 from balance.core.errors import InputError
 from balance.core.result import Balanced, Phasors, Request, Result
 from balance.core.speed import speed_squared
@@ -406,13 +406,14 @@ def balance_engine(
     balance_factor: float | None = None,
     counterweight_radius: float | None = None,
     cancel_roll: bool = False,
-    shaft_positions: list[tuple[float, float]] | None = None,
+    fixed_shafts: Sequence[ShaftPosition] | None = None,
 ) -> Balanced:
     """Propose counterweights and shafts for an analysed layout and form the residual.
 
-    Settings not given here come from the layout's ``balance:`` section, then from the
-    defaults of :func:`balance.core.balancing.propose` (orders 1 and 2, two-plane counterweights
-    at the crank ends, counterweight radius = crank radius).
+    Settings not given here come from the layout's ``balance:`` section (``fixed_shafts``:
+    its ``shafts``), then from the defaults of :func:`balance.core.balancing.propose` (orders 1
+    and 2, two-plane counterweights at the crank ends, counterweight radius = crank radius,
+    shafts where they are needed at their default places).
     """
     settings = layout.balance
     if cancel is None and settings is not None and settings.orders is not None:
@@ -424,9 +425,15 @@ def balance_engine(
         balance_factor = settings.balance_factor
     if counterweight_radius is None and settings is not None:
         counterweight_radius = settings.counterweight_radius
+    if fixed_shafts is None and settings is not None:
+        fixed_shafts = settings.shafts
     # the phasors of the orders to cancel (computed again only if not already there)
     needed = np.asarray(wanted, dtype=np.intp)
-    if np.all(np.isin(needed, result.orders)) and not np.isnan(result.moment_forward).any():
+    if (
+        np.all(np.isin(needed, result.orders))
+        and not np.isnan(result.moment_forward).any()
+        and not np.isnan(result.roll).any()
+    ):
         source = result
     else:
         source = compute_phasors(
@@ -454,9 +461,9 @@ def balance_engine(
         strategy=strategy,
         balance_factor=balance_factor,
         counterweight_radius=counterweight_radius,
-        shaft_positions=shaft_positions,
+        fixed_shafts=fixed_shafts,
         cancel_roll=cancel_roll,
-        roll=source.roll[pick] if cancel_roll else None,
+        roll=source.roll[pick],
     )
     added = proposal_phasors(proposal, layout, result.orders)
     ks = result.orders
@@ -484,7 +491,10 @@ def balance_engine(
 
     roll_scale = float(np.sum(layout.reciprocating_mass * layout.crank_radius**2) * w2)
     roll_scale += float(np.sum(np.abs(layout.conrod_inertia_correction)) * w2)
-    roll_scale += float(np.sum(np.abs(added.roll)))
+    roll_scale += sum(  # each shaft's own roll: a placed pair's two cancel each other
+        float(np.abs(shaft_roll_phasors([s], layout.speed, [abs(s.speed_ratio)])[0]))
+        for s in proposal.shafts
+    )
     return Balanced(
         proposal=proposal,
         force_forward=clean(

@@ -20,20 +20,23 @@ residual is formed.
 
 from __future__ import annotations
 
+import cmath
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.core.engine import Engine
+from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
 from balance.core.phasors import CANCELLATION_FACTOR
 from balance.core.speed import speed_squared
 
 __all__ = [
     "DEFAULT_ORDERS",
+    "POSITION_SOURCES",
+    "SHAFT_CLEARANCE",
     "STRATEGIES",
     "BalanceShaft",
     "Counterweight",
@@ -53,7 +56,15 @@ FloatArray = NDArray[np.float64]
 
 DEFAULT_ORDERS = (1, 2)
 STRATEGIES = ("two-plane", "per-throw")
+#: Shaft axes that the proposal places keep this many mean crank radii from the crank axis
+#: and from each other (the default axes sit 2 r below the crank).
+SHAFT_CLEARANCE = 2.0
 _EPS = float(np.finfo(np.float64).eps)
+#: A roll is cancelled (or unchanged) when it differs from zero (or from the engine's own)
+#: by less than this share of the magnitudes that meet in it.
+_ROLL_TOL = 1e-9
+#: Where a coordinate of a shaft axis comes from (``BalanceShaft.x_from``, ``y_from``).
+POSITION_SOURCES = ("default", "layout", "cancel-roll")
 
 
 @dataclass(frozen=True)
@@ -99,12 +110,17 @@ class BalanceShaft:
     planes : tuple of (float, complex)
         ``(z, unbalance)`` of each eccentric: plane [m] and :math:`m e\\, e^{i\alpha}` [kg m];
         the mass sits at :math:`\alpha + s\theta`.
+    x_from, y_from : {'default', 'layout', 'cancel-roll'}
+        Where each coordinate of the axis comes from: the default placement, the layout's
+        ``balance: shafts:`` section, or the placement that cancels the roll.
     """
 
     speed_ratio: int
     x: float
     y: float
     planes: tuple[tuple[float, complex], ...]
+    x_from: str = "default"
+    y_from: str = "default"
 
     @property
     def total_unbalance(self) -> complex:
@@ -241,7 +257,7 @@ def propose(
     strategy: str = "two-plane",
     balance_factor: float | None = None,
     counterweight_radius: float | None = None,
-    shaft_positions: Sequence[tuple[float, float]] | None = None,
+    fixed_shafts: Sequence[ShaftPosition] | None = None,
     cancel_roll: bool = False,
     roll: ComplexArray | None = None,
 ) -> Proposal:
@@ -267,16 +283,20 @@ def propose(
         forward share of the first order (singles and twins).
     counterweight_radius : float, optional
         Radius of the counterweights' centres of gravity [m]; default the mean crank radius.
-    shaft_positions : sequence of (x, y), optional
-        Shaft axes in the transverse plane [m], in the order the shafts are proposed;
-        default: below the crank at ``y = -2 r``, pairs of the same order at
-        ``x = -2 r`` (forward) and ``x = +2 r`` (backward).
+    fixed_shafts : sequence of ShaftPosition, optional
+        The shafts the design has room for (the layout's ``balance: shafts:``): the proposal
+        then uses these speed ratios only, finds their unbalances, phases and planes, keeps
+        every coordinate given, and says in its notes what they leave.  Without them, one
+        shaft per order and sense that needs one, with its axis at the default place: below
+        the crank at ``y = -2 r``; the two of a pair of one order at ``x = -2 r`` (forward)
+        and ``x = +2 r`` (backward), a single one at ``x = 0``.
     cancel_roll : bool
-        For a pair of shafts of the same order (a Lanchester pair), move their axes (the
-        least from the given positions) so that they also cancel the engine's roll of that
-        order; needs ``roll``.
+        Place the shafts of each order (the coordinates not given) so that the roll of that
+        order, the engine's and the shafts' together, is zero (:func:`place_for_roll`);
+        needs ``roll``.  Where that cannot be done, the notes say why.
     roll : ndarray of complex, optional
-        The engine's roll phasors for ``orders``.
+        The engine's roll phasors for ``orders`` [N m]; with them the notes also say where
+        the shafts make the roll of an order larger than the engine's own.
 
     Returns
     -------
@@ -346,7 +366,8 @@ def propose(
             )
 
     shafts: list[BalanceShaft] = []
-    positions = list(shaft_positions or [])
+    given = {f.speed_ratio: f for f in fixed_shafts} if fixed_shafts is not None else None
+    carried: set[int] = set()
     for k in wanted:
         for sense, force, moment in ((+1, ff[k], mf[k]), (-1, fb[k], mb[k])):
             if k == 1 and sense > 0:
@@ -354,18 +375,42 @@ def propose(
             if force == 0 and moment == 0:
                 continue
             speed_ratio = sense * k
+            spec = given.get(speed_ratio) if given is not None else None
+            if given is not None and spec is None:
+                other = (fb[k], mb[k]) if sense > 0 else (ff[k], mf[k])
+                notes.append(_left_note(k, sense, force, moment, other != (0j, 0j) and k > 1))
+                continue
             planes = _planes_for(force, moment, z_ref, z_min, z_max)
             unbalances = tuple((pz, v / (k * k * w2)) for pz, v in planes)
-            if positions:
-                x, y = positions.pop(0)
-            else:
-                x, y = _default_position(k, sense, ff, fb, mf, mb, r_mean)
-            shafts.append(BalanceShaft(speed_ratio, float(x), float(y), unbalances))
+            x, y = _default_position(k, sense, ff, fb, mf, mb, r_mean)
+            x_from = y_from = "default"
+            if spec is not None:
+                carried.add(speed_ratio)
+                if spec.x is not None:
+                    x, x_from = spec.x, "layout"
+                if spec.y is not None:
+                    y, y_from = spec.y, "layout"
+            shafts.append(BalanceShaft(speed_ratio, float(x), float(y), unbalances, x_from, y_from))
+    for spec in fixed_shafts or ():
+        if spec.speed_ratio not in carried:
+            notes.append(_idle_note(spec.speed_ratio, wanted))
 
+    engine_roll = _roll_by_order(roll, ks)
+    clearance = SHAFT_CLEARANCE * r_mean
+    placed: dict[int, str] = {}
     if cancel_roll:
-        if roll is None:
+        if engine_roll is None:
             raise AnalysisError("cancelling roll needs the engine's roll phasors")
-        shafts = _place_for_roll(shafts, {k: complex(roll[i]) for i, k in enumerate(ks)}, w2, notes)
+        shafts, placed = place_for_roll(shafts, engine_roll, w2, clearance)
+    raised = (
+        _roll_increase_notes(
+            shafts, engine_roll, w2, clearance, cancel_roll, with_gas=layout.gas is not None
+        )
+        if engine_roll is not None
+        else {}
+    )
+    for k in sorted(placed.keys() | raised.keys()):
+        notes.extend(note[k] for note in (placed, raised) if k in note)
 
     return Proposal(
         counterweights=tuple(counterweights),
@@ -414,49 +459,335 @@ def shaft_roll_phasors(
     return out
 
 
-def _place_for_roll(
-    shafts: list[BalanceShaft], roll: dict[int, complex], w2: float, notes: list[str]
-) -> list[BalanceShaft]:
-    """Move pairs of same-order shafts so that their forces also cancel the roll."""
+def _left_note(k: int, sense: int, force: complex, moment: complex, line: bool) -> str:
+    """Note for an order and sense that needs a shaft the layout's ``shafts`` does not give."""
+    part = "forward" if sense > 0 else "backward"
+    text = (
+        f"order {k}: the {part} part is left (force {abs(force):.4g} N, moment "
+        f"{abs(moment):.4g} N m): balance.shafts has no shaft at {sense * k:+d}"
+    )
+    if line:
+        text += f" (a force along a line needs a shaft at +{k} and one at -{k})"
+    return text
+
+
+def _idle_note(speed_ratio: int, wanted: Sequence[int]) -> str:
+    """Note for a shaft of the layout's ``shafts`` that has nothing to carry."""
+    k = abs(speed_ratio)
+    head = f"the shaft at {speed_ratio:+d} in balance.shafts carries nothing and is left out"
+    if speed_ratio == 1:
+        return head + ": the counterweights on the crank take the forward first order"
+    if k not in wanted:
+        listed = ", ".join(map(str, wanted))
+        return head + f": order {k} is not among the orders to cancel ({listed})"
+    part = "forward" if speed_ratio > 0 else "backward"
+    return head + f": the engine has no {part} order-{k} force or moment to cancel"
+
+
+def _roll_by_order(roll: ComplexArray | None, orders: Sequence[int]) -> dict[int, complex] | None:
+    """The engine's roll per order, or None when not given (or not computed: NaN)."""
+    if roll is None:
+        return None
+    values = np.asarray(roll, dtype=np.complex128).ravel()
+    if values.size != len(orders) or np.isnan(values).any():
+        return None
+    return {int(k): complex(values[i]) for i, k in enumerate(orders)}
+
+
+def _shaft_force(shaft: BalanceShaft, w2: float) -> complex:
+    """:math:`P`, the phasor of the shaft's whole eccentric force [N]."""
+    return shaft.total_unbalance * shaft.speed_ratio**2 * w2
+
+
+def _shaft_roll(shaft: BalanceShaft, w2: float) -> complex:
+    """Roll phasor of one shaft [N m] (:func:`shaft_roll_phasors`)."""
+    p = complex(shaft.y, shaft.x)
+    force = _shaft_force(shaft, w2)
+    return -1j * p.conjugate() * force if shaft.speed_ratio > 0 else 1j * p * force.conjugate()
+
+
+def _roll_gradient(shaft: BalanceShaft, w2: float, coordinate: str) -> complex:
+    """Change of the shaft's roll phasor per metre of ``x`` or ``y`` (it is linear in both)."""
+    force = _shaft_force(shaft, w2)
+    if shaft.speed_ratio > 0:  # -i conj(y + i x) P
+        return -force if coordinate == "x" else -1j * force
+    return -force.conjugate() if coordinate == "x" else 1j * force.conjugate()
+
+
+def _mm(shaft: BalanceShaft) -> str:
+    return f"x = {shaft.x * 1e3:.4g} mm, y = {shaft.y * 1e3:.4g} mm"
+
+
+def _clean(value: float, clearance: float) -> float:
+    """A placed coordinate, with rounding noise next to an exact 0 set to 0 [m]."""
+    return 0.0 if abs(value) < 1e-9 * clearance else value + 0.0
+
+
+@dataclass(frozen=True)
+class _Placement:
+    shafts: tuple[BalanceShaft, ...]
+    note: str | None
+    cancelled: bool
+
+
+def place_for_roll(
+    shafts: Sequence[BalanceShaft],
+    roll: dict[int, complex],
+    w2: float,
+    clearance: float,
+) -> tuple[list[BalanceShaft], dict[int, str]]:
+    r"""Place the shafts of each order so that the roll of that order is zero.
+
+    For every order :math:`k` that has shafts, the coordinates not given by the layout
+    (``x_from``/``y_from`` other than ``'layout'``) are chosen so that the engine's roll
+    phasor :math:`R_e` and the shafts' together vanish:
+
+    .. math:: R_e + \sum_j R_j(x_j, y_j) = 0, \qquad
+              R_j = -\mathrm{i}\,\bar p_j P_j \;(s_j > 0), \quad
+              R_j = \mathrm{i}\,p_j \bar P_j \;(s_j < 0), \quad p_j = y_j + \mathrm{i}x_j.
+
+    :math:`R_j` is linear in the coordinates, so this is two real equations; of their
+    solutions the one nearest to the starting positions (least squares) is taken.  Axes the
+    proposal places keep ``clearance`` from the crank axis and from each other; when the
+    nearest solution does not, a pair with all four coordinates free is placed instead on
+    either side of the crank axis, across the line of its force (:func:`_across_force`).
+    Where no placement is possible the shafts stay, and the note of that order says why.
+
+    Parameters
+    ----------
+    shafts : sequence of BalanceShaft
+        The proposed shafts, at their starting positions.
+    roll : dict of int to complex
+        The engine's roll phasor per order [N m].
+    w2 : float
+        Crank speed squared [rad²/s²].
+    clearance : float
+        Smallest distance of a placed axis from the crank axis and from the other shaft [m].
+
+    Returns
+    -------
+    list of BalanceShaft
+        The shafts, placed.
+    dict of int to str
+        A note per order that has something to say (where the shafts went, or why not).
+
+    References
+    ----------
+    K. Nakamura, "Silent shaft design for four-cylinder in-line engines", SAE Technical
+    Paper 760111, 1976: a Lanchester pair at two heights cancels the inline-4's second-order
+    roll as well as its force.
+    """
     result = list(shafts)
-    by_order: dict[int, list[int]] = {}
-    for i, shaft in enumerate(result):
-        by_order.setdefault(abs(shaft.speed_ratio), []).append(i)
-    for k, idx in by_order.items():
-        target = roll.get(k, 0j)
-        if len(idx) != 2 or target == 0:
+    notes: dict[int, str] = {}
+    for k in sorted({abs(s.speed_ratio) for s in result}):
+        if k not in roll:
             continue
-        a, b = (result[i] for i in idx)
-        # roll of the pair is linear in (x_a, y_a, x_b, y_b): R = sum c_j q_j
-        cols = []
-        for shaft in (a, b):
-            s = shaft.speed_ratio
-            P = shaft.total_unbalance * s * s * w2
-            if s > 0:  # R = -i conj(p) P, p = y + i x
-                cols += [-1j * (-1j) * P, -1j * P]  # d/dx, d/dy
-            else:  # R = i p conj(P)
-                cols += [1j * 1j * P.conjugate(), 1j * P.conjugate()]
-        current = shaft_roll_phasors([a, b], math.sqrt(w2), [k])[0]
-        need = -target - current
-        A = np.array([[c.real for c in cols], [c.imag for c in cols]])
-        rhs = np.array([need.real, need.imag])
-        step, *_ = np.linalg.lstsq(A, rhs, rcond=None)
-        if np.linalg.norm(A @ step - rhs) > 1e-9 * (abs(target) + 1e-300):
-            notes.append(f"order {k}: the shaft pair cannot cancel the roll")
-            continue
-        moved = []
-        for j, shaft in enumerate((a, b)):
-            moved.append(
-                BalanceShaft(
-                    shaft.speed_ratio,
-                    shaft.x + float(step[2 * j]),
-                    shaft.y + float(step[2 * j + 1]),
-                    shaft.planes,
-                )
+        members = [i for i, shaft in enumerate(result) if abs(shaft.speed_ratio) == k]
+        placement = _placement(tuple(result[i] for i in members), roll[k], w2, clearance)
+        for i, shaft in zip(members, placement.shafts, strict=True):
+            result[i] = shaft
+        if placement.note:
+            notes[k] = f"order {k}: {placement.note}"
+    return result, notes
+
+
+def _roll_scale(
+    group: Sequence[BalanceShaft], engine: complex, w2: float, clearance: float
+) -> float:
+    """Size of the terms that meet in an order's roll with shafts [N m]."""
+    return abs(engine) + sum(
+        abs(_shaft_force(s, w2)) * max(abs(complex(s.y, s.x)), clearance) for s in group
+    )
+
+
+def _placement(
+    group: tuple[BalanceShaft, ...], engine: complex, w2: float, clearance: float
+) -> _Placement:
+    """The shafts of one order placed to cancel its roll (see :func:`place_for_roll`)."""
+    active = [j for j, shaft in enumerate(group) if _shaft_force(shaft, w2) != 0]
+    scale = _roll_scale(group, engine, w2, clearance)
+    total = engine + sum((_shaft_roll(shaft, w2) for shaft in group), 0j)
+    if scale == 0 or abs(total) <= _ROLL_TOL * scale:
+        return _Placement(group, None, True)
+    if not active:
+        return _Placement(
+            group,
+            "the shafts carry pure couples (no net force), which put no torque about the crank "
+            f"axis: where they sit cannot cancel the roll ({abs(engine):.4g} N m)",
+            False,
+        )
+    free = [
+        (j, c) for j in active for c in ("x", "y") if getattr(group[j], f"{c}_from") != "layout"
+    ]
+    if not free:
+        return _Placement(
+            group,
+            "the shaft axes are all given in balance.shafts, so the roll is not cancelled: "
+            f"{abs(total):.4g} N m with them ({abs(engine):.4g} N m from the engine alone)",
+            False,
+        )
+    nearest = _nearest_roll_free(group, free, engine, w2, scale, clearance)
+    if nearest is None:
+        names = ", ".join(f"{c} of the shaft at {group[j].speed_ratio:+d}" for j, c in free)
+        return _Placement(
+            group,
+            f"the coordinates not given in balance.shafts ({names}) cannot cancel the roll "
+            f"({abs(total):.4g} N m with the shafts where they are)",
+            False,
+        )
+    crowded = _crowding(nearest, active, clearance)
+    if crowded is None:
+        placed = "shaft placed " if len(active) == 1 else "shafts placed "
+        return _Placement(nearest, placed + _placed(nearest, engine, total), True)
+    if len(active) == 2 and len(free) == 4:
+        across = _nearest_roll_free(
+            _across_force(group, w2, clearance), free, engine, w2, scale, clearance
+        )
+        if across is not None and _crowding(across, active, clearance) is None:
+            return _Placement(
+                across,
+                "shafts placed on either side of the crank axis, across the line of their "
+                f"force (nearest to their starting positions would put {crowded}), "
+                + _placed(across, engine, total),
+                True,
             )
-        result[idx[0]], result[idx[1]] = moved
-        notes.append(f"order {k}: shaft axes placed to cancel the order-{k} roll as well")
-    return result
+    if len(active) == 1:
+        alone = group[active[0]]
+        return _Placement(
+            group,
+            f"one shaft (at {alone.speed_ratio:+d}) would cancel the roll only with its axis at "
+            f"{_mm(nearest[active[0]])}, which puts {crowded}; it stays at {_mm(alone)}",
+            False,
+        )
+    return _Placement(
+        group, f"cancelling the roll would put {crowded}; the shafts stay where they were", False
+    )
+
+
+def _nearest_roll_free(
+    group: tuple[BalanceShaft, ...],
+    free: Sequence[tuple[int, str]],
+    engine: complex,
+    w2: float,
+    scale: float,
+    clearance: float,
+) -> tuple[BalanceShaft, ...] | None:
+    """The group with its ``free`` coordinates moved the least (least squares) so that the
+    roll vanishes; None when they cannot make it vanish."""
+    need = -(engine + sum((_shaft_roll(shaft, w2) for shaft in group), 0j))
+    columns = [_roll_gradient(group[j], w2, c) for j, c in free]
+    a = np.array([[c.real for c in columns], [c.imag for c in columns]])
+    rhs = np.array([need.real, need.imag])
+    step, *_ = np.linalg.lstsq(a, rhs, rcond=None)
+    if np.linalg.norm(a @ step - rhs) > _ROLL_TOL * scale:
+        return None
+    moved = list(group)
+    for (j, c), delta in zip(free, step, strict=True):
+        shaft = moved[j]
+        changes: dict[str, float | str] = {c: _clean(getattr(shaft, c) + float(delta), clearance)}
+        if abs(delta) > 1e-9 * clearance or getattr(shaft, f"{c}_from") == "cancel-roll":
+            changes[f"{c}_from"] = "cancel-roll"
+        moved[j] = replace(shaft, **changes)  # type: ignore[arg-type]
+    return tuple(moved)
+
+
+def _crowding(
+    group: tuple[BalanceShaft, ...], active: Sequence[int], clearance: float
+) -> str | None:
+    """What is too close among the axes the proposal places (None: nothing), in words."""
+    limit = clearance * (1.0 - 1e-9)
+    placed = [j for j in active if (group[j].x_from, group[j].y_from) != ("layout", "layout")]
+    for j in placed:
+        distance = abs(complex(group[j].y, group[j].x))
+        if distance < limit:
+            where = (
+                "on the crank axis"
+                if distance < 1e-6 * clearance
+                else f"{distance * 1e3:.3g} mm from the crank axis"
+            )
+            return (
+                f"the shaft at {group[j].speed_ratio:+d} {where}, within the "
+                f"{clearance * 1e3:.3g} mm kept free for the crank"
+            )
+    if len(active) == 2 and placed:
+        a, b = (group[j] for j in active)
+        gap = abs(complex(a.y - b.y, a.x - b.x))
+        if gap < limit:
+            return f"the two shafts {gap * 1e3:.3g} mm apart, closer than {clearance * 1e3:.3g} mm"
+    return None
+
+
+def _across_force(
+    group: tuple[BalanceShaft, ...], w2: float, clearance: float
+) -> tuple[BalanceShaft, ...]:
+    r"""A pair placed on either side of the crank axis, across the line of its force.
+
+    The pair's force :math:`P_+ e^{\mathrm{i}k\theta} + P_- e^{-\mathrm{i}k\theta}` is
+    largest along :math:`u = e^{\mathrm{i}(\arg P_+ + \arg P_-)/2}`; the axes go to
+    :math:`\pm\sqrt2\,c\,v` with :math:`v = \mathrm{i}u` (the forward shaft on the lower
+    side, or on the :math:`-x` side when the force is vertical), as far from the crank axis
+    as the default axes are.  For a force along a line this alone puts no roll on the block.
+    """
+    forward = 0 if group[0].speed_ratio > 0 else 1
+    backward = 1 - forward
+    gamma = 0.5 * (
+        cmath.phase(_shaft_force(group[forward], w2))
+        + cmath.phase(_shaft_force(group[backward], w2))
+    )
+    v = 1j * cmath.exp(1j * gamma)
+    if v.real > 1e-9 or (abs(v.real) <= 1e-9 and v.imag > 0):
+        v = -v
+    distance = math.sqrt(2.0) * clearance
+    out = list(group)
+    for j, p in ((forward, distance * v), (backward, -distance * v)):
+        out[j] = replace(
+            group[j],
+            x=_clean(p.imag, clearance),
+            y=_clean(p.real, clearance),
+            x_from="cancel-roll",
+            y_from="cancel-roll",
+        )
+    return tuple(out)
+
+
+def _placed(group: tuple[BalanceShaft, ...], engine: complex, before: complex) -> str:
+    """The end of the note of a placement: where the shafts went, and the rolls it cancels."""
+    where = "; ".join(f"{s.speed_ratio:+d} at {_mm(s)}" for s in group)
+    return (
+        f"to cancel the roll: {where} (roll {abs(before):.4g} N m with the shafts at their "
+        f"starting positions, {abs(engine):.4g} N m from the engine alone)"
+    )
+
+
+def _roll_increase_notes(
+    shafts: Sequence[BalanceShaft],
+    roll: dict[int, complex],
+    w2: float,
+    clearance: float,
+    cancel_roll: bool,
+    *,
+    with_gas: bool,
+) -> dict[int, str]:
+    """A note for every order whose roll the shafts make larger than the engine's own."""
+    out = {}
+    for k in sorted({abs(s.speed_ratio) for s in shafts}):
+        if k not in roll:
+            continue
+        group = tuple(s for s in shafts if abs(s.speed_ratio) == k)
+        engine = roll[k]
+        total = engine + sum((_shaft_roll(s, w2) for s in group), 0j)
+        if abs(total) <= abs(engine) + _ROLL_TOL * _roll_scale(group, engine, w2, clearance):
+            continue
+        text = (
+            f"order {k}: the balance shafts raise the roll from {abs(engine):.4g} to "
+            f"{abs(total):.4g} N m"
+        )
+        if with_gas:
+            text += " (inertia forces; the gas torque is not in these two figures)"
+        if not cancel_roll and _placement(group, engine, w2, clearance).cancelled:
+            text += "; the cancel-roll option (--cancel-roll) places them so that it is cancelled"
+        out[k] = text
+    return out
 
 
 def proposal_phasors(

@@ -21,12 +21,31 @@ if TYPE_CHECKING:  # pragma: no cover (annotations only: gas and mounts load whe
     from balance.core.masses import MassParts
     from balance.core.mounts import MountSystem
 
-__all__ = ["CYLINDER_FIELDS", "STRATEGIES", "BalanceSettings", "Engine"]
+__all__ = ["CYLINDER_FIELDS", "STRATEGIES", "BalanceSettings", "Engine", "ShaftPosition"]
 
 FloatArray = NDArray[np.float64]
 
 #: Counterweight strategies of a balancing proposal.
 STRATEGIES = ("two-plane", "per-throw")
+
+
+@dataclass(frozen=True)
+class ShaftPosition:
+    """A balance shaft of the ``balance: shafts:`` section: its speed ratio and where its
+    axis is (SI).
+
+    Attributes
+    ----------
+    speed_ratio : int
+        Shaft speed over crank speed, a non-zero integer; negative turns against the crank.
+    x, y : float or None
+        Position of the shaft axis in the transverse plane [m]; None leaves the coordinate
+        to the proposal (its default, or the place that cancels the roll).
+    """
+
+    speed_ratio: int
+    x: float | None = None
+    y: float | None = None
 
 
 @dataclass(frozen=True)
@@ -43,12 +62,15 @@ class BalanceSettings:
         Orders the proposal cancels; None: 1 and 2.
     strategy : {'two-plane', 'per-throw'}
         Counterweights at the crank ends, or on every throw.
+    shafts : tuple of ShaftPosition or None
+        The balance shafts the design has room for; None: the proposal chooses them.
     """
 
     counterweight_radius: float | None = None
     balance_factor: float | None = None
     orders: tuple[int, ...] | None = None
     strategy: str = "two-plane"
+    shafts: tuple[ShaftPosition, ...] | None = None
 
 
 #: The per-cylinder arrays of a :class:`Engine`, in order.

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ValidationError
 
-from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine
+from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine, ShaftPosition
 from balance.core.errors import InputError, LayoutError, Location
 from balance.core.gas import GasInput, GasModel, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
@@ -288,6 +288,7 @@ _MISSING_HINTS = {
     "conrod_length": "add conrod_length, e.g. '143 mm'",
     "z": "add the axial position of the throw plane, e.g. 'z: 91 mm'",
     "throws": "add the throw angles, e.g. 'throws: [0, 180, 180, 0]'",
+    "speed_ratio": "add the shaft's speed over crank speed, e.g. 'speed_ratio: 2'",
 }
 _TYPE_HINTS: dict[str | int, str] = {
     "cylinders": "a list of cylinders, each {throw: ..., bank: ..., z: ...}",
@@ -448,7 +449,15 @@ def _balance_settings(section: BalanceSpec | None) -> BalanceSettings | None:
         balance_factor=section.balance_factor,
         orders=tuple(section.orders) if section.orders is not None else None,
         strategy=section.strategy,
+        shafts=_shaft_positions(section),
     )
+
+
+def _shaft_positions(section: BalanceSpec) -> tuple[ShaftPosition, ...] | None:
+    """The ``balance: shafts:`` entries (SI), or None when the section has none."""
+    if section.shafts is None:
+        return None
+    return tuple(ShaftPosition(s.speed_ratio, s.x, s.y) for s in section.shafts)
 
 
 def _mass_parts(rows: list[tuple[float, ...]]) -> MassParts:
@@ -684,7 +693,9 @@ def expand_layout(source: str | Path) -> str:
         pass
 
     def _flow_dict(dumper: yaml.SafeDumper, data: dict[str, Any]) -> Any:
-        flow = all(not isinstance(v, dict | list) for v in data.values()) and "throw" in data
+        flow = all(not isinstance(v, dict | list) for v in data.values()) and (
+            "throw" in data or "speed_ratio" in data
+        )
         return dumper.represent_mapping("tag:yaml.org,2002:map", data, flow_style=flow)
 
     _Dumper.add_representer(dict, _flow_dict)
@@ -764,4 +775,11 @@ def _balance_dict(settings: BalanceSpec) -> dict[str, Any]:
     if settings.orders is not None:
         out["orders"] = list(settings.orders)
     out["strategy"] = settings.strategy
+    if settings.shafts is not None:
+        out["shafts"] = [
+            {"speed_ratio": s.speed_ratio}
+            | ({} if s.x is None else {"x": _fmt(s.x, "mm", 1e3)})
+            | ({} if s.y is None else {"y": _fmt(s.y, "mm", 1e3)})
+            for s in settings.shafts
+        ]
     return out

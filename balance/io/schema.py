@@ -26,6 +26,7 @@ __all__ = [
     "GeometrySpec",
     "LayoutSpec",
     "MassesSpec",
+    "ShaftSpec",
 ]
 
 
@@ -290,6 +291,28 @@ class CrankSpec(_Strict):
         return self
 
 
+def _speed_ratio(value: Any) -> int:
+    """A balance shaft's speed ratio: a whole number other than 0, as written (no unit)."""
+    valid = "a whole number from -64 to 64 other than 0, e.g. 2 or -2 (negative: against the crank)"
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise FieldProblem(f"speed_ratio is {value!r}", valid)
+    if value != int(value) or value == 0 or abs(value) > 64:
+        raise FieldProblem(f"speed_ratio is {value:g}", valid)
+    return int(value)
+
+
+class ShaftSpec(_Strict):
+    """One entry of ``balance: shafts:``: a balance shaft the design has room for (SI).
+
+    ``x`` and ``y`` locate its axis in the transverse plane; a coordinate left out is the
+    proposal's to choose.
+    """
+
+    speed_ratio: Annotated[int, BeforeValidator(_speed_ratio)]
+    x: OptLength = None
+    y: OptLength = None
+
+
 class BalanceSettings(_Strict):
     """The ``balance:`` section: settings for the balancing proposal."""
 
@@ -297,10 +320,18 @@ class BalanceSettings(_Strict):
     balance_factor: Annotated[float | None, _q("fraction")] = None
     orders: list[int] | None = None
     strategy: Literal["per-throw", "two-plane"] = "two-plane"
+    shafts: list[ShaftSpec] | None = Field(default=None, min_length=1, max_length=64)
 
     @model_validator(mode="after")
     def _check(self) -> BalanceSettings:
         _positive(self.counterweight_radius, "counterweight_radius")
+        for j, shaft in enumerate(self.shafts or ()):
+            if any(other.speed_ratio == shaft.speed_ratio for other in (self.shafts or ())[:j]):
+                raise FieldProblem(
+                    f"a second shaft at speed ratio {shaft.speed_ratio:+d}",
+                    "give one shaft per speed ratio (a shaft's eccentrics may sit in two planes)",
+                    ("shafts", j, "speed_ratio"),
+                )
         if self.balance_factor is not None and not 0.0 <= self.balance_factor <= 2.0:
             raise FieldProblem(
                 f"balance_factor is {self.balance_factor:.4g}",

@@ -216,6 +216,7 @@ def _proposal(proposal: Proposal) -> dict[str, Any]:
                 "speed_ratio": int(s.speed_ratio),
                 "x_m": _num(s.x),
                 "y_m": _num(s.y),
+                "position_from": {"x": s.x_from, "y": s.y_from},
                 "planes": planes,
             }
         )
@@ -224,6 +225,7 @@ def _proposal(proposal: Proposal) -> dict[str, Any]:
         "strategy": proposal.strategy,
         "orders": [int(k) for k in proposal.orders],
         "balance_factor": None if factor is None else float(factor),
+        "cancel_roll": bool(proposal.cancel_roll),
         "notes": [n for n in proposal.notes if n],
         "counterweights": counterweights,
         "balance_shafts": shafts,

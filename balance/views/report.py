@@ -500,9 +500,7 @@ def _proposal_section(result: Result, figures: bool) -> str:
         ("roll cancelled", "yes" if proposal.cancel_roll else "no"),
     ]
     out = [_facts(facts)]
-    notes = "; ".join(proposal.notes)
-    if notes:
-        out.append(f'<p class="note">{_e(notes)}</p>')
+    out.extend(f'<p class="note">Note: {_e(note)}</p>' for note in proposal.notes if note)
     out.append("<h3>Counterweights (turn with the crank)</h3>")
     if proposal.counterweights:
         rows = [

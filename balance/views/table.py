@@ -176,9 +176,7 @@ def render_proposal(result: Result) -> list[RenderableType]:
         + ("" if factor is None else f", balance factor {float(factor):.0%}")
     )
     out: list[RenderableType] = [Text(choice, style="bold")]
-    notes = "; ".join(proposal.notes)
-    if notes:
-        out.append(Text(notes))
+    out.extend(Text(f"Note: {note}") for note in proposal.notes if note)
     cws = proposal.counterweights
     shafts = proposal.shafts
     if not cws and not shafts:
