@@ -13,6 +13,13 @@ on a shaft turning at :math:`s\omega` (s = ±k) gives the order-k phasor
   :math:`\pm 2\omega` for the inline-4's second-order force);
 * two planes on a mass carrier cancel a couple as well as a force.
 
+A shaft's axis does not change its force, but it changes the roll: an eccentric force
+:math:`P e^{is\theta}` at :math:`p = y + ix` turns the block by
+:math:`\mathrm{Im}(\bar p P e^{is\theta})` (:func:`shaft_roll_phasors`).
+:func:`place_for_roll` places the shafts of each order so that the engine's roll and theirs
+cancel; the proposal's notes say where the shafts raise an order's roll, and what shafts
+fixed by the layout (:class:`~balance.core.engine.ShaftPosition`) leave.
+
 Everything here is plain numpy over the cylinder table; :func:`propose` returns a
 :class:`Proposal` and :func:`proposal_phasors` the phasors of its masses, from which the
 residual is formed.
@@ -550,7 +557,8 @@ def place_for_roll(
     solutions the one nearest to the starting positions (least squares) is taken.  Axes the
     proposal places keep ``clearance`` from the crank axis and from each other; when the
     nearest solution does not, a pair with all four coordinates free is placed instead on
-    either side of the crank axis, across the line of its force (:func:`_across_force`).
+    either side of the crank axis, across the line of its force (the theory docs, "Balance
+    shafts and the roll").
     Where no placement is possible the shafts stay, and the note of that order says why.
 
     Parameters
@@ -637,8 +645,8 @@ def _placement(
         )
     crowded = _crowding(nearest, active, clearance)
     if crowded is None:
-        placed = "shaft placed " if len(active) == 1 else "shafts placed "
-        return _Placement(nearest, placed + _placed(nearest, engine, total), True)
+        placed = "shaft placed" if len(active) == 1 else "shafts placed"
+        return _Placement(nearest, f"{placed} {_placed(nearest, engine, total)})", True)
     if len(active) == 2 and len(free) == 4:
         across = _nearest_roll_free(
             _across_force(group, w2, clearance), free, engine, w2, scale, clearance
@@ -646,9 +654,9 @@ def _placement(
         if across is not None and _crowding(across, active, clearance) is None:
             return _Placement(
                 across,
-                "shafts placed on either side of the crank axis, across the line of their "
-                f"force (nearest to their starting positions would put {crowded}), "
-                + _placed(across, engine, total),
+                "shafts placed on either side of the crank axis, across their force, "
+                f"{_placed(across, engine, total)}; the placement nearest to their starting "
+                f"positions would put {crowded})",
                 True,
             )
     if len(active) == 1:
@@ -751,11 +759,12 @@ def _across_force(
 
 
 def _placed(group: tuple[BalanceShaft, ...], engine: complex, before: complex) -> str:
-    """The end of the note of a placement: where the shafts went, and the rolls it cancels."""
+    """The note of a placement: where the shafts went, and the rolls it cancels (with the
+    closing parenthesis left to the caller)."""
     where = "; ".join(f"{s.speed_ratio:+d} at {_mm(s)}" for s in group)
     return (
         f"to cancel the roll: {where} (roll {abs(before):.4g} N m with the shafts at their "
-        f"starting positions, {abs(engine):.4g} N m from the engine alone)"
+        f"starting positions, {abs(engine):.4g} N m from the engine alone"
     )
 
 
