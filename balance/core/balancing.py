@@ -581,8 +581,8 @@ def place_for_roll(
 
     References
     ----------
-    K. Nakamura, "Silent shaft design for four-cylinder in-line engines", SAE Technical
-    Paper 760111, 1976: a Lanchester pair at two heights cancels the inline-4's second-order
+    K. Nakamura, "Silent Shaft Design for Engines", SAE Technical Paper
+    760111, 1976: a Lanchester pair at two heights cancels the inline-4's second-order
     roll as well as its force.
     """
     result = list(shafts)
