@@ -335,10 +335,11 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
     if roll in ds:
         out.append(
             NumberTable(
-                "Roll torque amplitude per order",
+                "Roll torque amplitude per order"
+                + ("" if absolute else " (m r^2 w^2: m_rec r^2 w^2 of each layout)"),
                 [
                     layout,
-                    *(Column(f"order {k}", "N m" if absolute else "m_rec r^2 w^2") for k in ks),
+                    *(Column(f"order {k}", "N m" if absolute else "m r^2 w^2") for k in ks),
                 ],
                 [
                     [
