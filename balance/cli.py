@@ -139,11 +139,12 @@ def _parse_speed(text: str | None) -> float | None:
 
 
 def _console() -> Any:
-    """A rich console on stdout; wide when stdout is not a terminal, so that piped tables
-    are not cut to 80 columns."""
+    """A rich console on stdout, as wide as the terminal (or ``COLUMNS`` when it is set);
+    240 columns when stdout is neither a terminal nor given a width.  Tables lay
+    themselves out for that width and never cut a number (:mod:`balance.views.fitted`)."""
     from rich.console import Console
 
-    if sys.stdout.isatty():
+    if sys.stdout.isatty() or os.environ.get("COLUMNS", "").strip().isdigit():
         return Console()
     return Console(width=240)
 
@@ -368,7 +369,10 @@ def _proposal_table(result: Result, factor_study: Any = None, strategies: Any = 
     from balance.views.table import render_factor_study, render_proposal
 
     engine = result.engine
-    parts: list[Any] = [Text(f"{engine.name} at {speed_rpm(engine.speed):.0f} rpm", style="bold")]
+    parts: list[Any] = [
+        Text(str(engine.name), style="bold"),
+        Text(f"{engine.n_cylinders} cylinders at {speed_rpm(engine.speed):.0f} rpm"),
+    ]
     parts += render_proposal(result)
     if factor_study is not None:
         parts += render_factor_study(factor_study)
@@ -562,7 +566,7 @@ def compare_command(
         compare_table,
         comparison_dataset,
         markdown_table,
-        render_table,
+        render_comparison,
     )
 
     names = _expand_layout_args(layouts or [], all_builtin)
@@ -599,8 +603,9 @@ def compare_command(
     elif format is CompareFormat.csv:
         _emit_text(compare_csv(headers, rows), output, force)
     else:
-        table = render_table(headers, rows, absolute=absolute, model=model.value)
-        _emit_rich(table, output, force, width=240)
+        from rich.console import Group
+
+        _emit_rich(Group(*render_comparison(ds, absolute=absolute)), output, force, width=240)
 
 
 class PlotFormat(StrEnum):
@@ -620,16 +625,21 @@ def plot_command(
         typer.Option(
             "--kind",
             "-k",
-            help="crank-star, phasors, crank-angle, locus, spectrum, roll, balance, torque, "
-            "forces, mounts, pin-load, main-loads or internal-moment "
-            "(repeat for several; default all).",
+            help="crank_star, phasors, crank_angle, locus, spectrum, roll, balance, torque, "
+            "forces, mounts, pin_load, main_loads or internal_moment, as in the file names "
+            "(- may stand for _; repeat for several; default: all that apply).",
         ),
     ] = None,
     format: Annotated[PlotFormat, typer.Option("--format", "-f", help="File format.")] = (
         PlotFormat.png
     ),
     output_dir: Annotated[
-        Path, typer.Option("--output-dir", "-o", help="Directory for the figures.")
+        Path,
+        typer.Option(
+            "--output-dir",
+            "-o",
+            help="Directory for the figures; created, with its parents, if it does not exist.",
+        ),
     ] = Path("."),
     orders: Annotated[str, typer.Option("--orders", help="Orders, e.g. 1-8.")] = "1-8",
     speed: _Speed = None,
@@ -639,8 +649,7 @@ def plot_command(
     """Draw the design-review figures of a layout into a directory."""
     from balance.core.analysis import compute
 
-    if not output_dir.is_dir():
-        raise InputError(f"{output_dir}: no such directory; create it first")
+    _check_output_directory(output_dir)
     asked = {k.replace("-", "_") for k in kind or ()}
     bearings = bearings or bool(asked & {"pin_load", "main_loads", "internal_moment"})
     result = compute(*_with_section_mounts(*_prepare(layout, orders, speed, bearings=bearings)))
@@ -653,6 +662,22 @@ def plot_command(
     )
     for path in written:
         sys.stderr.write(f"balance: wrote {path}\n")
+
+
+def _check_output_directory(directory: Path) -> None:
+    """Refuse, before any work, a directory output that cannot be made or written: a file
+    in its place or on its path, or a nearest existing ancestor that is not writable.  A
+    missing directory is created (with its parents) when the first file is written."""
+    if directory.exists() and not directory.is_dir():
+        raise InputError(f"{directory}: is a file, not a directory; give a directory for -o")
+    existing = directory
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir():
+        raise InputError(f"{directory}: {existing} is a file, so the directory cannot be made")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        what = "directory" if existing == directory else "parent directory"
+        raise InputError(f"{directory}: {what} {existing} is not writable")
 
 
 @app.command("report")
@@ -815,13 +840,18 @@ def sweep_command(
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
 ) -> None:
     """Analyse a grid of layout variants and write one Dataset (netCDF or Zarr), chunk by chunk."""
+    import time
+
+    from balance.io.fields import check_varies, parse_vary
     from balance.io.layout_file import load_layout
     from balance.studies.sweep import check_output, sweep_to_file
 
+    started = time.perf_counter()
     check_output(output, force)
     if scheduler is not None and workers is not None:
         raise InputError("give --scheduler or --workers, not both")
     base = load_layout(layout)
+    grid = check_varies([parse_vary(text, base) for text in vary])
     show = sys.stderr.isatty() if progress is None else progress
     if show:
         from balance.views.progress import ProgressBar
@@ -849,7 +879,16 @@ def sweep_command(
                 Client(cluster) as client,
             ):
                 sweep_to_file(base, vary, output, orders, client=client, **kwargs)
-    sys.stderr.write(f"balance: wrote {output}\n")
+    from balance.views.progress import sweep_summary
+
+    sys.stderr.write(
+        sweep_summary(
+            output,
+            [(v.dim, v.values.size) for v in grid],
+            time.perf_counter() - started,
+        )
+        + "\n"
+    )
 
 
 @app.command("search")
@@ -896,9 +935,11 @@ def search_command(
         rod_ratio=rod_ratio,
         top=top,
     )
-    from balance.views.studies import search_text
+    from rich.console import Group
 
-    sys.stdout.write(search_text(result))
+    from balance.views.studies import search_tables
+
+    _console().print(Group(*search_tables(result)))
 
 
 @app.command("tolerance")
@@ -916,7 +957,8 @@ def tolerance_command(
     ] = "uniform",
     seed: Annotated[int, typer.Option("--seed", help="Random seed.")] = 0,
     plot: Annotated[
-        Path | None, typer.Option("--plot", help="Write a histogram figure (png, svg, pdf).")
+        Path | None,
+        typer.Option("--plot", help="Write histograms of the balanced residuals (png, svg, pdf)."),
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Replace an existing plot.")] = False,
 ) -> None:
@@ -927,6 +969,8 @@ def tolerance_command(
     if plot is not None:
         from balance.io.atomic import check_target
 
+        if plot.suffix.lower().lstrip(".") not in ("png", "svg", "pdf"):
+            raise InputError(f"--plot {plot}: give a .png, .svg or .pdf file for the histograms")
         check_target(plot, force)
     result = tolerance(
         load_layout(layout),
@@ -936,15 +980,21 @@ def tolerance_command(
         distribution=distribution,
         seed=seed,
     )
-    from balance.views.studies import tolerance_histogram, tolerance_text
+    from rich.console import Group
 
-    sys.stdout.write(tolerance_text(result, PERCENTILES))
+    from balance.views.studies import tolerance_histogram, tolerance_tables
+
+    _console().print(Group(*tolerance_tables(result, PERCENTILES)))
     if plot is not None:
         from balance.io.atomic import write_atomic
+        from balance.views.studies import figure_metadata
 
         fig = tolerance_histogram(result)
-        fmt = plot.suffix.lstrip(".") or "png"
-        write_atomic(plot, lambda tmp: fig.savefig(tmp, format=fmt), force=force)
+        fmt = plot.suffix.lower().lstrip(".")
+        metadata = figure_metadata(result, fmt)
+        write_atomic(
+            plot, lambda tmp: fig.savefig(tmp, format=fmt, metadata=metadata), force=force
+        )
         sys.stderr.write(f"balance: wrote {plot}\n")
 
 
@@ -952,18 +1002,23 @@ def tolerance_command(
 @guarded
 def layouts_command() -> None:
     """List the built-in layouts."""
+    from rich.console import Group
     from rich.table import Table
+    from rich.text import Text
 
     from balance.io.layout_file import builtin_layout_names, load_layout
 
-    table = Table(title="Built-in layouts (use the name in place of a file)", title_justify="left")
-    table.add_column("name")
-    table.add_column("cylinders", justify="right")
-    table.add_column("description")
+    table = Table()
+    table.add_column("name", no_wrap=True)
+    table.add_column("cylinders", justify="right", no_wrap=True)
+    table.add_column("description", overflow="fold")  # words wrap; names and counts never
     for name in builtin_layout_names():
         layout = load_layout(name)
-        table.add_row(name, str(layout.n_cylinders), layout.description or layout.name)
-    _console().print(table)
+        table.add_row(
+            Text(name), str(layout.n_cylinders), Text(layout.description or layout.name)
+        )
+    title = Text("Built-in layouts (use the name in place of a file)", style="table.title")
+    _console().print(Group(title, table))
 
 
 @layout_app.command("expand")

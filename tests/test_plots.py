@@ -378,7 +378,24 @@ def test_drawing_into_given_axes():
     with pytest.raises(ValueError, match="2 axes"):
         plots.plot_locus(analysed("inline-4"), ax=axes[0])
     with pytest.raises(ValueError, match="polar"):
+        plots.plot_phasors(analysed("inline-4"), ax=axes, scale="common")
+    # one panel per order: the inline-4's forces of orders 2, 4, 6, 8 and a note that its
+    # moments are zero
+    assert [(q, ks) for q, ks in plots.phasor_panels(analysed("inline-4"))] == [
+        ("force", [2, 4, 6, 8]),
+        ("moment", []),
+    ]
+    with pytest.raises(ValueError, match="5 axes"):
         plots.plot_phasors(analysed("inline-4"), ax=axes)
+    polar = Figure().subplots(1, 5, subplot_kw={"projection": "polar"})
+    drawn = plots.plot_phasors(analysed("inline-4"), ax=polar)
+    assert [a.get_title().split("\n")[0] for a in polar[:4]] == [
+        "order 2",
+        "order 4",
+        "order 6",
+        "order 8",
+    ]
+    assert drawn.get_suptitle() == ""
     single = Figure().subplots()
     assert plots.plot_crank_star(analysed("inline-4"), ax=single) is single.figure
 
@@ -418,9 +435,17 @@ def test_save_plots_choices(tmp_path, monkeypatch):
     # which kinds are written, not how (test_save_plots_writes_whole_files draws them)
     monkeypatch.setattr(plots, "figure_bytes", lambda fig, fmt="png": b"")
     written = plots.save_plots(analysed("inline-3"), tmp_path / "all", prefix="i3-")
-    # by default, the kinds of what was computed (no mounts or bearing loads here)
-    default = [k for k in plots.PLOT_KINDS if k != "mounts" and k not in plots.BEARING_KINDS]
+    # by default, the kinds of what was computed (no mounts, bearing loads or gas here)
+    default = [
+        k
+        for k in plots.PLOT_KINDS
+        if k != "mounts" and k not in plots.BEARING_KINDS and k not in plots.GAS_KINDS
+    ]
     assert [p.name for p in written] == [f"i3-{kind}.png" for kind in default]
+    gas = plots.save_plots(
+        computed(balance.load_layout("inline-4-gas"), 2), tmp_path / "gas", prefix="g-"
+    )
+    assert {"g-torque.png", "g-forces.png"} <= {p.name for p in gas}
     no_proposal = analysed("inline-4", proposal=False)
     written = plots.save_plots(no_proposal, tmp_path)
     assert "balance.png" not in {p.name for p in written}

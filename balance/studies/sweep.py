@@ -344,7 +344,36 @@ def _coords(plan: _Plan) -> dict[str, tuple[tuple[str, ...], Any, dict[str, str]
             plan.orders.astype(np.float64),
             {"long_name": "harmonic order of the roll torque", "units": "1"},
         )
+    coords.update(_speed_coords(plan))
     return coords
+
+
+def _speed_coords(plan: _Plan) -> dict[str, tuple[tuple[str, ...], Any, dict[str, str]]]:
+    """The crank speed in rpm beside rad/s: along the speed dimension when speed is varied,
+    else the layout's speed as scalar coordinates (so no attribute goes stale)."""
+    varied = [v for v in plan.varies if v.field.attribute == "speed"]
+    rpm = {"units": "rpm", "long_name": "crank speed in revolutions per minute"}
+    if varied:
+        v = varied[0]
+        return {"speed_rpm": ((v.dim,), _rpm(v.values), rpm)}
+    speed = float(plan.layout.speed)
+    return {
+        "speed": ((), np.float64(speed), {"units": "rad/s", "long_name": "crank speed"}),
+        "speed_rpm": ((), _rpm(np.asarray(speed))[()], rpm),
+    }
+
+
+def _rpm(speed: NDArray[np.float64]) -> NDArray[np.float64]:
+    """rad/s to rpm to 12 significant digits (1000 rpm stays 1000, not 1000.0000000000001)."""
+    values = np.atleast_1d(np.asarray(speed, dtype=np.float64))
+    out = np.array([float(f"{rad_per_s_to_rpm(float(v)):.12g}") for v in values])
+    return out.reshape(np.shape(speed))
+
+
+def _auxiliary(plan: _Plan) -> str:
+    """The coordinates that are not dimensions, as a data variable's CF ``coordinates``
+    attribute, so that netCDF and Zarr readers restore them as coordinates."""
+    return " ".join(name for name, (dims, _, _) in _coords(plan).items() if dims != (name,))
 
 
 def _attrs(plan: _Plan) -> dict[str, Any]:
@@ -356,7 +385,6 @@ def _attrs(plan: _Plan) -> dict[str, Any]:
         "source_file": plan.layout.path or "",
         "model": plan.model,
         "varied_fields": ";".join(v.field.text for v in plan.varies),
-        "speed_rpm": float(f"{rad_per_s_to_rpm(plan.layout.speed):.12g}"),
         "balance_version": __version__,
         "conventions": "balance CONTRACT; values of every analysis as 'balance analyse' gives "
         "them for the layout with the varied fields set",
@@ -629,7 +657,8 @@ def _write_netcdf(plan: _Plan, target: Path, run: _Runner, force: bool) -> Path:
             for key, value in _attrs(plan).items():
                 nc.setncattr(key, value)
             for name, (dims, values, attrs) in _coords(plan).items():
-                nc.createDimension(name, len(values))
+                if dims == (name,):
+                    nc.createDimension(name, len(values))
                 if values.dtype.kind in "US":
                     var = nc.createVariable(name, str, dims)
                     for i, text in enumerate(values):
@@ -642,7 +671,9 @@ def _write_netcdf(plan: _Plan, target: Path, run: _Runner, force: bool) -> Path:
             for name in _variables(plan):
                 tail, units, long_name = _VARIABLES[name]
                 var = nc.createVariable(name, "f8", plan.dims + tail)
-                var.setncatts({"units": units, "long_name": long_name})
+                var.setncatts(
+                    {"units": units, "long_name": long_name, "coordinates": _auxiliary(plan)}
+                )
                 var.set_auto_mask(False)
                 variables[name] = var
 
@@ -684,7 +715,7 @@ def _write_zarr(
                 dimension_names=dims,
                 attributes=dict[str, Any](attrs),
             )
-            array[:] = data
+            array[...] = data
         arrays = {}
         for name in _variables(plan):
             tail, units, long_name = _VARIABLES[name]
@@ -696,7 +727,11 @@ def _write_zarr(
                 dtype="f8",
                 fill_value=np.nan,
                 dimension_names=plan.dims + tail,
-                attributes={"units": units, "long_name": long_name},
+                attributes={
+                    "units": units,
+                    "long_name": long_name,
+                    "coordinates": _auxiliary(plan),
+                },
             )
 
         def sink(where: tuple[slice, ...], result: dict[str, FloatArray]) -> None:

@@ -59,6 +59,12 @@ class ToleranceResult:
         ``(samples, orders)`` [N] and [N m].
     seconds : float
         Time of the computation [s].
+    scatter : tuple of Scatter
+        The scattered fields and their tolerances (SI, degrees for angles).
+    distribution : {'uniform', 'normal'}
+        Uniform over ±TOL, or normal with standard deviation TOL/3.
+    seed : int or None
+        The random seed.
     """
 
     orders: NDArray[np.intp]
@@ -66,6 +72,9 @@ class ToleranceResult:
     force: dict[str, FloatArray]
     moment: dict[str, FloatArray]
     seconds: float
+    scatter: tuple[Scatter, ...] = ()
+    distribution: str = "uniform"
+    seed: int | None = None
 
     def percentiles(self, q: Sequence[float] = PERCENTILES) -> dict[str, FloatArray]:
         """Percentiles [N, N m], keyed ``force_free``, ``force_balanced``, ``moment_free``,
@@ -179,6 +188,9 @@ def tolerance(
         force={"free": out["force_free"], "balanced": out["force_balanced"]},
         moment={"free": out["moment_free"], "balanced": out["moment_balanced"]},
         seconds=time.perf_counter() - t0,
+        scatter=tuple(items),
+        distribution=distribution,
+        seed=seed,
     )
 
 

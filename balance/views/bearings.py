@@ -34,6 +34,7 @@ __all__ = [
     "plot_internal_moment",
     "plot_main_loads",
     "plot_pin_load",
+    "printed",
     "strategy_table",
 ]
 
@@ -54,22 +55,86 @@ def _mm(value: float) -> str:
     return f"{value * 1e3:.4g}"
 
 
+def printed(b: Bearings) -> dict[str, np.ndarray]:
+    """The loads [N] and moments [N m] as tables print them: what is below the rounding of
+    their sums is 0 (:func:`balance.views.polar.zero_below_rounding`).
+
+    Each main's load is a lever-rule sum of the throw loads (pin loads, crank unbalance and
+    counterweights), so the scale of its terms is at most the sum of the largest pin loads
+    and the largest main loads; a moment's terms are those loads times levers up to the
+    length of the crank.
+    """
+    from balance.views.polar import zero_below_rounding
+
+    scale = float(
+        np.sum(b.pin_max)
+        + np.max(b.main_max, initial=0.0)
+        + np.max(b.main_max_with_proposal, initial=0.0)
+    )
+    span = float(np.ptp(np.concatenate([b.main_z, b.pin_z]))) if b.main_z.size else 0.0
+    n = b.pin_z.size + len(b.counterweights) + 2
+    out = {}
+    for name in (
+        "pin_max",
+        "pin_mean",
+        "main_max",
+        "main_mean",
+        "main_max_with_proposal",
+        "main_mean_with_proposal",
+    ):
+        out[name] = zero_below_rounding(getattr(b, name), scale, n)
+    for name in ("moment_max", "moment_max_with_proposal"):
+        out[name] = zero_below_rounding(getattr(b, name), scale * span, n)
+    return out
+
+
 def _main_rows(b: Bearings) -> list[list[str]]:
     """One row of text per main (table and report): number, z, loads without and with the
-    proposal, internal moments."""
+    proposal."""
+    v = printed(b)
     return [
         [
             str(m + 1),
             _mm(float(b.main_z[m])),
-            _fmt(float(b.main_max[m])),
-            _fmt(float(b.main_mean[m])),
-            _fmt(float(b.main_max_with_proposal[m])),
-            _fmt(float(b.main_mean_with_proposal[m])),
-            _fmt(float(b.moment_max[m])),
-            _fmt(float(b.moment_max_with_proposal[m])),
+            _fmt(float(v["main_max"][m])),
+            _fmt(float(v["main_mean"][m])),
+            _fmt(float(v["main_max_with_proposal"][m])),
+            _fmt(float(v["main_mean_with_proposal"][m])),
         ]
         for m in range(b.main_z.size)
     ]
+
+
+def _moment_rows(b: Bearings) -> list[list[str]]:
+    """One row of text per main: number, z, internal moments without and with the
+    proposal."""
+    v = printed(b)
+    return [
+        [
+            str(m + 1),
+            _mm(float(b.main_z[m])),
+            _fmt(float(v["moment_max"][m])),
+            _fmt(float(v["moment_max_with_proposal"][m])),
+        ]
+        for m in range(b.main_z.size)
+    ]
+
+
+def _pin_rows(b: Bearings, angle: bool) -> list[list[str]]:
+    v = printed(b)
+    rows = []
+    for j in range(b.pin_z.size):
+        row = [
+            str(j + 1),
+            _mm(float(b.pin_z[j])),
+            " ".join(map(str, b.pin_cylinders[j])),
+            _fmt(float(v["pin_max"][j])),
+        ]
+        if angle:
+            row.append(f"{round(math.degrees(float(b.pin_max_angle[j])), 1) % 360.0:.1f}")
+        row.append(_fmt(float(v["pin_mean"][j])))
+        rows.append(row)
+    return rows
 
 
 def largest(b: Bearings) -> dict[str, float]:
@@ -125,80 +190,98 @@ def bearings_json(b: Bearings) -> dict[str, Any]:
 
 
 def bearings_tables(b: Bearings) -> list[RenderableType]:
-    """Rich tables: crank-pin loads; main-bearing loads and internal moments, without and
-    with the proposed counterweights."""
-    from rich.table import Table
+    """Tables: crank-pin loads; main-bearing loads; internal moments; each without and with
+    the proposed counterweights."""
     from rich.text import Text
 
-    gas = "with gas forces, over the working cycle" if b.gas else "inertia only"
-    pins = Table(title=f"Crank-pin loads ({gas})", title_justify="left")
-    for label in ("pin", "z \\[mm]", "cylinders", "max [N]", "at \\[deg]", "mean [N]"):
-        pins.add_column(label, justify="right")
-    for j in range(b.pin_z.size):
-        pins.add_row(
-            str(j + 1),
-            _mm(float(b.pin_z[j])),
-            " ".join(map(str, b.pin_cylinders[j])),
-            _fmt(float(b.pin_max[j])),
-            f"{round(math.degrees(float(b.pin_max_angle[j])), 1) % 360.0:.1f}",
-            _fmt(float(b.pin_mean[j])),
-        )
-    mains = Table(
-        title=f"Main-bearing loads ({gas}) and internal moments (inertia only); "
-        "without / with the proposed counterweights",
-        title_justify="left",
+    from balance.views.fitted import Column, NumberTable
+
+    gas = "with gas forces, over the cycle" if b.gas else "inertia only"
+    pins = NumberTable(
+        f"Crank-pin loads ({gas})",
+        [
+            Column("pin", key=True),
+            Column("z", "mm"),
+            Column("cylinders"),
+            Column("max", "N"),
+            Column("at theta", "deg"),
+            Column("mean", "N"),
+        ],
+        _pin_rows(b, angle=True),
     )
-    for label in (
-        "main",
-        "z \\[mm]",
-        "max [N]",
-        "mean [N]",
-        "max with proposal [N]",
-        "mean with proposal [N]",
-        "moment max [N m]",
-        "moment max with proposal [N m]",
-    ):
-        mains.add_column(label, justify="right")
-    for cells in _main_rows(b):
-        mains.add_row(*cells)
-    big = largest(b)
-    note = Text(
-        f"Largest main load {_fmt(big['main_max_N'])} N, with proposal "
-        f"{_fmt(big['main_max_with_proposal_N'])} N; largest internal moment "
-        f"{_fmt(big['internal_moment_max_Nm'])} N m, with proposal "
-        f"{_fmt(big['internal_moment_max_with_proposal_Nm'])} N m"
-        + ("" if b.counterweights else " (the proposal has no counterweights)")
+    mains = NumberTable(
+        f"Main-bearing loads ({gas}), without / with the proposed counterweights",
+        [
+            Column("main", key=True),
+            Column("z", "mm"),
+            Column("max", "N"),
+            Column("mean", "N"),
+            Column("max with proposal", "N"),
+            Column("mean with proposal", "N"),
+        ],
+        _main_rows(b),
     )
-    return [pins, mains, note]
+    moments = NumberTable(
+        "Internal moment of the crankshaft at the mains (inertia only)",
+        [
+            Column("main", key=True),
+            Column("z", "mm"),
+            Column("moment max", "N m"),
+            Column("moment max with proposal", "N m"),
+        ],
+        _moment_rows(b),
+    )
+    v = printed(b)
+    none = "" if b.counterweights else " (the proposal has no counterweights)"
+    notes = [
+        Text(
+            f"Largest main load {_fmt(float(np.max(v['main_max'])))} N, with proposal "
+            f"{_fmt(float(np.max(v['main_max_with_proposal'])))} N{none}"
+        ),
+        Text(
+            f"Largest internal moment {_fmt(float(np.max(v['moment_max'])))} N m, with "
+            f"proposal {_fmt(float(np.max(v['moment_max_with_proposal'])))} N m"
+        ),
+    ]
+    return [pins, mains, moments, *notes]
 
 
 def strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType]:
     """The counterweight strategies side by side: largest main load and internal moment
     with each one's counterweights (``rows``: strategy name and its bearing loads)."""
-    from rich.table import Table
+    from balance.views.fitted import Column, NumberTable
 
-    table = Table(
-        title="Counterweight strategies: largest main-bearing load and internal moment",
-        title_justify="left",
-    )
-    for label in (
-        "strategy",
-        "counterweights",
-        "largest main load [N]",
-        "largest internal moment [N m]",
-    ):
-        table.add_column(label, justify="right")
+    cells = []
     if rows:
-        base = largest(rows[0][1])
-        table.add_row("none", "0", _fmt(base["main_max_N"]), _fmt(base["internal_moment_max_Nm"]))
-    for name, b in rows:
-        big = largest(b)
-        table.add_row(
-            name,
-            str(len(b.counterweights)),
-            _fmt(big["main_max_with_proposal_N"]),
-            _fmt(big["internal_moment_max_with_proposal_Nm"]),
+        base = printed(rows[0][1])
+        cells.append(
+            [
+                "none",
+                "0",
+                _fmt(float(np.max(base["main_max"]))),
+                _fmt(float(np.max(base["moment_max"]))),
+            ]
         )
+    for name, b in rows:
+        v = printed(b)
+        cells.append(
+            [
+                name,
+                str(len(b.counterweights)),
+                _fmt(float(np.max(v["main_max_with_proposal"]))),
+                _fmt(float(np.max(v["moment_max_with_proposal"]))),
+            ]
+        )
+    table = NumberTable(
+        "Counterweight strategies: largest main-bearing load and internal moment",
+        [
+            Column("strategy", key=True, justify="left"),
+            Column("counterweights"),
+            Column("largest main load", "N"),
+            Column("largest internal moment", "N m"),
+        ],
+        cells,
+    )
     return [table]
 
 
@@ -449,16 +532,7 @@ def bearings_report_section(
     gas = "with gas forces over the working cycle" if b.gas else "inertia only"
     pins = table(
         ["pin", "z [mm]", "cylinders", "max [N]", "mean [N]"],
-        [
-            [
-                str(j + 1),
-                _mm(float(b.pin_z[j])),
-                " ".join(map(str, b.pin_cylinders[j])),
-                _fmt(float(b.pin_max[j])),
-                _fmt(float(b.pin_mean[j])),
-            ]
-            for j in range(b.pin_z.size)
-        ],
+        _pin_rows(b, angle=False),
         f"Crank-pin loads ({gas})",
     )
     mains = table(
@@ -469,11 +543,14 @@ def bearings_report_section(
             "mean [N]",
             "max with proposal [N]",
             "mean with proposal [N]",
-            "moment max [N m]",
-            "moment max with proposal [N m]",
         ],
         _main_rows(b),
-        f"Main-bearing loads ({gas}) and internal moments (inertia only)",
+        f"Main-bearing loads ({gas})",
+    )
+    moments = table(
+        ["main", "z [mm]", "moment max [N m]", "moment max with proposal [N m]"],
+        _moment_rows(b),
+        "Internal moments of the crankshaft at the mains (inertia only)",
     )
     text = (
         "Loads are the forces the crankshaft puts on each bearing; the mains share each "
@@ -482,4 +559,4 @@ def bearings_report_section(
         "'With proposal' adds the proposed counterweights (balance shafts run in their own "
         "bearings)."
     )
-    return f"<p>{escape(text)}</p>\n{pins}\n{mains}"
+    return f"<p>{escape(text)}</p>\n{pins}\n{mains}\n{moments}"

@@ -30,7 +30,7 @@ __all__ = [
     "compare_table",
     "comparison_dataset",
     "markdown_table",
-    "render_table",
+    "render_comparison",
 ]
 
 _PER_LAYOUT_DIMS = {"order", "rotation", "roll_order"}
@@ -53,7 +53,9 @@ def comparison_dataset(
         Per-order variables of :func:`balance.analyse` with a leading ``layout`` dimension,
         plus ``n_cylinders``, ``displacement``, ``scale_factor``,
         ``counterweight_total_mass``, ``counterweight_total_unbalance`` and ``n_shafts``.
-        ``speed`` and ``displacement`` are recorded in the attributes as asked.
+        ``speed`` and ``displacement`` are recorded in the attributes
+        ``common_speed_rpm`` and ``displacement_m3`` when asked for; ``orders`` is an
+        integer array.
     """
     import xarray as xr
 
@@ -119,10 +121,13 @@ def comparison_dataset(
     out.attrs = {
         "schema": "balance.comparison/1",
         "model": first.model,
-        "orders": ",".join(map(str, ks)),
-        "common_speed_rpm": "" if speed is None else rad_per_s_to_rpm(speed),
-        "displacement_m3": "" if displacement is None else displacement,
+        "orders": np.asarray(ks, dtype=np.int64),
     }
+    # numbers as numbers, present only when asked for
+    if speed is not None:
+        out.attrs["common_speed_rpm"] = float(f"{rad_per_s_to_rpm(speed):.12g}")
+    if displacement is not None:
+        out.attrs["displacement_m3"] = float(displacement)
     return out
 
 
@@ -265,16 +270,117 @@ def compare_csv(headers: list[str], rows: list[list[str]]) -> str:
     return buffer.getvalue()
 
 
-def render_table(
-    headers: list[str], rows: list[list[str]], *, absolute: bool, model: str
-) -> RenderableType:
-    """The table of :func:`compare_table` as a rich table with its title."""
-    from rich.table import Table
+def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]:
+    r"""The comparison for the terminal: one table per quantity, a row per layout.
 
-    kind = "absolute" if absolute else "normalised per F1 = m_rec r w^2 and pitch a"
-    table = Table(title=f"Comparison ({kind}; model {model})", title_justify="left")
-    for i, header in enumerate(headers):
-        table.add_column(header, justify="left" if i == 0 else "right")
-    for row in rows:
-        table.add_row(*row)
-    return table
+    Free force peaks per order (and the rotating force), free moment peaks, roll
+    amplitudes, and the balancing needs (cylinders, counterweight mass, shafts, the largest
+    mount force with mounts).  Normalised values are per each layout's own
+    :math:`F_1 = m_{rec} r\omega^2`, :math:`F_1 a` and :math:`m_{rec} r^2\omega^2`;
+    where a layout has no pitch (every cylinder in one plane) its moments per
+    :math:`F_1 a` print as ``n/a``, and a note under the table says why.
+    """
+    from rich.text import Text
+
+    from balance.views.fitted import Column, NumberTable
+
+    ks = [int(k) for k in ds["order"].values]
+    labels = [str(label) for label in ds["layout"].values]
+    layout = Column("layout", key=True, justify="left")
+    suffix = "" if absolute else "_normalised"
+    kind = "absolute" if absolute else "normalised"
+    out: list[RenderableType] = [
+        Text(f"Comparison of {len(labels)} layouts ({kind}; model {ds.attrs['model']})", "bold")
+    ]
+
+    no_pitch = (
+        [label for label in labels if not np.isfinite(float(ds["pitch"].sel(layout=label)))]
+        if "pitch" in ds
+        else []
+    )
+    note = (
+        (f"n/a: no pitch a (all cylinders in one plane) for {', '.join(no_pitch)}",)
+        if no_pitch and not absolute
+        else ()
+    )
+    for what, unit, per in (("force", "N", "F1"), ("moment", "N m", "F1 a")):
+        name = f"reciprocating_{what}_peak{suffix}"
+        if name not in ds:
+            continue
+        rotating = f"rotating_{what}_{'magnitude' if absolute else 'normalised'}"
+        rows = []
+        for label in labels:
+            one = ds.sel(layout=label)
+            rows.append(
+                [
+                    label,
+                    *(_cell(float(one[name].sel(order=k)), name) for k in ks),
+                    _cell(float(one[rotating]), rotating),
+                ]
+            )
+        column_unit = unit if absolute else per
+        out.append(
+            NumberTable(
+                f"Free {what} peaks: reciprocating per order, rotating (order 1)",
+                [
+                    layout,
+                    *(Column(f"order {k}", column_unit) for k in ks),
+                    Column("rotating", column_unit),
+                ],
+                rows,
+                notes=note if what == "moment" else (),
+            )
+        )
+    roll = "roll_amplitude" if absolute else "roll_amplitude_normalised"
+    if roll in ds:
+        out.append(
+            NumberTable(
+                "Roll torque amplitude per order"
+                + ("" if absolute else " (m r^2 w^2: m_rec r^2 w^2 of each layout)"),
+                [
+                    layout,
+                    *(Column(f"order {k}", "N m" if absolute else "m r^2 w^2") for k in ks),
+                ],
+                [
+                    [
+                        label,
+                        *(
+                            _cell(float(ds[roll].sel(layout=label, roll_order=float(k))), roll)
+                            for k in ks
+                        ),
+                    ]
+                    for label in labels
+                ],
+            )
+        )
+    mounts = "mount_force_max" in ds and bool(np.isfinite(ds["mount_force_max"].values).any())
+    columns = [
+        layout,
+        Column("cylinders"),
+        Column("counterweight mass", "kg"),
+        Column("balance shafts"),
+    ]
+    if mounts:
+        columns.append(Column("largest mount force", "N"))
+    rows = []
+    for label in labels:
+        one = ds.sel(layout=label)
+        row = [
+            label,
+            str(int(one["n_cylinders"])),
+            format_number(float(one["counterweight_total_mass"])),
+            str(int(one["n_shafts"])),
+        ]
+        if mounts:
+            value = float(one["mount_force_max"])
+            row.append(format_number(value) if np.isfinite(value) else "-")
+        rows.append(row)
+    out.append(NumberTable("Balancing needs: what each layout's proposal uses", columns, rows))
+    return out
+
+
+def _cell(value: float, name: str) -> str:
+    """A compared value: ``n/a`` for a normalised moment without a pitch."""
+    if not np.isfinite(value) and name.endswith("_normalised") and "moment" in name:
+        return "n/a"
+    return format_number(value)

@@ -279,10 +279,11 @@ def build_dataset(result: Result) -> xr.Dataset:
         "error_bound_note": "bound on the normalised acceleration coefficients (force error per "
         "m_rec r omega^2) of the model used; see balance.core.accuracy",
         "speed_rpm": speed_rpm(layout.speed),
-        "firing_order": ",".join(map(str, layout.firing_order or ())),
         "balance_version": __version__,
         "conventions": CONVENTIONS,
     }
+    if layout.firing_order:  # numbers as numbers: an integer array, absent when not given
+        attrs["firing_order"] = np.asarray(layout.firing_order, dtype=np.int64)
     balanced = result.balanced
     if balanced is not None:
         assert result.residual_roll is not None  # a proposal needs the roll
@@ -323,13 +324,15 @@ def build_dataset(result: Result) -> xr.Dataset:
 def _proposal_attrs(balanced: Balanced) -> dict[str, Any]:
     proposal = balanced.proposal
     factor = proposal.balance_factor
-    return {
+    attrs: dict[str, Any] = {
         "proposal_strategy": proposal.strategy,
-        "proposal_orders": ",".join(map(str, proposal.orders)),
-        "proposal_balance_factor": "" if factor is None else float(factor),
+        "proposal_orders": np.asarray(proposal.orders, dtype=np.int64),
         "proposal_cancel_roll": int(proposal.cancel_roll),
         "proposal_notes": "; ".join(proposal.notes),
     }
+    if factor is not None:  # a number, present only when a balance factor was given
+        attrs["proposal_balance_factor"] = float(factor)
+    return attrs
 
 
 def _roll_variables(

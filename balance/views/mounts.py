@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.mounts import COORDINATES, MountsResult, crossings
+from balance.views.fitted import Column, NumberTable
 from balance.views.polar import json_number, order_value
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -45,13 +46,6 @@ RPM = 30.0 / math.pi
 def _share(value: float) -> str:
     """A percentage of energy; round-off below 1e-9 % shown as 0."""
     return "0" if abs(value) < 1e-9 else _fmt(value, 3)
-
-
-def _h(text: str) -> str:
-    """A column header with its unit in brackets, escaped from rich markup."""
-    from rich.markup import escape
-
-    return escape(text)
 
 
 def _fmt(value: float, digits: int = 4) -> str:
@@ -165,108 +159,140 @@ def sweep_csv(m: MountsResult) -> str:
 # tables
 
 
-def _modes_table(m: MountsResult) -> Any:
-    from rich.table import Table
-
-    table = Table(title="Rigid-body modes on the mounts (undamped)", title_justify="left")
-    table.add_column("mode", justify="right")
-    table.add_column(_h("frequency [Hz]"), justify="right")
-    table.add_column("rpm for order 1", justify="right")
-    for c in COORDINATES:
-        table.add_column(_h(f"{c} [%]"), justify="right")
+def _modes_table(m: MountsResult) -> NumberTable:
+    rows = []
     for j in range(6):
         f = float(m.modes.frequency[j])
         shares = [_share(100 * float(v)) for v in m.modes.energy_share[j]]
-        table.add_row(str(j + 1), _fmt(f), _fmt(60 * f), *shares)
-    return table
+        rows.append([str(j + 1), _fmt(f), _fmt(60 * f), *shares])
+    return NumberTable(
+        "Rigid-body modes on the mounts (undamped): frequency f, energy shares",
+        [
+            Column("mode", key=True),
+            Column("f", "Hz"),
+            Column("order 1 at", "rpm"),
+            *(Column(c, "%") for c in COORDINATES),
+        ],
+        rows,
+    )
 
 
 def mounts_tables(m: MountsResult) -> list[RenderableType]:
     """Modes with energy shares, the response per order, the torque-roll axis and each
     mount's distance from it."""
-    from rich.table import Table
     from rich.text import Text
 
     parts: list[RenderableType] = [_modes_table(m)]
     what = "with the proposal" if m.with_proposal else "without balancing masses"
-    table = Table(
-        title=f"Response on the mounts per order ({what}"
-        + (", with the gas torque" if m.gas else "")
-        + ")",
-        title_justify="left",
-    )
-    table.add_column("order", justify="right")
-    for label in ("CG x [mm]", "CG y [mm]", "CG z [mm]", "rx [mrad]", "ry [mrad]", "rz [mrad]"):
-        table.add_column(_h(label), justify="right")
-    table.add_column(_h("largest mount force [N]"), justify="right")
-    table.add_column("at mount", justify="right")
     peak = m.force_peak
+    rows = []
     for i, k in enumerate(m.orders):
         cells = [_fmt(1e3 * float(v)) for v in m.translation[i]]
         cells += [_fmt(1e3 * float(v)) for v in m.rotation[i]]
         n = int(np.argmax(peak[i]))
-        table.add_row(str(order_value(k)), *cells, _fmt(float(peak[i, n])), str(n + 1))
-    parts.append(table)
+        rows.append([str(order_value(k)), *cells, _fmt(float(peak[i, n])), str(n + 1)])
+    parts.append(
+        NumberTable(
+            f"Response on the mounts per order ({what}"
+            + (", with the gas torque" if m.gas else "")
+            + ")",
+            [
+                Column("order", key=True),
+                Column("CG x", "mm"),
+                Column("CG y", "mm"),
+                Column("CG z", "mm"),
+                Column("rx", "mrad"),
+                Column("ry", "mrad"),
+                Column("rz", "mrad"),
+                Column("largest mount force", "N"),
+                Column("at mount"),
+            ],
+            rows,
+        )
+    )
     axis = m.roll_axis
     tilt = math.degrees(math.acos(min(1.0, abs(float(axis[2])))))
     parts.append(
-        Text(
-            "Torque-roll axis through the CG, direction "
-            f"[{', '.join(f'{v:.4f}' for v in axis)}] ({tilt:.1f} deg from the crank axis)"
+        Text(f"Torque-roll axis (TRA) through the CG along [{', '.join(f'{v:.4f}' for v in axis)}]")
+    )
+    parts.append(Text(f"TRA {tilt:.1f} deg from the crank axis"))
+    parts.append(
+        NumberTable(
+            "Mounts and the torque-roll axis (TRA)",
+            [
+                Column("mount", key=True),
+                Column("x", "mm"),
+                Column("y", "mm"),
+                Column("z", "mm"),
+                Column("distance to TRA", "mm"),
+                Column("axis 1 off TRA", "mm"),
+                Column("axis 2 off TRA", "mm"),
+                Column("axis 3 off TRA", "mm"),
+            ],
+            [
+                [
+                    str(n + 1),
+                    *(_fmt(1e3 * float(v)) for v in m.system.positions[n]),
+                    _fmt(1e3 * float(m.axis_distance[n])),
+                    *(_fmt(1e3 * float(v)) for v in m.elastic_offsets[n]),
+                ]
+                for n in range(m.system.n_mounts)
+            ],
         )
     )
-    mounts = Table(title="Mounts and the torque-roll axis", title_justify="left")
-    mounts.add_column("mount", justify="right")
-    for label in (
-        "x [mm]",
-        "y [mm]",
-        "z [mm]",
-        "distance to TRA [mm]",
-        "axis 1 off TRA [mm]",
-        "axis 2 off TRA [mm]",
-        "axis 3 off TRA [mm]",
-    ):
-        mounts.add_column(_h(label), justify="right")
-    for n in range(m.system.n_mounts):
-        mounts.add_row(
-            str(n + 1),
-            *(_fmt(1e3 * float(v)) for v in m.system.positions[n]),
-            _fmt(1e3 * float(m.axis_distance[n])),
-            *(_fmt(1e3 * float(v)) for v in m.elastic_offsets[n]),
-        )
-    parts.append(mounts)
     return parts
 
 
 def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
     """A speed sweep: the modes, the largest mount force per order against speed (a row
     every few speeds), and the crossings."""
-    from rich.table import Table
     from rich.text import Text
 
     what = "with the proposal" if m.with_proposal else "without balancing masses"
     parts: list[RenderableType] = [
-        Text(f"{layout} on its mounts, {what}", style="bold"),
+        Text(str(layout), style="bold"),
+        Text(f"On its mounts, {what}"),
         _modes_table(m),
     ]
-    table = Table(title="Largest mount force [N] against speed", title_justify="left")
-    table.add_column(_h("speed [rpm]"), justify="right")
-    for k in m.orders:
-        table.add_column(f"order {order_value(k)}", justify="right")
     step = max(1, m.speed.size // 25)
     largest = m.largest_force
-    for s in range(0, m.speed.size, step):
-        table.add_row(_fmt(float(m.speed[s]) * RPM, 5), *(_fmt(float(v)) for v in largest[s]))
-    parts.append(table)
-    found = crossing_entries(m)
-    cross = Table(title="Orders crossing modes in the speed range", title_justify="left")
-    for label in ("order", "mode", "frequency [Hz]", "speed [rpm]"):
-        cross.add_column(_h(label), justify="right")
-    for c in found:
-        cross.add_row(
-            str(c["order"]), str(c["mode"]), _fmt(c["frequency_Hz"]), _fmt(c["speed_rpm"], 5)
+    parts.append(
+        NumberTable(
+            "Largest mount force against speed, per order",
+            [
+                Column("speed", "rpm", key=True),
+                *(Column(f"order {order_value(k)}", "N") for k in m.orders),
+            ],
+            [
+                [_fmt(float(m.speed[s]) * RPM, 5), *(_fmt(float(v)) for v in largest[s])]
+                for s in range(0, m.speed.size, step)
+            ],
         )
-    parts.append(cross if found else Text("No order crosses a mode in the speed range."))
+    )
+    found = crossing_entries(m)
+    if found:
+        parts.append(
+            NumberTable(
+                "Orders crossing modes in the speed range",
+                [
+                    Column("order", key=True),
+                    Column("mode"),
+                    Column("frequency", "Hz"),
+                    Column("speed", "rpm"),
+                ],
+                [
+                    [
+                        str(c["order"]),
+                        str(c["mode"]),
+                        _fmt(c["frequency_Hz"]),
+                        _fmt(c["speed_rpm"], 5),
+                    ]
+                    for c in found
+                ],
+            )
+        )
+    else:
+        parts.append(Text("No order crosses a mode in the speed range."))
     if m.gas:
         parts.append(
             Text(

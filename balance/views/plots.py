@@ -19,7 +19,8 @@ Kinds (:data:`PLOT_KINDS`):
 ``crank_star``
     Throws and banks seen from the front (+y up, +x right, crank turning clockwise).
 ``phasors``
-    Polar diagrams of the force and moment phasors per order, forward and backward.
+    Polar diagrams of the force and moment phasors, one panel per order on its own scale,
+    forward and backward.
 ``crank_angle``
     Force (y and x) and pitch/yaw couples over one revolution, total and per order.
 ``locus``
@@ -67,10 +68,14 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
 
 __all__ = [
+    "BEARING_KINDS",
     "FORMATS",
+    "GAS_KINDS",
+    "PHASOR_COLUMNS",
     "PLOT_KINDS",
     "STYLE",
     "figure_bytes",
+    "phasor_panels",
     "plot_balance",
     "plot_crank_angle",
     "plot_crank_star",
@@ -425,6 +430,33 @@ def _va(angle_rad: float) -> str:
     return "center" if abs(c) < 0.3 else ("bottom" if c > 0 else "top")
 
 
+#: Polar panels per row of the per-order phasor figure.
+PHASOR_COLUMNS = 4
+
+
+def phasor_panels(
+    result: Result,
+    *,
+    source: Source = "free",
+    orders: Iterable[int] | None = None,
+) -> list[tuple[Quantity, list[int]]]:
+    """The panels of :func:`plot_phasors` with ``scale="per-order"``: for the force and the
+    moment, the orders that have a phasor not zero next to the largest of that quantity
+    (:data:`ZERO_SHARE`); an empty list draws one panel that says why (zero, not
+    computed)."""
+    out: list[tuple[Quantity, list[int]]] = []
+    for quantity in synthesis.QUANTITIES:
+        ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+        keep = _pick_orders(ks, orders)
+        size = np.stack([np.abs(fwd[keep]), np.abs(bwd[keep])])
+        if np.isnan(size).all():  # not computed
+            out.append((quantity, []))
+            continue
+        shown = np.asarray(np.asarray(_significant(size)).any(axis=0), dtype=bool)
+        out.append((quantity, [int(k) for k, s in zip(ks[keep], shown, strict=True) if s]))
+    return out
+
+
 def plot_phasors(
     result: Result,
     *,
@@ -432,26 +464,39 @@ def plot_phasors(
     source: Source = "free",
     orders: Iterable[int] | None = None,
     normalised: bool = False,
+    scale: str = "per-order",
     title: str | None = None,
 ) -> Figure:
-    """Polar diagrams of the force and moment phasors, forward (solid) and backward (dashed).
+    """Polar diagrams of the force and moment phasors, forward (wide) and backward (dashed).
 
     Angles are drawn as in the engine frame: 0 (+y) at the top, increasing clockwise (the
     direction of rotation seen from the front).  Each arrow is a phasor at crank angle 0;
     forward phasors turn clockwise at k times crank speed, backward ones anticlockwise.
 
+    By default (``scale="per-order"``) every order that is not zero has a panel of its
+    own, with its own radial scale and its magnitudes written under it: a second order a
+    hundredth of the first is as readable as the first (one linear scale for all orders
+    shrinks it to a dot; a logarithmic radius would distort the lengths a reader compares
+    and has no zero at the centre).  The force panels come first, then the moment panels,
+    :data:`PHASOR_COLUMNS` to a row.  ``scale="common"`` draws all orders of a quantity on
+    one linear scale, two panels.
+
     Parameters
     ----------
     result : Result
         From :func:`balance.core.analysis.compute`.
-    ax : sequence of 2 polar Axes, optional
-        Axes for the force and the moment; a new figure otherwise.
+    ax : sequence of polar Axes, optional
+        Axes to draw on: with ``scale="common"`` two (force and moment); per order, one
+        per panel of :func:`phasor_panels` (an empty quantity takes one).  A new figure
+        otherwise.
     source : {'free', 'reciprocating', 'residual'}
         Which force and moment (see :mod:`balance.views.signals`).
     orders : iterable of int, optional
         Orders to draw; default every order of the result (zero ones are not drawn).
     normalised : bool
         Draw per ``reference_force`` and ``reference_moment`` [1] instead of N and N m.
+    scale : {'per-order', 'common'}
+        A radial scale per order (panels), or one per quantity.
     title : str, optional
         Figure title; by default the layout name.
 
@@ -459,6 +504,155 @@ def plot_phasors(
     -------
     matplotlib.figure.Figure
     """
+    if scale not in ("per-order", "common"):
+        raise ValueError(f"plot_phasors: scale must be 'per-order' or 'common', got {scale!r}")
+    if scale == "common":
+        return _phasors_common(result, ax, source, orders, normalised, title)
+    from matplotlib.lines import Line2D
+
+    panels = phasor_panels(result, source=source, orders=orders)
+    counts = [max(len(drawn), 1) for _, drawn in panels]
+    ncols = min(PHASOR_COLUMNS, max(counts))
+    # a quantity without a phasor to draw takes a low row with its note
+    rows = [
+        math.ceil(n / ncols) if drawn else 0.3 for n, (_, drawn) in zip(counts, panels, strict=True)
+    ]
+    with _styled():
+        if ax is None:
+            from matplotlib.figure import Figure
+
+            fig = Figure(figsize=(2.75 * ncols + 1.9, 0.9 + 3.05 * sum(rows)), layout="constrained")
+            subfigures = fig.subfigures(len(panels), 1, height_ratios=rows, squeeze=False)
+            axes_list = []
+            for sub, n, (_, drawn) in zip(np.ravel(subfigures), counts, panels, strict=True):
+                if not drawn:  # a row for the note alone
+                    axes_list.append([sub.subplots()])
+                    continue
+                grid = np.ravel(
+                    sub.subplots(
+                        math.ceil(n / ncols),
+                        ncols,
+                        squeeze=False,
+                        subplot_kw={"projection": "polar"},
+                    )
+                )
+                for extra in grid[n:]:  # the rest of the last row stays empty
+                    extra.remove()
+                axes_list.append(list(grid[:n]))
+            owned = True
+        else:
+            fig, given, owned = _new_figure(ax, sum(counts), (1.0, 1.0), polar=True, kind="phasors")
+            axes_list, start = [], 0
+            for n in counts:
+                axes_list.append(given[start : start + n])
+                start += n
+            subfigures = None
+        for group, (quantity, ks_shown) in enumerate(panels):
+            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+            divisor, unit, _ = _scale(result, quantity, normalised)
+            fwd, bwd = fwd / divisor, bwd / divisor
+            name = "force" if quantity == "force" else "moment Σ Δz·F"
+            label = (
+                f"{name} [{unit}]" if not unit.startswith("per ") else f"{name} / {unit[4:]} [1]"
+            )
+            if subfigures is not None and ks_shown:
+                np.ravel(subfigures)[group].suptitle(
+                    f"{label}: each order on its own scale", fontsize=11
+                )
+            axes_group = axes_list[group]
+            if not ks_shown:
+                polar: Any = axes_group[0]
+                polar.set_axis_off()
+                note = "not computed" if np.isnan(fwd).all() else "all zero"
+                polar.text(
+                    0.5,
+                    0.5,
+                    f"{note}: {label}",
+                    transform=polar.transAxes,
+                    ha="center",
+                    va="center",
+                    color="0.4",
+                )
+                continue
+            shown = {k: (fwd[i], bwd[i]) for i, k in enumerate(ks) if int(k) in ks_shown}
+            for polar, k in zip(axes_group, ks_shown, strict=True):
+                pf, pb = shown[k]
+                _polar_frame(polar)
+                largest = max(abs(pf), abs(pb))
+                polar.set_rmax(1.12 * largest)
+                polar.set_rmin(0.0)
+                polar.set_rticks([largest / 2.0, largest])
+                polar.set_yticklabels([_format(largest / 2.0), _format(largest)], fontsize=7)
+                polar.set_rlabel_position(135.0)
+                colour = _order_colour(k)
+                significant = _significant(np.array([abs(pf), abs(pb)]))
+                for phasor, arrow, visible in (
+                    (pf, FORWARD_ARROW, significant[0]),
+                    (pb, BACKWARD_ARROW, significant[1]),
+                ):
+                    if visible:
+                        polar.annotate(
+                            "",
+                            xy=(float(np.angle(phasor)), float(abs(phasor))),
+                            xytext=(0.0, 0.0),
+                            arrowprops={"color": colour, "shrinkA": 0, "shrinkB": 0, **arrow},
+                        )
+                polar.set_title(
+                    f"order {k}\nforward {_format(abs(pf))}, backward {_format(abs(pb))}",
+                    fontsize=9,
+                    color=colour,
+                    pad=8,
+                )
+        handles = [
+            Line2D(
+                [],
+                [],
+                color="black",
+                lw=3.4,
+                alpha=0.45,
+                label="forward (wide):\nturns with\nthe crank",
+            ),
+            Line2D(
+                [],
+                [],
+                color="black",
+                lw=1.5,
+                ls="--",
+                label="backward (dashed):\nturns against\nthe crank",
+            ),
+        ]
+        if owned:
+            fig.legend(handles=handles, loc="outside right center")
+        return _finish(
+            fig,
+            owned,
+            title,
+            f"{_layout_name(result)}: phasors at θ\u00a0=\u00a00, {_source_label(source)}",
+        )
+
+
+def _polar_frame(polar: Any) -> None:
+    """0 deg (+y) at the top, angles clockwise (the direction of rotation), light labels."""
+    polar.set_theta_zero_location("N")
+    polar.set_theta_direction(-1)
+    polar.set_thetagrids(
+        np.arange(0, 360, 45),
+        [f"{a}°" if a % 90 == 0 else "" for a in range(0, 360, 45)],
+        fontsize=7.5,
+    )
+    polar.tick_params(axis="x", pad=-1)
+
+
+def _phasors_common(
+    result: Result,
+    ax: AxesArg,
+    source: Source,
+    orders: Iterable[int] | None,
+    normalised: bool,
+    title: str | None,
+) -> Figure:
+    """:func:`plot_phasors` with ``scale="common"``: every order of a quantity on one
+    linear scale, force and moment side by side."""
     from matplotlib.lines import Line2D
 
     with _styled():
@@ -1196,6 +1390,9 @@ PLOT_KINDS: dict[str, Callable[..., Figure]] = {
 #: Plot kinds that need the bearing loads (``Request.bearings``).
 BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
 
+#: Plot kinds that need gas forces (a ``gas:`` section); asked for without, they say so.
+GAS_KINDS = ("torque", "forces")
+
 
 def _metadata(fmt: str) -> dict[str, Any]:
     """File metadata without dates, so that the same result gives the same bytes."""
@@ -1239,7 +1436,9 @@ def save_plots(
     directory : path
         Where to write; created if missing.
     kinds : iterable of str, optional
-        Kinds of :data:`PLOT_KINDS`; default all (``balance`` only with a proposal).
+        Kinds of :data:`PLOT_KINDS`; default all that apply: ``balance`` with a proposal,
+        ``mounts`` with mounts, the :data:`BEARING_KINDS` with bearing loads and the
+        :data:`GAS_KINDS` with gas forces.
     fmt : {'png', 'svg', 'pdf'}
         File format.
     prefix : str
@@ -1269,6 +1468,7 @@ def save_plots(
             if (k != "balance" or synthesis.has_proposal(result))
             and (k != "mounts" or result.mounts is not None)
             and (k not in BEARING_KINDS or result.bearings is not None)
+            and (k not in GAS_KINDS or result.torque is not None)
         ]
     else:
         chosen = list(kinds)

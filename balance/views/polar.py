@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core.phasors import CANCELLATION_FACTOR
 from balance.core.speed import rad_per_s_to_rpm
 
 __all__ = [
@@ -22,6 +23,7 @@ __all__ = [
     "phase_deg",
     "safe_ratio",
     "speed_rpm",
+    "zero_below_rounding",
 ]
 
 #: Schema name of the analysis JSON and the result Dataset.
@@ -71,3 +73,28 @@ def json_number(value: Any) -> float | None:
 def order_value(order: float) -> float | int:
     """An order as JSON writes it: a whole number as an int, a half order as a float."""
     return int(order) if float(order).is_integer() else float(order)
+
+
+def zero_below_rounding(values: ArrayLike, scale: float, n_terms: int) -> NDArray[np.float64]:
+    r"""Magnitudes as printed: 0 where a value cannot be told from zero.
+
+    The rule of :func:`balance.core.phasors.cancel_to_zero`, which every phasor sum of the
+    analysis follows: a sum of ``n_terms`` terms whose magnitudes add up to ``scale`` is
+    zero where it is at most :math:`64\, n\, \epsilon\, S`.  For the quantities that are
+    formed elsewhere (bearing loads, a balance-factor study), so that a load of
+    ``4.8e-12`` N next to loads of 10 kN prints as 0 like the phasors do.
+
+    Parameters
+    ----------
+    values : array_like
+        Non-negative magnitudes.
+    scale : float
+        :math:`S`, a bound on the sum of the magnitudes of the terms summed into each value.
+    n_terms : int
+        Number of terms of each sum.
+    """
+    out = np.array(values, dtype=np.float64, copy=True)
+    threshold = CANCELLATION_FACTOR * max(n_terms, 1) * float(np.finfo(np.float64).eps) * scale
+    if math.isfinite(threshold):
+        out[np.abs(out) <= threshold] = 0.0
+    return out

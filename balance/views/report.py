@@ -27,7 +27,7 @@ from balance.core.kinematics import offset_ratio, rod_ratio
 from balance.views import signals as synthesis
 from balance.views.polar import CONVENTIONS, SCHEMA, phase_deg, safe_ratio, speed_rpm
 from balance.views.signals import Quantity
-from balance.views.table import format_number
+from balance.views.table import NO_PITCH, format_number, format_ratio, pitch_text
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
@@ -58,6 +58,7 @@ nav ol { columns: 2; }
 table { border-collapse: collapse; margin: 0.6em 0 1em; font-size: 0.9em; }
 th, td { border: 1px solid #d0d7de; padding: 0.25em 0.6em; }
 th { background: #f3f5f7; font-weight: 600; }
+th.group { background: #e6ebf0; text-align: center; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 td.zero { color: #999; }
 dl.facts { display: grid; grid-template-columns: max-content auto; gap: 0.2em 1em; }
@@ -67,6 +68,7 @@ figure { margin: 1em 0 1.6em; }
 figure svg { max-width: 100%; height: auto; display: block; }
 figcaption { color: #444; font-size: 0.9em; margin-top: 0.3em; }
 .note { background: #fff8e1; border-left: 4px solid #f0b400; padding: 0.4em 0.8em; }
+ul.notes { list-style: none; }
 footer { margin-top: 3em; color: #666; font-size: 0.85em; }
 @media print { nav { display: none; } section { break-inside: avoid-page; } }
 """
@@ -81,17 +83,39 @@ def _num(value: Any, scale: float = 1.0) -> str:
     return format_number(float(value) * scale)
 
 
-def _table(headers: Sequence[str], rows: Iterable[Sequence[str]], caption: str = "") -> str:
-    """An HTML table; headers and cells are plain text (escaped here)."""
+def _ratio(value: Any, reference: float) -> str:
+    """A normalised value, ``n/a`` where the reference is undefined (no pitch)."""
+    return format_ratio(float(value), float(reference))
+
+
+def _table(
+    headers: Sequence[str],
+    rows: Iterable[Sequence[str]],
+    caption: str = "",
+    groups: Sequence[tuple[str, int]] = (),
+) -> str:
+    """An HTML table; headers and cells are plain text (escaped here).
+
+    ``groups``: an optional first header row of (label, number of columns) spans, labelling
+    groups of columns (an empty label leaves its columns unlabelled)."""
     out = ["<table>"]
     if caption:
         out.append(f"<caption>{_e(caption)}</caption>")
-    out.append("<thead><tr>" + "".join(f"<th>{_e(h)}</th>" for h in headers) + "</tr></thead>")
+    out.append("<thead>")
+    if groups:
+        spans = "".join(
+            f'<th colspan="{n}" class="group">{_e(label)}</th>'
+            if n > 1
+            else f"<th>{_e(label)}</th>"
+            for label, n in groups
+        )
+        out.append(f"<tr>{spans}</tr>")
+    out.append("<tr>" + "".join(f"<th>{_e(h)}</th>" for h in headers) + "</tr></thead>")
     out.append("<tbody>")
     for row in rows:
         cells = []
         for cell in row:
-            css = "num zero" if cell in ("0", "-") else "num"
+            css = "num zero" if cell in ("0", "-", "n/a") else "num"
             cells.append(f'<td class="{css}">{_e(cell)}</td>')
         out.append("<tr>" + "".join(cells) + "</tr>")
     out.append("</tbody></table>")
@@ -256,9 +280,14 @@ def _layout_section(result: Result, figures: bool) -> str:
         ("cycle", str(engine.cycle)),
         ("firing order", ",".join(map(str, engine.firing_order or ())) or "not given"),
         ("moments about", f"z = {_num(engine.reference_z, 1e3)} mm on the crank axis"),
-        ("cylinder pitch a", f"{_num(result.pitch, 1e3)} mm"),
+        ("cylinder pitch a", pitch_text(float(result.pitch))),
         ("F1 = m_rec r ω²", f"{_num(result.reference_force)} N"),
-        ("F1 a", f"{_num(result.reference_moment)} N m"),
+        (
+            "F1 a",
+            f"{_num(result.reference_moment)} N m"
+            if math.isfinite(float(result.reference_moment))
+            else "n/a (no pitch)",
+        ),
         ("source file", str(engine.path or "") or "-"),
     ]
     headers = [
@@ -347,11 +376,13 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
     per = "F1" if quantity == "force" else "F1 a"
     reference = float(result.reference_force if quantity == "force" else result.reference_moment)
     orders, forward, backward = synthesis.phasors_of(result, quantity, "reciprocating")
+    _, free_forward, free_backward = synthesis.phasors_of(result, quantity, "free")
     size_fwd, size_bwd = np.abs(forward), np.abs(backward)
     peak = size_fwd + size_bwd
+    free_peak = synthesis.peaks(free_forward, free_backward)
     phase_fwd, phase_bwd = phase_deg(forward), phase_deg(backward)
-    norm_fwd, norm_bwd = safe_ratio(size_fwd, reference), safe_ratio(size_bwd, reference)
     norm_peak = safe_ratio(peak, reference)
+    norm_free = safe_ratio(free_peak, reference)
     headers = [
         "order",
         f"forward [{unit}]",
@@ -359,8 +390,8 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
         f"backward [{unit}]",
         "phase [deg]",
         f"peak [{unit}]",
-        f"forward / {per}",
-        f"backward / {per}",
+        f"peak / {per}",
+        f"peak [{unit}]",
         f"peak / {per}",
     ]
     rows = [
@@ -371,11 +402,16 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
             _num(size_bwd[i]),
             _num(phase_bwd[i]),
             _num(peak[i]),
-            _num(norm_fwd[i]),
-            _num(norm_bwd[i]),
-            _num(norm_peak[i]),
+            _ratio(norm_peak[i], reference),
+            _num(free_peak[i]),
+            _ratio(norm_free[i], reference),
         ]
         for i, k in enumerate(orders)
+    ]
+    groups = [
+        ("", 1),
+        ("reciprocating inertia", 6),
+        ("free: reciprocating + rotating (the figures)", 2),
     ]
     what = (
         "Reciprocating inertia forces on the block, per order"
@@ -383,11 +419,17 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
         else "Reciprocating inertia moments Σ (z_i − z_ref) F_i about reference_z, per order "
         "(drawn along the force; the couple is this turned by −90° about z)"
     )
+    reference_text = (
+        f"{_num(reference)} {unit}"
+        if math.isfinite(reference) and reference != 0.0
+        else f"n/a: pitch a = {NO_PITCH}"
+    )
     out = [
         f"<p>{_e(what)}. Forward phasors turn with the crank, backward ones against it; "
-        f"the peak over a revolution is |forward| + |backward|. {_e(per)} = "
-        f"{_e(_num(reference))} {_e(unit)}.</p>",
-        _table(headers, rows),
+        f"the peak over a revolution is |forward| + |backward|. The free {quantity} adds "
+        f"the centrifugal {quantity} of the rotating masses to order 1 (forward); the "
+        f"figures draw the free {quantity}. {_e(per)} = {_e(reference_text)}.</p>",
+        _table(headers, rows, groups=groups),
     ]
     if figures and quantity == "force":
         out.append(
@@ -413,8 +455,9 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
             _figure(
                 result,
                 "phasors",
-                "Phasors at crank angle 0 (0° up, clockwise = direction of rotation): forward "
-                "wide, backward dashed.",
+                "Phasors at crank angle 0 (0° up, clockwise = direction of rotation) of the "
+                "free force and moment (reciprocating + rotating), one panel per order, each "
+                "on its own scale: forward wide, backward dashed.",
                 4,
             )
         )
@@ -446,14 +489,20 @@ def _rotating_section(result: Result) -> str:
                 "moment [N m]",
                 _num(abs(p.rotating_moment)),
                 _num(phase_deg(p.rotating_moment)),
-                _num(safe_ratio(abs(p.rotating_moment), result.reference_moment)),
+                _ratio(
+                    safe_ratio(abs(p.rotating_moment), result.reference_moment),
+                    float(result.reference_moment),
+                ),
             ]
         )
     return "\n".join(
         [
             "<p>Centrifugal force of the rotating masses (order 1, forward only): a mass turning "
             "with the crank (a counterweight) can cancel it.</p>",
-            _table(["", "magnitude", "phase [deg]", "per F1 (force) / F1 a (moment)"], rows),
+            _table(
+                ["quantity [unit]", "magnitude", "phase [deg]", "per F1 (force) / F1 a (moment)"],
+                rows,
+            ),
         ]
     )
 
@@ -473,7 +522,12 @@ def _roll_section(result: Result, figures: bool) -> str:
         residual_amplitude, residual_phase = np.abs(residual), phase_deg(residual)
     rows = []
     for i, k in enumerate(orders):
-        row = [f"{float(k):g}", _num(amplitude[i]), _num(phase[i]), _num(normalised[i])]
+        row = [
+            f"{float(k):g}",
+            _num(amplitude[i]),
+            _num(phase[i]),
+            _ratio(normalised[i], float(result.reference_roll)),
+        ]
         if proposal:
             row += [_num(residual_amplitude[i]), _num(residual_phase[i])]
         rows.append(row)
@@ -500,7 +554,10 @@ def _proposal_section(result: Result, figures: bool) -> str:
         ("roll cancelled", "yes" if proposal.cancel_roll else "no"),
     ]
     out = [_facts(facts)]
-    out.extend(f'<p class="note">Note: {_e(note)}</p>' for note in proposal.notes if note)
+    notes = [note for note in proposal.notes if note]
+    if notes:  # the proposal's remarks, one per line
+        items = "".join(f"<li>{_e(note)}</li>" for note in notes)
+        out.append(f'<ul class="note notes">{items}</ul>')
     out.append("<h3>Counterweights (turn with the crank)</h3>")
     if proposal.counterweights:
         rows = [
@@ -576,10 +633,10 @@ def _proposal_section(result: Result, figures: bool) -> str:
                 str(int(k)),
                 _num(free_force[i]),
                 _num(residual_force[i]),
-                _num(force_per[i]),
+                _ratio(force_per[i], float(result.reference_force)),
                 _num(free_moment[i]),
                 _num(residual_moment[i]),
-                _num(moment_per[i]),
+                _ratio(moment_per[i], float(result.reference_moment)),
                 _num(abs(roll[r])) if r is not None else "-",
                 _num(abs(residual_roll[r])) if r is not None else "-",
             ]

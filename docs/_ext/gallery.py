@@ -33,8 +33,8 @@ GENERATED = "_generated"
 CAPTIONS = {
     "crank_star": "Crank star: throws and banks seen from the front (+y up, +x right, the "
     "crank turning clockwise).",
-    "phasors": "Force and moment phasors at crank angle 0, per order: forward (wide) turns "
-    "with the crank, backward (dashed) against it.",
+    "phasors": "Force and moment phasors at crank angle 0, one panel per order, each on its "
+    "own scale: forward (wide) turns with the crank, backward (dashed) against it.",
     "crank_angle": "Vertical and horizontal force and the pitch and yaw couples over one "
     "revolution, per order and in total.",
     "locus": "Path of the force and moment vectors in the transverse plane over a revolution: "

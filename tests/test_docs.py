@@ -1,0 +1,157 @@
+"""The documentation says what the program does: docs/cli.md against the typer app.
+
+Every command, every option of every command and every plot kind must be described in
+``docs/cli.md``: in the overview at the top (under ``balance COMMAND``) and in the
+command's own section (``## `balance COMMAND```).  A command or option added to the program
+without its documentation fails here.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+import typer
+
+import balance
+from balance.cli import app
+from balance.core.analysis import compute
+from balance.core.result import Request
+from balance.views.json import to_dict
+from balance.views.plots import PLOT_KINDS
+
+CLI_MD = Path(__file__).resolve().parents[1] / "docs" / "cli.md"
+PYPROJECT = Path(__file__).resolve().parents[1] / "pyproject.toml"
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+def _commands():
+    """(command path, click command) for every command of the app, groups walked."""
+    root = typer.main.get_command(app)
+
+    def walk(command, path):
+        subcommands = getattr(command, "commands", None)
+        if subcommands is None:
+            yield " ".join(path), command
+            return
+        for name, sub in subcommands.items():
+            yield from walk(sub, [*path, name])
+
+    return list(walk(root, [])), root
+
+
+COMMANDS, ROOT = _commands()
+
+
+def _options(command) -> list[str]:
+    return [
+        name
+        for param in command.params
+        if param.param_type_name == "option"
+        for name in (*param.opts, *param.secondary_opts)
+    ]
+
+
+def _text() -> str:
+    return CLI_MD.read_text(encoding="utf-8")
+
+
+def _overview() -> dict[str, str]:
+    """The overview block: each ``balance COMMAND`` entry with its continuation lines."""
+    block = _text().split("```text", 1)[1].split("```", 1)[0]
+    entries: dict[str, str] = {}
+    current = None
+    for line in block.splitlines():
+        if line.startswith("balance "):
+            words = [w for w in line.split()[1:] if not w.startswith(("[", "-"))]
+            name = " ".join(w for w in words[:2] if w.islower() and w.isalpha())
+            command = next(
+                (c for c, _ in sorted(COMMANDS, key=lambda c: -len(c[0])) if name.startswith(c)),
+                name,
+            )
+            current = command
+            entries[current] = entries.get(current, "") + line + "\n"
+        elif current is not None:
+            entries[current] += line + "\n"
+    return entries
+
+
+def _section(command: str) -> str:
+    """The text of the section headed ``## `balance COMMAND``` (up to the next ``## ``)."""
+    match = re.search(
+        rf"^## `balance {re.escape(command)}`[^\n]*\n(.*?)(?=^## |\Z)", _text(), re.S | re.M
+    )
+    assert match, f"docs/cli.md has no section '## `balance {command}`'"
+    return match.group(1)
+
+
+def _named(text: str) -> set[str]:
+    """Every option-like word inside the code spans and blocks of ``text``."""
+    spans = re.findall(r"`([^`]+)`", text)
+    return {w for span in spans for w in re.findall(r"(?<![\w-])-{1,2}[a-z][a-z-]*", span)}
+
+
+@pytest.mark.parametrize("command", [c for c, _ in COMMANDS])
+def test_every_command_and_option_is_documented(command):
+    options = _options(dict(COMMANDS)[command])
+    overview = _overview()
+    assert command in overview, f"the overview of docs/cli.md does not list 'balance {command}'"
+    listed = set(re.findall(r"(?<![\w-])-{1,2}[a-z][a-z-]*", overview[command]))
+    section = _named(_section(command))
+    for option in options:
+        assert option in listed, f"the overview of 'balance {command}' omits {option}"
+        assert option in section, f"the section of 'balance {command}' does not describe {option}"
+
+
+def test_global_options_are_documented():
+    intro = _text().split("(cli-tables)=", 1)[0]
+    for option in _options(ROOT):
+        assert f"[{option}]" in _overview()[""], option  # balance [--debug] COMMAND ...
+        assert f"`{option}`" in intro, option
+
+
+def test_every_plot_kind_is_documented_under_its_file_name():
+    section = _section("plot")
+    described = re.findall(r"^\s*- (`[a-z_]+`(?:, `[a-z_]+`)*):", section, re.M)
+    names = {n.strip("`") for line in described for n in line.split(", ")}
+    assert names == set(PLOT_KINDS), names ^ set(PLOT_KINDS)
+    kind_help = next(p.help for p in dict(COMMANDS)["plot"].params if p.name == "kind")
+    assert all(kind in kind_help for kind in PLOT_KINDS)
+
+
+def test_every_json_block_is_documented():
+    """Every top-level key of an analysis's JSON (with gas, bearings and mounts) is named in
+    the schema of docs/cli.md, and the schema names nothing the program does not write."""
+    block = _text().split("## JSON output", 1)[1].split("```text", 1)[1].split("```", 1)[0]
+    documented = set(re.findall(r'^  "(\w+)":', block, re.M))
+    gas = to_dict(compute(balance.load_layout("inline-4-gas"), Request.of([1, 2])))
+    mounted = to_dict(
+        compute(
+            balance.load_layout("inline-4-mounts"),
+            Request.of([1, 2], mounts=True, bearings=True),
+        )
+    )
+    written = set(gas) | set(mounted) | {"balance_factor_study"}
+    assert documented == written, documented ^ written
+    assert "not yet produced" not in _text() and "refuses a `gas:`" not in _text()
+
+
+def test_docs_extra_and_how_to_build_the_docs():
+    """A ``docs`` extra with what docs/conf.py loads, and the README says how to build."""
+    import tomllib
+
+    extras = tomllib.loads(PYPROJECT.read_text())["project"]["optional-dependencies"]
+    names = {re.split(r"[<>=\[ ]", req, maxsplit=1)[0] for req in extras["docs"]}
+    assert {"sphinx", "myst-parser", "numpydoc"} <= names
+    conf = (CLI_MD.parent / "conf.py").read_text()
+    for extension in re.findall(r'^\s*"([\w.]+)",$', conf, re.M):
+        if "." not in extension and extension != "gallery":  # sphinx.ext.* ship with sphinx
+            assert extension.replace("_", "-") in names, extension
+    readme = README.read_text()
+    assert readme.startswith(
+        "# balance\n\n```sh\npython3 -m pip install . && balance analyse inline-4\n"
+        "python3 -m pip install '.[test]' && python3 -m pytest\n```\n"
+    )
+    development = readme.split("## Development", 1)[1]
+    assert "'.[docs]'" in development and "sphinx" in development
