@@ -399,9 +399,8 @@ def test_cli_notes_in_table_json_and_report():
     )
     # the report command's text without its figures (the figures take seconds to draw)
     html = render_report(compute(load_layout("v-twin-90"), Request.of([1, 2])), figures=False)
-    assert '<ul class="note notes"><li>order 2: the balance shafts raise the roll from 0 to 574.9' in (
-        html
-    )
+    note = "order 2: the balance shafts raise the roll from 0 to 574.9"
+    assert f'<ul class="note notes"><li>{note}' in html
     placed = json.loads(
         run("propose", "v-twin-90", "-f", "json", "--orders", "1-2", "--cancel-roll").stdout
     )["proposal"]
