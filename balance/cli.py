@@ -123,12 +123,9 @@ _Bearings = Annotated[
 
 def _parse_quantity(text: str, kind: str, option: str) -> float:
     """A command-line quantity of unit kind ``kind`` in SI; a bad one names ``option``."""
-    from balance.io.units import UnitProblem, parse_quantity
+    from balance.io.fields import parse_option_quantity
 
-    try:
-        return parse_quantity(text, kind)
-    except UnitProblem as exc:
-        raise InputError(f"{option}: {exc}; {exc.valid}") from None
+    return parse_option_quantity(text, kind, option)
 
 
 def _parse_speed(text: str | None) -> float | None:

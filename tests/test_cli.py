@@ -146,7 +146,7 @@ def test_bad_layout_file_exit_2_with_location(tmp_path):
     assert result.exit_code == 2
     assert result.stderr == (
         f"balance: {path}:4:11: geometry.stroke: '86 kg' is a mass, not a length; give length "
-        "with a unit, e.g. '86 mm', or a plain number in metres\n"
+        "with a unit, e.g. '86 mm'\n"
     )
     assert result.stdout == ""
 

@@ -314,8 +314,9 @@ def _expand_crank(crank: CrankSpec) -> list[CylinderSpec]:
     cylinders = []
     for t, throw in enumerate(crank.throws):
         for j, bank in enumerate(crank.banks):
+            # values already read and checked (SI): constructed, not read again
             cylinders.append(
-                CylinderSpec(
+                CylinderSpec.model_construct(
                     throw=throw + split[j], bank=bank, z=t * spacing + j * crank.bank_stagger
                 )
             )

@@ -32,7 +32,7 @@ from balance.core.mounts import (
     normal_modes,
     stiffness_matrix,
 )
-from balance.io.schema import FieldProblem, Length, Mass, _q, _Strict
+from balance.io.schema import FieldProblem, Length, _kg_m2, _q, _Strict
 from balance.io.units import UnitProblem, registry
 from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
 
@@ -121,7 +121,13 @@ def _damping(value: Any) -> float:
     return _per_unit(value, "a damping", "N s/m", _DAMPING_UNITS, "'300 N s/m'", "N s/m")
 
 
-Inertia = Annotated[float, _q("inertia")]
+def _kg(number: float) -> str:
+    """The unit proposed for a bare powertrain mass: kilograms at any size."""
+    return "kg"
+
+
+Mass = Annotated[float, _q("mass", _kg)]
+Inertia = Annotated[float, _q("inertia", _kg_m2)]
 Stiffness = Annotated[float, BeforeValidator(_stiffness)]
 Damping = Annotated[float, BeforeValidator(_damping)]
 Point = Annotated[list[Length], Field(min_length=3, max_length=3)]
