@@ -65,7 +65,9 @@ def guarded(func: F) -> F:
         except BalanceError as exc:
             if _STATE["debug"]:
                 raise
-            _fail(exc.one_line(), exc.exit_code)
+            *first, last = exc.lines()  # every problem of a file, one line each
+            sys.stderr.write("".join(f"balance: {line}\n" for line in first))
+            _fail(last, exc.exit_code)
         except KeyboardInterrupt:
             _fail("interrupted", 130)
         except BrokenPipeError:

@@ -218,7 +218,7 @@ GOOD = BAD.replace("86 kg", "86 mm")
         ("  stroke: 86 mm", "  strok: 86 mm", ":4:3: geometry.strok:", "did you mean 'stroke'?"),
         ("  conrod_length: 143 mm\n", "", ":4:3: geometry.conrod_length:", "missing"),
         ("86 mm", "86 kg", ":4:11: geometry.stroke:", "is a mass, not a length"),
-        ("143 mm", "40 mm", ":5:18: geometry.conrod_length:", "is not more than crank radius"),
+        ("143 mm", "40 mm", ":5:18: geometry.conrod_length:", "'40 mm' is not more than crank_r"),
         ("reciprocating: 0.6 kg", "reciprocating: -0.6 kg", ":6:", "must be more than zero"),
         ("speed: 6000 rpm", "speed: 6000 rpm\nspeed: 5000 rpm", ":3:1: speed:", "duplicate key"),
     ],

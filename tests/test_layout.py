@@ -280,11 +280,26 @@ def test_speed_in_kg(tmp_path):
 
 def test_impossible_geometry(tmp_path):
     err = error_of(tmp_path, BASE.replace("143 mm", "40 mm"))
+    assert str(err).startswith(f"{tmp_path / 'layout.yaml'}:5:18: geometry.conrod_length: ")
     assert (
-        ":5:18: geometry.conrod_length: conrod_length 40 mm is not more than crank radius 43 mm"
-        in str(err)
+        "conrod_length '40 mm' is not more than crank_radius (stroke '86 mm' / 2) + |offset| 0 "
+        "(not given) (every cylinder)" in str(err)
     )
     assert "conrod_length > crank_radius + |offset|" in str(err)
+
+
+def test_impossible_geometry_of_one_cylinder_names_its_override(tmp_path):
+    text = BASE.replace(
+        "  - {throw: 180 deg, bank: 0 deg, z: 91 mm}",
+        "  - {throw: 180 deg, bank: 0 deg, z: 91 mm, stroke: 300 mm}",
+    ).replace("  conrod_length: 143 mm", "  conrod_length: 143 mm\n  offset: 2 mm")
+    err = error_of(tmp_path, text)
+    assert err.field == "cylinders[2].stroke"
+    assert (err.location.line, err.location.column) == (12, 53)  # the value "300 mm"
+    assert (
+        "conrod_length '143 mm' is not more than crank_radius (cylinders[2].stroke '300 mm' / 2)"
+        " + |offset| '2 mm' (cylinder 2)" in str(err)
+    )
 
 
 def test_impossible_geometry_from_offset_override(tmp_path):

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, BeforeValidator, Field, ValidationError, model_validator
 
-from balance.core.errors import LayoutError
+from balance.core.errors import LayoutError, LayoutErrors, raise_all
 from balance.core.mounts import (
     COORDINATES,
     MountPoint,
@@ -44,6 +44,8 @@ __all__ = [
     "mount_system",
     "mounts_from_dict",
     "mounts_from_text",
+    "section_error",
+    "section_errors",
 ]
 
 #: Cosine of the angle between a mount's axes 1 and 2 above which they count as parallel.
@@ -354,14 +356,25 @@ def _from_document(doc: SourceDocument) -> MountSystem:
     try:
         spec = MountsSpec.model_validate(data)
     except ValidationError as exc:
-        raise section_error(exc, doc, prefix) from None
+        raise_all(section_errors(exc, doc, prefix))
+        raise  # pragma: no cover - a failed validation has at least one problem
     return mount_system(spec)
 
 
 def section_error(
     exc: ValidationError, doc: SourceDocument, prefix: tuple[str | int, ...] = ()
 ) -> LayoutError:
-    """The first problem of a failed validation of a ``mounts:`` section, located.
+    """Every problem of a failed validation of a ``mounts:`` section, located: one
+    :class:`~balance.core.errors.LayoutError`, or a
+    :class:`~balance.core.errors.LayoutErrors` for several (see :func:`section_errors`)."""
+    errors = section_errors(exc, doc, prefix)
+    return errors[0] if len(errors) == 1 else LayoutErrors(errors)
+
+
+def section_errors(
+    exc: ValidationError, doc: SourceDocument, prefix: tuple[str | int, ...] = ()
+) -> list[LayoutError]:
+    """Every problem of a failed validation of a ``mounts:`` section, located.
 
     Parameters
     ----------
@@ -372,12 +385,14 @@ def section_error(
     prefix : tuple
         Path of the section in the document (``("mounts",)`` under a ``mounts:`` key).
     """
-    errors = sorted(exc.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")
-    err = errors[0]
+    return [_section_problem(err, doc, prefix) for err in exc.errors(include_url=False)]
+
+
+def _section_problem(err: Any, doc: SourceDocument, prefix: tuple[str | int, ...]) -> LayoutError:
+    """One problem of a ``mounts:`` section, located."""
     loc = prefix + tuple(
         p for p in err["loc"] if isinstance(p, int) or not str(p).startswith("function-")
     )
-    more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
     problem = (err.get("ctx") or {}).get("error")
     kind = err["type"]
     if kind == "extra_forbidden":
@@ -386,11 +401,11 @@ def section_error(
         hint = difflib.get_close_matches(key, names, n=1)
         valid = (f"did you mean '{hint[0]}'? " if hint else "") + f"valid keys: {', '.join(names)}"
         return LayoutError(
-            f"unknown key '{key}'{more}", doc.location(loc, key=True), dotted_path(loc), valid
+            f"unknown key '{key}'", doc.location(loc, key=True), dotted_path(loc), valid
         )
     if kind == "missing":
         return LayoutError(
-            f"missing '{loc[-1]}'{more}",
+            f"missing '{loc[-1]}'",
             doc.location(loc[:-1]),
             dotted_path(loc),
             _MISSING.get(str(loc[-1]), f"add '{loc[-1]}'"),
@@ -398,18 +413,18 @@ def section_error(
     if isinstance(problem, FieldProblem):
         full = loc + problem.at
         return LayoutError(
-            f"{problem}{more}", doc.location(full), dotted_path(full) or None, problem.valid
+            str(problem), doc.location(full), dotted_path(full) or None, problem.valid
         )
     if isinstance(problem, UnitProblem):
-        return LayoutError(f"{problem}{more}", doc.location(loc), dotted_path(loc), problem.valid)
+        return LayoutError(str(problem), doc.location(loc), dotted_path(loc), problem.valid)
     if kind in {"too_short", "too_long"}:
         valid = "three values [x, y, z]" if loc and loc[-1] != "points" else "1 to 64 mounts"
         if loc and loc[-1] == "axes":
             valid = "two directions: [[axis 1], [axis 2]]"
         given = err.get("input")
         count = f"{len(given)} entries" if isinstance(given, list) else err["msg"]
-        return LayoutError(f"{count}{more}", doc.location(loc), dotted_path(loc), valid)
-    return LayoutError(f"{err['msg']}{more}", doc.location(loc), dotted_path(loc) or None)
+        return LayoutError(count, doc.location(loc), dotted_path(loc), valid)
+    return LayoutError(err["msg"], doc.location(loc), dotted_path(loc) or None)
 
 
 _MISSING = {
