@@ -19,7 +19,14 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
     from balance.core.torque import TorqueResult
 
-__all__ = ["format_number", "render", "render_factor_study", "render_proposal", "render_torque"]
+__all__ = [
+    "format_number",
+    "render",
+    "render_factor_study",
+    "render_proposal",
+    "render_torque",
+    "render_warnings",
+]
 
 
 def format_number(value: float, digits: int = 4) -> str:
@@ -113,7 +120,15 @@ def render(result: Result) -> RenderableType:
         from balance.views.bearings import bearings_tables
 
         parts.extend(bearings_tables(result.bearings))
+    parts.extend(render_warnings(result))
     return Group(*parts)
+
+
+def render_warnings(result: Result) -> list[RenderableType]:
+    """The plausibility warnings as the table's footer, one line each (none: nothing)."""
+    from rich.text import Text
+
+    return [Text(f"warning: {w.field}: {w.message}", style="yellow") for w in result.warnings]
 
 
 def _roll_table(result: Result) -> RenderableType:
