@@ -144,7 +144,9 @@ def layout_from_text(text: str, file: str = "<input>") -> Engine:
 
 
 def layout_from_dict(data: dict[str, Any], file: str = "<dict>") -> Engine:
-    """Build a layout from plain data shaped like a layout file."""
+    """Build a layout from plain data shaped like a layout file, read by the file's rules:
+    a dimensional quantity is text with its unit (``"86 mm"``); a bare number other than 0
+    is refused, as in a file (see :func:`load_layout`)."""
     return _build(SourceDocument(data=data, file=file))[1]
 
 

@@ -33,7 +33,7 @@ from balance.core.mounts import (
     stiffness_matrix,
 )
 from balance.io.schema import FieldProblem, Length, _kg_m2, _q, _Strict
-from balance.io.units import UnitProblem, registry
+from balance.io.units import UnitProblem, check_thousands, registry
 from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
 
 __all__ = [
@@ -90,6 +90,7 @@ def _per_unit(
     if bare is not None and bare != 0:
         raise UnitProblem(f"{value!r} has no unit", f"give a unit, e.g. '{bare:g} {likely}'")
     if isinstance(value, str):
+        check_thousands(value)
         match = _NUMBER.match(value) if len(value) <= 80 else None
         if match is None:
             raise UnitProblem(f"cannot read {value!r} as {what}", valid)

@@ -449,7 +449,8 @@ class FlywheelSpec(_Strict):
         _positive(self.inertia, "inertia")
         if self.speed_fluctuation is not None and not 0.0 < self.speed_fluctuation < 1.0:
             raise FieldProblem(
-                f"speed_fluctuation is {self.speed_fluctuation:.4g}",
+                f"speed_fluctuation is {self.speed_fluctuation:.4g} "
+                f"({self.speed_fluctuation * 100:.4g} %)",
                 "a fraction above 0 and below 100 %, e.g. '1 %'",
                 ("speed_fluctuation",),
             )

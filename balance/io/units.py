@@ -45,6 +45,7 @@ __all__ = [
     "DIMENSIONAL",
     "KINDS",
     "UnitProblem",
+    "check_thousands",
     "likely_unit",
     "parse_quantity",
     "registry",
@@ -325,10 +326,14 @@ CASE_MATTERS: dict[str, tuple[tuple[str, ...], str]] = {
 }
 
 
-def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
-    """The value of a quantity's text in the kind's SI unit, and whether it was bare."""
-    if len(text) > 80:
-        raise UnitProblem("value text is too long", valid)
+def check_thousands(text: str) -> None:
+    """Refuse a number written with thousands separators (``13,000 rpm``, ``13 000 rpm``).
+
+    Raises
+    ------
+    UnitProblem
+        With the number written without them proposed (``13000 rpm``).
+    """
     thousands = _THOUSANDS.match(text)
     if thousands:
         digits = re.sub(r"[,_' ]", "", thousands.group(1))
@@ -338,6 +343,13 @@ def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
             f"write the number without it, e.g. '{suggestion}'",
             suggestion,
         )
+
+
+def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
+    """The value of a quantity's text in the kind's SI unit, and whether it was bare."""
+    if len(text) > 80:
+        raise UnitProblem("value text is too long", valid)
+    check_thousands(text)
     match = _NUMBER.match(text)
     if not match:
         raise UnitProblem(f"cannot read {text!r} as {kind}", valid)
