@@ -263,18 +263,3 @@ def test_mounts_checks_the_top_speed_of_its_sweep():
     assert fields == ["speed", "speed"]
     assert "speed 26000 rpm" in result.stderr
     assert "mean piston speed 74.5 m/s" in result.stderr  # 2 x 86 mm x 26000 / 60 s
-
-
-def test_warnings_need_no_import_of_pint():
-    """Checking plausibility is numpy arithmetic on the engine (no unit library)."""
-    import subprocess
-    import sys
-
-    code = (
-        "import sys\nfrom balance.core.plausibility import check_engine\n"
-        "from balance.io.layout_file import load_layout\n"
-        "assert check_engine(load_layout('inline-4')) == ()\n"
-        "print('pint' in sys.modules)\n"
-    )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "False"
