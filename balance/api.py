@@ -52,7 +52,8 @@ def analyse(
     orders : int, str or sequence of int, optional
         Orders to report; default 1 to 8.
     speed : float, optional
-        Crank speed [rad/s] instead of the layout's.
+        Crank speed [rad/s] instead of the layout's.  A Python number here is SI (rad/s);
+        only text (layout files, the command line) must carry its unit.
     model : {'exact', 'series', 'textbook', 'time'}
         Piston acceleration model; ``exact`` is accurate to machine precision; ``time``
         synthesises the forces over crank angle (see :func:`compute`).
@@ -71,7 +72,8 @@ def analyse(
         and roll).
     cancel, strategy, balance_factor, counterweight_radius, cancel_roll
         Proposal settings (see :func:`balance_engine`); by default from the layout's
-        ``balance:`` section.
+        ``balance:`` section.  Numbers are SI: ``balance_factor`` a fraction [1],
+        ``counterweight_radius`` [m].
 
     Returns
     -------

@@ -65,7 +65,9 @@ def guarded(func: F) -> F:
         except BalanceError as exc:
             if _STATE["debug"]:
                 raise
-            _fail(exc.one_line(), exc.exit_code)
+            *first, last = exc.lines()  # every problem of a file, one line each
+            sys.stderr.write("".join(f"balance: {line}\n" for line in first))
+            _fail(last, exc.exit_code)
         except KeyboardInterrupt:
             _fail("interrupted", 130)
         except BrokenPipeError:
@@ -111,6 +113,12 @@ _ReplaceOutput = Annotated[
     bool, typer.Option("--force", help="Replace an existing output file.")
 ]
 _Speed = Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")]
+_Quiet = Annotated[
+    bool,
+    typer.Option(
+        "--quiet", "-q", help="No plausibility warnings on stderr (JSON and tables keep them)."
+    ),
+]
 _Bearings = Annotated[
     bool,
     typer.Option(
@@ -123,12 +131,9 @@ _Bearings = Annotated[
 
 def _parse_quantity(text: str, kind: str, option: str) -> float:
     """A command-line quantity of unit kind ``kind`` in SI; a bad one names ``option``."""
-    from balance.io.units import UnitProblem, parse_quantity
+    from balance.io.fields import parse_option_quantity
 
-    try:
-        return parse_quantity(text, kind)
-    except UnitProblem as exc:
-        raise InputError(f"{option}: {exc}; {exc.valid}") from None
+    return parse_option_quantity(text, kind, option)
 
 
 def _parse_speed(text: str | None) -> float | None:
@@ -136,6 +141,13 @@ def _parse_speed(text: str | None) -> float | None:
     from balance.io.fields import parse_speed
 
     return parse_speed(text)
+
+
+def _warn(warnings: Any, quiet: bool, source: str) -> None:
+    """The plausibility warnings on stderr, one line each (none with ``--quiet``)."""
+    if not quiet:
+        for w in warnings:
+            sys.stderr.write(f"balance: warning: {source}: {w.field}: {w.message}\n")
 
 
 def _console() -> Any:
@@ -279,6 +291,7 @@ def analyse_command(
     bearings: _Bearings = False,
     output: _OutputFile = None,
     force: _ReplaceOutput = False,
+    quiet: _Quiet = False,
 ) -> None:
     """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
     from balance.core.analysis import compute
@@ -306,7 +319,9 @@ def analyse_command(
         bearings=bearings,
     )
     engine = _attach_mounts(engine, mounts, request.mounts, with_proposal)
-    _write(compute(engine, request), format, output, force)
+    result = compute(engine, request)
+    _warn(result.warnings, quiet, layout)
+    _write(result, format, output, force)
 
 
 def _attach_mounts(engine: Engine, file: Path | None, asked: bool, with_proposal: bool) -> Engine:
@@ -382,7 +397,9 @@ def _proposal_table(result: Result, factor_study: Any = None, strategies: Any = 
         parts += bearings_tables(result.bearings)
         if strategies:
             parts += strategy_table(strategies)
-    return parts
+    from balance.views.table import render_warnings
+
+    return parts + render_warnings(result)
 
 
 class Strategy(StrEnum):
@@ -441,6 +458,7 @@ def propose_command(
     format: Annotated[Format, typer.Option("--format", "-f", help="Output format.")] = Format.table,
     output: _OutputFile = None,
     force: _ReplaceOutput = False,
+    quiet: _Quiet = False,
 ) -> None:
     """Propose counterweights and balance shafts, and show what remains."""
     from balance.core.analysis import compute
@@ -468,6 +486,7 @@ def propose_command(
         bearings=bearings,
     )
     result = compute(engine, request)
+    _warn(result.warnings, quiet, layout)
     study = None
     if factor_study:  # the study is a Dataset: xarray for this option only
         from balance.studies.factor import factor_study_dataset
@@ -553,6 +572,7 @@ def compare_command(
     ] = CompareFormat.table,
     output: _OutputFile = None,
     force: _ReplaceOutput = False,
+    quiet: _Quiet = False,
 ) -> None:
     """Compare layouts side by side: free forces, moments, roll and balancing needs."""
     import json
@@ -583,6 +603,8 @@ def compare_command(
     compared = compare_results(
         engines, labels, order_list, speed=speed_value, displacement=volume, model=model.value
     )
+    for c in compared:
+        _warn(c.result.warnings, quiet, c.label)
     ds = comparison_dataset(
         [c.result for c in compared],
         [c.label for c in compared],
@@ -645,6 +667,7 @@ def plot_command(
     speed: _Speed = None,
     force: Annotated[bool, typer.Option("--force", help="Replace existing files.")] = False,
     bearings: _Bearings = False,
+    quiet: _Quiet = False,
 ) -> None:
     """Draw the design-review figures of a layout into a directory."""
     from balance.core.analysis import compute
@@ -653,6 +676,7 @@ def plot_command(
     asked = {k.replace("-", "_") for k in kind or ()}
     bearings = bearings or bool(asked & {"pin_load", "main_loads", "internal_moment"})
     result = compute(*_with_section_mounts(*_prepare(layout, orders, speed, bearings=bearings)))
+    _warn(result.warnings, quiet, layout)
     from balance.views.plots import save_plots
 
     stem = Path(layout).stem if layout.endswith((".yaml", ".yml")) else layout
@@ -689,6 +713,7 @@ def report_command(
     speed: _Speed = None,
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
     bearings: _Bearings = False,
+    quiet: _Quiet = False,
 ) -> None:
     """Write a self-contained HTML design review (tables, figures, proposal, accuracy)."""
     from balance.core.analysis import compute
@@ -698,6 +723,7 @@ def report_command(
             *_prepare(layout, orders, speed, output=output, force=force, bearings=bearings)
         )
     )
+    _warn(result.warnings, quiet, layout)
     from balance.views.report import write_report
 
     write_report(result, output, force=force)
@@ -753,6 +779,7 @@ def mounts_command(
     force: Annotated[
         bool, typer.Option("--force", help="Replace an existing output file.")
     ] = False,
+    quiet: _Quiet = False,
 ) -> None:
     """Mount forces per order against speed, the modes, and which order crosses which mode
     where (a mounts: section or --mounts FILE)."""
@@ -775,6 +802,9 @@ def mounts_command(
     speeds = parse_values(speed, parse_field("speed", engine), "--speed")
     if not (speeds.min() > 0):
         raise InputError(f"--speed: {speed!r}: every speed must be above zero")
+    from balance.core.plausibility import check_engine
+
+    _warn(check_engine(engine.with_speed(float(speeds.max()))), quiet, layout)  # the top speed
     sweep = speed_sweep(compute(engine, request).mounts, speeds)  # type: ignore[arg-type]
     if format is MountsFormat.json:
         import json
@@ -838,6 +868,7 @@ def sweep_command(
         typer.Option("--progress/--no-progress", help="Progress bar (default: on a terminal)."),
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Replace an existing file.")] = False,
+    quiet: _Quiet = False,
 ) -> None:
     """Analyse a grid of layout variants and write one Dataset (netCDF or Zarr), chunk by chunk."""
     import time
@@ -852,6 +883,10 @@ def sweep_command(
         raise InputError("give --scheduler or --workers, not both")
     base = load_layout(layout)
     grid = check_varies([parse_vary(text, base) for text in vary])
+    if not quiet:
+        from balance.studies.checks import sweep_warnings
+
+        _warn(sweep_warnings(base, vary), quiet, layout)
     show = sys.stderr.isatty() if progress is None else progress
     if show:
         from balance.views.progress import ProgressBar
@@ -961,6 +996,7 @@ def tolerance_command(
         typer.Option("--plot", help="Write histograms of the balanced residuals (png, svg, pdf)."),
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="Replace an existing plot.")] = False,
+    quiet: _Quiet = False,
 ) -> None:
     """Monte Carlo over part-mass and geometry scatter: percentiles of the residuals."""
     from balance.io.layout_file import load_layout
@@ -972,8 +1008,13 @@ def tolerance_command(
         if plot.suffix.lower().lstrip(".") not in ("png", "svg", "pdf"):
             raise InputError(f"--plot {plot}: give a .png, .svg or .pdf file for the histograms")
         check_target(plot, force)
+    engine = load_layout(layout)
+    if not quiet:
+        from balance.studies.checks import tolerance_warnings
+
+        _warn(tolerance_warnings(engine, scatter), quiet, layout)
     result = tolerance(
-        load_layout(layout),
+        engine,
         scatter,
         samples=samples,
         orders=orders,

@@ -10,19 +10,28 @@ from balance.api import Layout
 from balance.io.layout_file import layout_from_dict
 
 
+def _with_unit(value: float | str, unit: str) -> str:
+    """A number as layout text in ``unit`` (``repr`` round-trips it exactly); text as it is."""
+    return value if isinstance(value, str) else f"{value!r} {unit}"
+
+
 def engine(
     throws: list[float],
     banks: list[float] | None = None,
     *,
-    spacing: float = 0.09,
-    stroke: float = 0.086,
-    conrod_length: float = 0.143,
-    reciprocating: float = 0.6,
-    rotating: float = 0.4,
+    spacing: float | str = 0.09,
+    stroke: float | str = 0.086,
+    conrod_length: float | str = 0.143,
+    reciprocating: float | str = 0.6,
+    rotating: float | str = 0.4,
     speed: str = "6000 rpm",
     **extra: Any,
 ) -> Layout:
-    """A layout in the compact form, for tests (angles in degrees, lengths in metres)."""
+    """A layout in the compact form, for tests (angles in degrees; a number for a length is
+    metres and for a mass kilograms, written into the layout with its unit, since a layout
+    file refuses bare dimensional numbers)."""
+    spacing, stroke, conrod_length = (_with_unit(v, "m") for v in (spacing, stroke, conrod_length))
+    reciprocating, rotating = (_with_unit(v, "kg") for v in (reciprocating, rotating))
     crank: dict[str, Any] = {"throws": throws, "spacing": spacing}
     if banks is not None:
         crank["banks"] = banks
@@ -34,6 +43,9 @@ def engine(
         "masses": {"reciprocating": reciprocating, "rotating": rotating},
         "crank": crank,
     }
+    for section, unit in (("geometry", "m"), ("masses", "kg")):
+        if section in extra:
+            extra[section] = {k: _with_unit(v, unit) for k, v in extra[section].items()}
     data.update(extra)
     return layout_from_dict(data)
 

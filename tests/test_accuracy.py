@@ -227,7 +227,7 @@ def test_a_vanishing_piston_mass_gives_infinite_ratios_not_a_warning(tmp_path):
     path = tmp_path / "tiny.yaml"
     path.write_text(
         "name: tiny\nspeed: 6000 rpm\ngeometry: {stroke: 86 mm, conrod_length: 143 mm}\n"
-        f"masses: {{reciprocating: 1.0e-308, rotating: 0.4 kg}}\ncylinders:\n{rows}\n"
+        f"masses: {{reciprocating: 1.0e-308 kg, rotating: 0.4 kg}}\ncylinders:\n{rows}\n"
     )
     result = CliRunner().invoke(app, ["analyse", str(path), "--format", "json"])
     assert result.exit_code == 0, result.output

@@ -146,7 +146,7 @@ def test_bad_layout_file_exit_2_with_location(tmp_path):
     assert result.exit_code == 2
     assert result.stderr == (
         f"balance: {path}:4:11: geometry.stroke: '86 kg' is a mass, not a length; give length "
-        "with a unit, e.g. '86 mm', or a plain number in metres\n"
+        "with a unit, e.g. '86 mm'\n"
     )
     assert result.stdout == ""
 
@@ -218,7 +218,7 @@ GOOD = BAD.replace("86 kg", "86 mm")
         ("  stroke: 86 mm", "  strok: 86 mm", ":4:3: geometry.strok:", "did you mean 'stroke'?"),
         ("  conrod_length: 143 mm\n", "", ":4:3: geometry.conrod_length:", "missing"),
         ("86 mm", "86 kg", ":4:11: geometry.stroke:", "is a mass, not a length"),
-        ("143 mm", "40 mm", ":5:18: geometry.conrod_length:", "is not more than crank radius"),
+        ("143 mm", "40 mm", ":5:18: geometry.conrod_length:", "'40 mm' is not more than crank_r"),
         ("reciprocating: 0.6 kg", "reciprocating: -0.6 kg", ":6:", "must be more than zero"),
         ("speed: 6000 rpm", "speed: 6000 rpm\nspeed: 5000 rpm", ":3:1: speed:", "duplicate key"),
     ],
@@ -338,3 +338,69 @@ def test_other_command_lines_run_the_full_application(args):
     from balance.cli import _app_for
 
     assert _app_for(args) is app
+
+
+def test_every_problem_of_a_file_at_once_one_line_each(tmp_path):
+    """Each line: file:line:column: field: what was read; what would be valid (in file
+    order), exit code 2, nothing on stdout, no traceback."""
+    path = tmp_path / "many.yaml"
+    path.write_text(
+        "name: many\n"
+        "speed: 6000\n"
+        "geometry: {stroke: 86, conrod_lenght: 143 mm}\n"
+        "masses: {reciprocating: 360, rotating: 0.4 kg}\n"
+        "cylinders:\n  throw: 0\n  z: 0\n"
+        "mounts: {mass: 160, cg: [0, 60 mm, 140 mm], inertia: {xx: 7.5 kg m^2, yy: 9 kg m^2,"
+        " zz: 4 kg m^2}, points: [{position: [0 mm, 0 mm, 0 mm], stiffness: [1 N/mm, 1 N/mm,"
+        " 1 N/mm]}]}\n"
+    )
+    result = run("analyse", str(path), "-f", "json")
+    assert result.exit_code == 2
+    assert result.stdout == ""
+    assert result.stderr.splitlines() == [
+        f"balance: {path}:2:8: speed: 6000 has no unit; give a unit, e.g. '6000 rpm'",
+        f"balance: {path}:3:20: geometry.stroke: 86 has no unit; give a unit, e.g. '86 mm'",
+        f"balance: {path}:3:24: geometry.conrod_lenght: unknown key 'conrod_lenght'; did you "
+        "mean 'conrod_length'? valid keys: stroke, crank_radius, conrod_length, offset, bore",
+        f"balance: {path}:4:25: masses.reciprocating: 360 has no unit; give a unit, e.g. '360 g'",
+        f"balance: {path}:6:3: cylinders: expected a list, got a mapping; a list of cylinders, "
+        "each {throw: ..., bank: ..., z: ...}",
+        f"balance: {path}:8:16: mounts.mass: 160 has no unit; give a unit, e.g. '160 kg'",
+    ]
+
+
+def test_problems_found_after_reading_are_reported_together(tmp_path):
+    """Problems that only show once every value is read (an impossible crank slider, a
+    firing order, a bearing in a pin's plane) come together too."""
+    path = tmp_path / "later.yaml"
+    path.write_text(
+        "name: later\nspeed: 6000 rpm\n"
+        "geometry: {stroke: 300 mm, conrod_length: 120 mm}\n"
+        "masses: {reciprocating: 0.6 kg, rotating: 0.4 kg}\n"
+        "crank: {throws: [0, 180], spacing: 90 mm}\n"
+        "firing_order: [1, 1]\n"
+        "bearings: {mains: [-45 mm, 90 mm]}\n"
+    )
+    result = run("analyse", str(path))
+    assert result.exit_code == 2
+    lines = result.stderr.splitlines()
+    assert [line.split(": ")[2] for line in lines] == [
+        "geometry.conrod_length",
+        "firing_order",
+        "bearings.mains[2]",
+    ]
+    assert (
+        "conrod_length '120 mm' is not more than crank_radius (stroke '300 mm' / 2) + |offset| "
+        "0 (not given) (every cylinder)" in lines[0]
+    )
+
+
+def test_a_tab_is_named_at_its_line_and_column(tmp_path):
+    path = tmp_path / "tab.yaml"
+    path.write_text("name: tab\nspeed: 6000 rpm\ngeometry:\n  stroke: 86 mm\n\tconrod_length: 1\n")
+    result = run("analyse", str(path))
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"balance: {path}:5:1: a tab character: YAML does not allow tabs for indentation; "
+        "indent with spaces\n"
+    )

@@ -88,7 +88,8 @@ def _section(command: str) -> str:
 
 def _named(text: str) -> set[str]:
     """Every option-like word inside the code spans and blocks of ``text``."""
-    spans = re.findall(r"`([^`]+)`", text)
+    fenced = re.findall(r"```.*?```", text, re.S)  # code blocks first: their backticks
+    spans = fenced + re.findall(r"`([^`]+)`", re.sub(r"```.*?```", "", text, flags=re.S))
     return {w for span in spans for w in re.findall(r"(?<![\w-])-{1,2}[a-z][a-z-]*", span)}
 
 

@@ -1,7 +1,8 @@
 """Bad input never crashes: a corpus of malformed files and hypothesis fuzzing.
 
 Every case must end with exit code 0 (a valid layout, contract JSON on stdout) or 2 (one
-line on stderr naming the file, nothing on stdout), never a traceback or exit 1.
+line on stderr per problem, each naming the file, nothing on stdout), never a traceback or
+exit 1.
 
 The number of fuzz cases follows the hypothesis profile: ``ci`` and ``default`` run a few
 hundred; ``HYPOTHESIS_PROFILE=fuzz python -m pytest tests/test_fuzz.py`` runs the long
@@ -43,8 +44,10 @@ def _check(path: Path, args: tuple[str, ...] = ("analyse",)) -> tuple[int, str]:
     assert result.exit_code in (0, 2), (result.exit_code, result.stderr, result.exception)
     if result.exit_code == 2:
         assert result.stdout == ""
-        assert result.stderr.count("\n") == 1, result.stderr
-        assert result.stderr.startswith(f"balance: {path}"), result.stderr
+        lines = result.stderr.splitlines()
+        assert lines and result.stderr.endswith("\n"), result.stderr
+        assert all(line.startswith(f"balance: {path}") for line in lines), result.stderr
+        assert len(set(lines)) == len(lines), result.stderr  # each problem once
         assert "Traceback" not in result.stderr
     else:
         assert json.loads(result.stdout)["schema"] == "balance.analysis/1"
@@ -76,13 +79,11 @@ def test_layout_expand_on_the_corpus():
     for path in sorted(BAD.glob("*.yaml")):
         result = runner.invoke(app, ["layout", "expand", str(path)])
         assert result.exit_code == 2, path
-        assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
+        assert result.stderr.startswith(f"balance: {path}") and "Traceback" not in result.stderr
 
 
 # --- generated layouts, then broken ------------------------------------------------------
 
-_lengths = st.sampled_from(["86 mm", "0.09", "3.4 in", "143mm", 0.143, "43 mm"])
-_masses = st.sampled_from(["0.6 kg", "450 g", 0.4, "1 lb"])
 _angles = st.sampled_from([0, 90, 180, "270 deg", "-45 deg", "1.5 rad", 360, 720])
 
 
@@ -91,10 +92,10 @@ def valid_layouts(draw: Any) -> dict[str, Any]:
     n = draw(st.integers(1, 6))
     data: dict[str, Any] = {
         "name": draw(st.text(min_size=1, max_size=20).filter(lambda s: s.strip())),
-        "speed": draw(st.sampled_from(["6000 rpm", "100 Hz", 500.0, "3000rpm", "7000 rev/min"])),
+        "speed": draw(st.sampled_from(["6000 rpm", "100 Hz", "500 rad/s", "3000rpm", "7000 RPM"])),
         "geometry": {
-            "stroke": draw(st.sampled_from(["86 mm", "0.07", "2.5 in"])),
-            "conrod_length": draw(st.sampled_from(["143 mm", "0.2", "7 in"])),
+            "stroke": draw(st.sampled_from(["86 mm", "0.07 m", "2.5 in"])),
+            "conrod_length": draw(st.sampled_from(["143 mm", "0.2 m", "7 in"])),
         },
         "masses": draw(
             st.sampled_from(

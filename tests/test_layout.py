@@ -62,16 +62,29 @@ def test_explicit_form_in_si(tmp_path):
     assert layout.cycle == "four-stroke"
 
 
-def test_plain_numbers_are_si_and_angles_degrees(tmp_path):
-    text = (
-        BASE.replace("86 mm", "0.086")
-        .replace("6000 rpm", "628.3185307179586")
-        .replace("throw: 180 deg", "throw: 180")
-    )
+def test_bare_angles_are_degrees_and_a_bare_zero_needs_no_unit(tmp_path):
+    text = BASE.replace("throw: 180 deg", "throw: 180").replace("z: 0 mm", "z: 0")
     layout = load_layout(write(tmp_path, text))
     np.testing.assert_allclose(np.degrees(layout.throw), [0, 180, 180, 0])
-    np.testing.assert_allclose(layout.crank_radius, 0.043)
-    assert layout.speed == pytest.approx(628.3185307179586)
+    np.testing.assert_allclose(layout.z, [0, 0.091, 0.182, 0.273])
+
+
+@pytest.mark.parametrize(
+    ("written", "instead", "field", "proposal"),
+    [
+        ("stroke: 86 mm", "stroke: 0.086", "geometry.stroke", "'0.086 m'"),
+        ("stroke: 86 mm", "stroke: 86", "geometry.stroke", "'86 mm'"),
+        ("speed: 6000 rpm", "speed: 6000", "speed", "'6000 rpm'"),
+        ("reciprocating: 0.61 kg", "reciprocating: 610", "masses.reciprocating", "'610 g'"),
+        ("z: 91 mm", "z: 91", "cylinders[2].z", "'91 mm'"),
+    ],
+)
+def test_a_bare_dimensional_number_is_refused_with_the_likely_unit(
+    tmp_path, written, instead, field, proposal
+):
+    err = error_of(tmp_path, BASE.replace(written, instead))
+    assert err.field == field
+    assert f"give a unit, e.g. {proposal}" in str(err)
 
 
 def test_compact_form_expands_like_explicit(tmp_path):
@@ -267,11 +280,26 @@ def test_speed_in_kg(tmp_path):
 
 def test_impossible_geometry(tmp_path):
     err = error_of(tmp_path, BASE.replace("143 mm", "40 mm"))
+    assert str(err).startswith(f"{tmp_path / 'layout.yaml'}:5:18: geometry.conrod_length: ")
     assert (
-        ":5:18: geometry.conrod_length: conrod_length 40 mm is not more than crank radius 43 mm"
-        in str(err)
+        "conrod_length '40 mm' is not more than crank_radius (stroke '86 mm' / 2) + |offset| 0 "
+        "(not given) (every cylinder)" in str(err)
     )
     assert "conrod_length > crank_radius + |offset|" in str(err)
+
+
+def test_impossible_geometry_of_one_cylinder_names_its_override(tmp_path):
+    text = BASE.replace(
+        "  - {throw: 180 deg, bank: 0 deg, z: 91 mm}",
+        "  - {throw: 180 deg, bank: 0 deg, z: 91 mm, stroke: 300 mm}",
+    ).replace("  conrod_length: 143 mm", "  conrod_length: 143 mm\n  offset: 2 mm")
+    err = error_of(tmp_path, text)
+    assert err.field == "cylinders[2].stroke"
+    assert (err.location.line, err.location.column) == (12, 53)  # the value "300 mm"
+    assert (
+        "conrod_length '143 mm' is not more than crank_radius (cylinders[2].stroke '300 mm' / 2)"
+        " + |offset| '2 mm' (cylinder 2)" in str(err)
+    )
 
 
 def test_impossible_geometry_from_offset_override(tmp_path):
@@ -445,7 +473,7 @@ def test_crank_unbalance_is_per_throw_and_shared_by_its_rods(tmp_path):
     )[0] + (
         "cylinders:\n"
         "  - {throw: 0, bank: -45, z: 0}\n  - {throw: 360, bank: 45, z: 0}\n"
-        "  - {throw: 180, bank: -45, z: 0.09}\n"
+        "  - {throw: 180, bank: -45, z: 90 mm}\n"
     )
     layout = load_layout(write(tmp_path, explicit, "x.yaml"))
     np.testing.assert_allclose(layout.rotating_mass, [big_end + 0.1, big_end + 0.1, big_end + 0.2])

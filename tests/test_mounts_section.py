@@ -8,7 +8,7 @@ import textwrap
 import numpy as np
 import pytest
 
-from balance.core.errors import InputError, LayoutError
+from balance.core.errors import InputError, LayoutError, LayoutErrors
 from balance.core.mounts import MountSystem
 from balance.io.mounts_section import load_mounts, mounts_from_dict, mounts_from_text
 
@@ -152,3 +152,24 @@ def test_a_bare_stiffness_is_refused_with_the_likely_unit():
     data["points"][0]["damping"] = ["300", "0 N s/m", 0]
     with pytest.raises(LayoutError, match=r"give a unit, e\.g\. '300 N s/m'"):
         mounts_from_dict(data)
+
+
+def test_bare_mass_and_lengths_and_a_thousands_separator_are_refused_together():
+    """Every problem of a mounts file at once; the powertrain's mass is proposed in kg."""
+    text = (
+        CONTRACT_EXAMPLE.replace("mass: 160 kg", "mass: 160")
+        .replace("cg: [0 mm, 60 mm, 140 mm]", "cg: [0, 60, 140 mm]")
+        .replace(
+            "stiffness: [250 N/mm, 400 N/mm, 150 N/mm],\n",
+            "stiffness: [250 000 N/m, 400 N/mm, 150 N/mm],\n",
+            1,
+        )
+    )
+    with pytest.raises(LayoutErrors) as info:
+        mounts_from_text(text, "m.yaml")
+    assert info.value.lines() == [
+        "m.yaml:1:7: mass: 160 has no unit; give a unit, e.g. '160 kg'",
+        "m.yaml:2:9: cg[2]: 60 has no unit; give a unit, e.g. '60 mm'",
+        "m.yaml:7:18: points[1].stiffness[1]: '250 000 N/m' has a thousands separator; write the "
+        "number without it, e.g. '250000 N/m'",
+    ]

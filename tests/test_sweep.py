@@ -27,7 +27,7 @@ VARY = {
     "speed": "1000rpm:8000rpm:4",
     "conrod_length": "130mm:160mm:3",
     "cylinders[3].reciprocating": "0.4kg,0.7kg",
-    "cylinders.2.z": "0.05,0.1",
+    "cylinders.2.z": "0.05m,0.1m",
 }
 DIMS = ["speed", "conrod_length", "cylinder3_reciprocating", "cylinder2_z"]
 NAMES = ["speed", "conrod_length", "cylinders[3].reciprocating", "cylinders[2].z"]
@@ -170,7 +170,7 @@ def test_cli_sweep_equals_cli_analyse_bit_for_bit(tmp_path):
         for i, j in [(0, 0), (1, 2), (2, 1)]:
             at = ds.isel(speed=i, conrod_length=j)
             variant_file = tmp_path / f"variant-{i}-{j}.yaml"
-            length = repr(float(at.conrod_length))
+            length = f"{float(at.conrod_length)!r} m"
             variant_file.write_text(_set_conrod_length(text, length))
             out = runner.invoke(
                 app,
@@ -196,16 +196,16 @@ def test_cli_sweep_equals_cli_analyse_bit_for_bit(tmp_path):
 
 
 @pytest.mark.parametrize(
-    ("field", "values", "where"),
+    ("field", "values", "where", "unit"),
     [
-        ("masses.piston_group", [0.35, 0.5], ("masses", "piston_group")),
-        ("masses.conrod_inertia", [1.0e-3, 2.2e-3], ("masses", "conrod_inertia")),
-        ("masses.crank_unbalance", [0.0, 0.6], ("masses", "crank_unbalance")),
-        ("conrod_length", [0.12, 0.16], ("geometry", "conrod_length")),
-        ("masses.conrod_cg_to_big_end", [0.03, 0.05], ("masses", "conrod_cg_to_big_end")),
+        ("masses.piston_group", [0.35, 0.5], ("masses", "piston_group"), "kg"),
+        ("masses.conrod_inertia", [1.0e-3, 2.2e-3], ("masses", "conrod_inertia"), "kg m^2"),
+        ("masses.crank_unbalance", [0.0, 0.6], ("masses", "crank_unbalance"), "kg"),
+        ("conrod_length", [0.12, 0.16], ("geometry", "conrod_length"), "m"),
+        ("masses.conrod_cg_to_big_end", [0.03, 0.05], ("masses", "conrod_cg_to_big_end"), "m"),
     ],
 )
-def test_sweep_of_parts_equals_the_edited_layout_file(field, values, where):
+def test_sweep_of_parts_equals_the_edited_layout_file(field, values, where, unit):
     """A by-part layout: the sweep lumps the parts again exactly as loading the file does."""
     import yaml
 
@@ -218,7 +218,7 @@ def test_sweep_of_parts_equals_the_edited_layout_file(field, values, where):
     dim = ds.reciprocating_force_magnitude.dims[0]
     for i, value in enumerate(values):
         edited = json.loads(json.dumps(data))
-        edited[where[0]][where[1]] = value
+        edited[where[0]][where[1]] = f"{value!r} {unit}"  # SI: read back bit for bit
         ref = analyse(layout_from_dict(edited), "1-4", proposal=False)
         _assert_same_bits(ds.isel({dim: i}), ref)
     # the lumped masses really changed with the part (not only the coordinate)

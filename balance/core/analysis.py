@@ -19,6 +19,7 @@ from balance.core import accuracy, kinematics, phasors
 from balance.core.balancing import proposal_phasors, propose, shaft_roll_phasors
 from balance.core.engine import CYLINDER_FIELDS, Engine, ShaftPosition
 from balance.core.errors import InputError
+from balance.core.plausibility import check_engine
 from balance.core.result import Balanced, Phasors, Request, Result
 from balance.core.speed import speed_squared
 
@@ -525,7 +526,8 @@ def compute(engine: Engine, request: Request) -> Result:
     -------
     Result
         Complex phasors with their references, the proposal and residual if asked, the
-        gas torque and roll if the engine has gas forces.
+        gas torque and roll if the engine has gas forces, and the plausibility warnings
+        of the engine at the speed analysed (:mod:`balance.core.plausibility`).
     """
     if request.speed is not None:
         engine = engine.with_speed(request.speed)
@@ -587,6 +589,7 @@ def compute(engine: Engine, request: Request) -> Result:
         reference_moment=f1 * pitch if math.isfinite(pitch) else math.nan,
         reference_roll=float(np.mean(engine.reciprocating_mass) * np.mean(engine.crank_radius) ** 2)
         * float(speed_squared(engine.speed)),
+        warnings=check_engine(engine, request.counterweight_radius),
     )
     if request.mounts:
         from balance.core.mount_loads import mounts_of

@@ -2,14 +2,24 @@
 
 Every problem the program can report is one of these.  The command line turns any of them
 into a single line ``file:line:col: field: what is wrong; what is valid`` on stderr and an
-exit code (2 for bad input, 1 for an analysis that could not be carried out).
+exit code (2 for bad input, 1 for an analysis that could not be carried out); a file with
+several problems (:class:`LayoutErrors`) gives one such line per problem.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-__all__ = ["AnalysisError", "BalanceError", "InputError", "LayoutError", "Location"]
+__all__ = [
+    "AnalysisError",
+    "BalanceError",
+    "InputError",
+    "LayoutError",
+    "LayoutErrors",
+    "Location",
+    "raise_all",
+]
 
 
 @dataclass(frozen=True)
@@ -37,6 +47,10 @@ class BalanceError(Exception):
     def one_line(self) -> str:
         """The message as one line, without a traceback."""
         return " ".join(str(self).split())
+
+    def lines(self) -> list[str]:
+        """The problems, one line each (one line for every error but :class:`LayoutErrors`)."""
+        return [self.one_line()]
 
 
 class InputError(BalanceError):
@@ -82,6 +96,51 @@ class LayoutError(InputError):
         if self.valid:
             text += f"; {self.valid}"
         return text
+
+
+class LayoutErrors(LayoutError):
+    """Every problem found in one input file, each a :class:`LayoutError`.
+
+    It is itself the first problem (its ``message``, ``location``, ``field`` and ``valid``),
+    so that code that handles one :class:`LayoutError` still works; ``str()`` is every
+    problem, one per line, and :meth:`lines` lists them.
+
+    Parameters
+    ----------
+    errors : sequence of LayoutError
+        At least two problems, in the order to report them.
+    """
+
+    def __init__(self, errors: Sequence[LayoutError]) -> None:
+        self.errors = tuple(errors)
+        first = self.errors[0]
+        self.message = first.message
+        self.location = first.location
+        self.field = first.field
+        self.valid = first.valid
+        Exception.__init__(self, "\n".join(e.one_line() for e in self.errors))
+
+    def one_line(self) -> str:
+        """The first problem, with the number of the others."""
+        more = len(self.errors) - 1
+        return f"{self.errors[0].one_line()} (and {more} more problem{'s' if more > 1 else ''})"
+
+    def lines(self) -> list[str]:
+        """Every problem, one line each."""
+        return [e.one_line() for e in self.errors]
+
+
+def raise_all(errors: Sequence[LayoutError]) -> None:
+    """Raise the problems found (nothing when there are none): one as itself, several as
+    :class:`LayoutErrors` in file order (line, then column), each reported once."""
+    unique: dict[str, LayoutError] = {}
+    for error in errors:
+        unique.setdefault(error.one_line(), error)
+    found = sorted(unique.values(), key=lambda e: (e.location.line or 0, e.location.column or 0))
+    if len(found) == 1:
+        raise found[0]
+    if found:
+        raise LayoutErrors(found)
 
 
 class AnalysisError(BalanceError):

@@ -21,6 +21,7 @@ if TYPE_CHECKING:  # pragma: no cover (annotations only: each part loads when co
     from balance.core.bearings import Bearings
     from balance.core.engine import Engine
     from balance.core.mounts import MountsResult
+    from balance.core.plausibility import PlausibilityWarning
     from balance.core.torque import TorqueResult
 
 __all__ = ["Balanced", "Phasors", "Request", "Result"]
@@ -169,6 +170,9 @@ class Result:
     bearings : Bearings or None
         Crank-pin and main-bearing loads and internal moments, without and with the
         proposed counterweights (:class:`balance.core.bearings.Bearings`), when asked.
+    warnings : tuple of PlausibilityWarning
+        Inputs far outside piston-engine practice (:mod:`balance.core.plausibility`);
+        they change no number.
     """
 
     engine: Engine
@@ -185,6 +189,7 @@ class Result:
     reference_roll: float
     mounts: MountsResult | None = None
     bearings: Bearings | None = None
+    warnings: tuple[PlausibilityWarning, ...] = ()
 
     @property
     def orders(self) -> NDArray[np.intp]:

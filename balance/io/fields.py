@@ -33,15 +33,21 @@ of every cylinder.
 Values
 ------
 ``start:stop:count`` with units on the ends (``130mm:160mm:31``: 31 values, both ends
-included) or a list ``a,b,c`` (``0.4kg,0.5kg,0.7kg``); plain numbers are SI (degrees for
-angles), as in layout files.  A tolerance is ``±TOL`` (``+-`` and ``+/-`` also accepted).
+included) or a list ``a,b,c`` (``0.4kg,0.5kg,0.7kg``).  As in layout files, a dimensional
+value needs its unit (a bare number other than 0 is refused with the likely unit proposed);
+angles may be bare degrees.  A tolerance is ``±TOL`` (``+-`` and ``+/-`` also accepted).
+
+Every option that takes a quantity reads it through :func:`parse_option_quantity`, so that
+a problem names the option and proposes what to write (``--speed 6000`` -> "give a unit,
+e.g. --speed 6000rpm").
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -61,7 +67,9 @@ __all__ = [
     "Scatter",
     "Vary",
     "check_speed",
+    "option_error",
     "parse_field",
+    "parse_option_quantity",
     "parse_orders",
     "parse_scatter",
     "parse_speed",
@@ -126,10 +134,51 @@ def check_speed(speed: float) -> float:
     return float(speed)
 
 
+def option_error(option: str, problem: ValueError, prefix: str = "") -> InputError:
+    """The :class:`InputError` of a quantity an option could not read.
+
+    ``problem`` is a :class:`balance.io.units.UnitProblem`; a proposed text is written as
+    it would be typed (``--speed 6000rpm``; quoted when the unit has a space), after
+    ``prefix`` (``conrod_length=`` for ``--vary``).
+    """
+    valid = getattr(problem, "valid", "")
+    suggestion = getattr(problem, "suggestion", None)
+    field = prefix.rstrip("=±")
+    if suggestion:
+        number, _, unit = suggestion.partition(" ")
+        typed = f"{number}{unit}" if " " not in unit else f"'{suggestion}'"
+        if valid.startswith("give a unit"):
+            valid = f"give a unit, e.g. {option} {prefix}{typed}"
+        else:
+            valid = valid.replace(f"'{suggestion}'", typed)
+    where = f"{option}: {field}: " if field else f"{option}: "
+    return InputError(f"{where}{problem}; {valid}")
+
+
+def parse_option_quantity(
+    text: str, kind: str, option: str, likely: Callable[[float], str] | None = None
+) -> float:
+    """A command-line quantity of unit kind ``kind`` in SI (degrees for angles).
+
+    Raises
+    ------
+    InputError
+        Naming ``option``, if the text is no quantity of that kind (a bare number where a
+        unit is required proposes the likely unit, see
+        :func:`balance.io.units.parse_quantity`).
+    """
+    from balance.io.units import UnitProblem, parse_quantity
+
+    try:
+        return parse_quantity(text, kind, likely)
+    except UnitProblem as exc:
+        raise option_error(option, exc) from None
+
+
 def parse_speed(text: str | None, option: str = "--speed") -> float | None:
     """The crank speed of a command-line option in rad/s (None when it is not given):
-    read with its unit (``7000rpm``, ``733rad/s``; a plain number is rad/s) and checked
-    (:func:`check_speed`).
+    read with its unit (``7000rpm``, ``733rad/s``; a bare number is refused with the
+    likely unit proposed) and checked (:func:`check_speed`).
 
     Raises
     ------
@@ -138,13 +187,7 @@ def parse_speed(text: str | None, option: str = "--speed") -> float | None:
     """
     if text is None:
         return None
-    from balance.io.units import UnitProblem, parse_quantity
-
-    try:
-        value = parse_quantity(text, "speed")
-    except UnitProblem as exc:
-        raise InputError(f"{option}: {exc}; {exc.valid}") from None
-    return check_speed(value)
+    return check_speed(parse_option_quantity(text, "speed", option))
 
 
 # ---------------------------------------------------------------------------------------
@@ -293,13 +336,39 @@ def _check_parts(layout: Engine, attribute: str, name: str, option: str) -> None
         )
 
 
-def _quantity(text: str, field: Field, option: str) -> float:
+def _quantity(
+    text: str,
+    field: Field,
+    option: str,
+    likely: Callable[[float], str] | None = None,
+    typed: str = "=",
+) -> float:
+    """A value of ``field`` for ``option``; a proposal is written as ``FIELD{typed}VALUE``
+    for ``--vary`` and ``--scatter`` (``typed``: ``=`` or ``=±``), as the value alone for
+    other options."""
     from balance.io.units import UnitProblem, parse_quantity
 
     try:
-        return parse_quantity(text.strip(), field.kind)
+        return parse_quantity(text.strip(), field.kind, likely)
     except UnitProblem as exc:
-        raise InputError(f"{option}: {field.text}: {exc}; {exc.valid}") from None
+        prefix = f"{field.text}{typed}" if option in ("--vary", "--scatter") else ""
+        raise option_error(option, exc, prefix) from None
+
+
+# a list value that is a number of one to three digits followed by one that starts with
+# three digits: a thousands separator read as the list's comma (13,000rpm)
+_THOUSANDS_SPLIT = re.compile(r"^[+-]?\d{1,3}$")
+_THOUSANDS_REST = re.compile(r"^\d{3}(?!\d)")
+
+
+def _check_thousands(parts: list[str], field: Field, option: str) -> None:
+    for first, second in itertools.pairwise(parts):
+        if _THOUSANDS_SPLIT.match(first.strip()) and _THOUSANDS_REST.match(second.strip()):
+            joined = first.strip() + second.strip()
+            raise InputError(
+                f"{option}: {field.text}: '{first.strip()},{second.strip()}' has a thousands "
+                f"separator (a comma separates the values of a list); write {joined}"
+            )
 
 
 def parse_values(text: str, field: Field, option: str = "--vary") -> FloatArray:
@@ -334,7 +403,9 @@ def parse_values(text: str, field: Field, option: str = "--vary") -> FloatArray:
             raise InputError(f"{option}: {field.text}: one value from {start} to {stop}?")
         values = np.linspace(start, stop, count)
     else:
-        values = np.array([_quantity(p, field, option) for p in spec.split(",")])
+        parts = spec.split(",")
+        _check_thousands(parts, field, option)
+        values = np.array([_quantity(p, field, option) for p in parts])
     return values
 
 
@@ -414,8 +485,6 @@ def parse_scatter(text: str, layout: Engine) -> Scatter:
     InputError
         If the field is not a numeric per-cylinder field or the tolerance is malformed.
     """
-    from balance.io.units import UnitProblem, parse_quantity
-
     if "=" not in text:
         raise InputError(
             f"--scatter: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
@@ -439,10 +508,24 @@ def parse_scatter(text: str, layout: Engine) -> Scatter:
             break
     else:
         raise InputError(f"--scatter: {field.text}: write the tolerance as ±TOL, e.g. ±3g")
-    try:
-        tol = parse_quantity(spec.strip(), field.kind)
-    except UnitProblem as exc:
-        raise InputError(f"--scatter: {field.text}: {exc}; {exc.valid}") from None
+    tol = _quantity(spec, field, "--scatter", _tolerance_unit(field.kind), "=±")
     if not tol >= 0:
         raise InputError(f"--scatter: {field.text}: the tolerance must not be negative")
     return Scatter(field, tol)
+
+
+def _tolerance_unit(kind: str) -> Callable[[float], str]:
+    """The unit proposed for a bare tolerance: tolerances are small, so a bare 3 for a
+    mass is more likely grams and a bare 0.1 for a length millimetres."""
+
+    def likely(number: float) -> str:
+        from balance.io.units import likely_unit
+
+        size = abs(number)
+        if kind == "mass":
+            return "g" if size >= 0.5 else "kg"
+        if kind == "length":
+            return "mm" if size >= 0.01 else "m"
+        return likely_unit(number, kind)
+
+    return likely

@@ -12,16 +12,17 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
+from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ValidationError
 
 from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine, ShaftPosition
-from balance.core.errors import InputError, LayoutError, Location
+from balance.core.errors import InputError, LayoutError, LayoutErrors, Location, raise_all
 from balance.core.gas import GasInput, GasModel, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
 from balance.core.speed import rad_per_s_to_rpm
@@ -143,7 +144,9 @@ def layout_from_text(text: str, file: str = "<input>") -> Engine:
 
 
 def layout_from_dict(data: dict[str, Any], file: str = "<dict>") -> Engine:
-    """Build a layout from plain data shaped like a layout file."""
+    """Build a layout from plain data shaped like a layout file, read by the file's rules:
+    a dimensional quantity is text with its unit (``"86 mm"``); a bare number other than 0
+    is refused, as in a file (see :func:`load_layout`)."""
     return _build(SourceDocument(data=data, file=file))[1]
 
 
@@ -155,10 +158,23 @@ def _spec(doc: SourceDocument) -> LayoutSpec:
             doc.location(()),
             valid="a layout is a mapping with name, speed, geometry, masses and cylinders",
         )
+    problems: list[LayoutError] = []
+    spec = None
     try:
-        return LayoutSpec.model_validate(doc.data)
+        spec = LayoutSpec.model_validate(doc.data)
     except ValidationError as exc:
-        raise _layout_error(exc, doc) from None
+        problems += _layout_errors(exc, doc)
+    mounts = doc.data.get("mounts")
+    if spec is None and isinstance(mounts, dict):  # its problems too, at once
+        from balance.io.mounts_section import MountsSpec, section_errors
+
+        try:
+            MountsSpec.model_validate(mounts)
+        except ValidationError as exc:
+            problems += section_errors(exc, doc, ("mounts",))
+    raise_all(problems)
+    assert spec is not None
+    return spec
 
 
 def _model_at(path: tuple[str | int, ...]) -> type[BaseModel] | None:
@@ -196,22 +212,39 @@ _TYPE_NAMES = {
 }
 
 
-def _layout_error(exc: ValidationError, doc: SourceDocument) -> LayoutError:
+def _layout_errors(exc: ValidationError, doc: SourceDocument) -> list[LayoutError]:
+    """Every problem of a failed validation, located in the file.
+
+    A key reported missing where an unknown key beside it is a misspelling of it (the
+    unknown key's "did you mean") is reported once, as the unknown key.
+    """
     errors = exc.errors(include_url=False)
-    # an unknown key is usually a misspelt one that is also reported missing: report the
-    # unknown key (with its "did you mean") first
-    errors = sorted(errors, key=lambda e: e["type"] != "extra_forbidden")
-    err = errors[0]
-    loc = tuple(p for p in err["loc"] if isinstance(p, str | int))
-    loc = tuple(p for p in loc if not (isinstance(p, str) and p.startswith("function-")))
+    misspelt = set()
+    for err in errors:
+        if err["type"] == "extra_forbidden":
+            loc = _clean_loc(err["loc"])
+            model = _model_at(loc[:-1])
+            names = list(model.model_fields) if model else []
+            for hint in difflib.get_close_matches(str(loc[-1]), names, n=1):
+                misspelt.add((*loc[:-1], hint))
+    return [
+        _one_error(err, doc)
+        for err in errors
+        if not (err["type"] == "missing" and _clean_loc(err["loc"]) in misspelt)
+    ]
+
+
+def _clean_loc(raw: Any) -> tuple[str | int, ...]:
+    loc = tuple(p for p in raw if isinstance(p, str | int))
+    return tuple(p for p in loc if not (isinstance(p, str) and p.startswith("function-")))
+
+
+def _one_error(err: Any, doc: SourceDocument) -> LayoutError:
+    """One pydantic error as a located :class:`LayoutError`."""
+    loc = _clean_loc(err["loc"])
     kind = err["type"]
     ctx = err.get("ctx") or {}
     problem = ctx.get("error")
-    more = (
-        f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})"
-        if len(errors) > 1
-        else ""
-    )
     if kind == "extra_forbidden":
         key = str(loc[-1])
         model = _model_at(loc[:-1])
@@ -222,7 +255,7 @@ def _layout_error(exc: ValidationError, doc: SourceDocument) -> LayoutError:
             f"valid keys: {', '.join(names)}" if names else ""
         )
         return LayoutError(
-            f"unknown key '{key}'{more}",
+            f"unknown key '{key}'",
             doc.location(loc, key=True),
             field=dotted_path(loc),
             valid=valid.strip(),
@@ -230,7 +263,7 @@ def _layout_error(exc: ValidationError, doc: SourceDocument) -> LayoutError:
     if kind == "missing":
         key = str(loc[-1])
         return LayoutError(
-            f"missing '{key}'{more}",
+            f"missing '{key}'",
             doc.location(loc[:-1]),
             field=dotted_path(loc),
             valid=_MISSING_HINTS.get(key, f"add '{key}'"),
@@ -238,18 +271,18 @@ def _layout_error(exc: ValidationError, doc: SourceDocument) -> LayoutError:
     if isinstance(problem, FieldProblem):
         full = loc + problem.at
         return LayoutError(
-            f"{problem}{more}",
+            str(problem),
             doc.location(full),
             field=dotted_path(full) or None,
             valid=problem.valid or None,
         )
     if isinstance(problem, UnitProblem):
         return LayoutError(
-            f"{problem}{more}", doc.location(loc), field=dotted_path(loc), valid=problem.valid
+            str(problem), doc.location(loc), field=dotted_path(loc), valid=problem.valid
         )
     if kind == "literal_error":
         return LayoutError(
-            f"{err['input']!r} is not allowed{more}",
+            f"{err['input']!r} is not allowed",
             doc.location(loc),
             field=dotted_path(loc),
             valid=f"expected {ctx.get('expected', 'one of the documented values')}",
@@ -265,19 +298,19 @@ def _layout_error(exc: ValidationError, doc: SourceDocument) -> LayoutError:
             "int_from_float": "a whole number",
         }.get(kind, err["msg"].lower())
         return LayoutError(
-            f"expected {want}, got {got}{more}",
+            f"expected {want}, got {got}",
             doc.location(loc),
             field=dotted_path(loc),
             valid=_TYPE_HINTS.get(loc[-1] if loc else "", f"write {want} here"),
         )
     if kind in {"too_short", "too_long", "string_too_short", "string_too_long"}:
         return LayoutError(
-            f"{err['msg']}{more}",
+            err["msg"],
             doc.location(loc),
             field=dotted_path(loc) or None,
             valid="see the layout format in the docs",
         )
-    return LayoutError(f"{err['msg']}{more}", doc.location(loc), field=dotted_path(loc) or None)
+    return LayoutError(err["msg"], doc.location(loc), field=dotted_path(loc) or None)
 
 
 _MISSING_HINTS = {
@@ -315,8 +348,9 @@ def _expand_crank(crank: CrankSpec) -> list[CylinderSpec]:
     cylinders = []
     for t, throw in enumerate(crank.throws):
         for j, bank in enumerate(crank.banks):
+            # values already read and checked (SI): constructed, not read again
             cylinders.append(
-                CylinderSpec(
+                CylinderSpec.model_construct(
                     throw=throw + split[j], bank=bank, z=t * spacing + j * crank.bank_stagger
                 )
             )
@@ -345,6 +379,8 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         return doc.location((section, key)), f"{section}.{key}"
 
     geometry = spec.geometry
+    problems: list[LayoutError] = []  # every problem of the file, reported together
+    impossible: dict[tuple[Location, str, str], list[int]] = {}
     values: dict[str, list[float]] = {k: [] for k in CYLINDER_FIELDS}
     part_rows: list[tuple[float, ...]] = []
     for i, cyl in enumerate(cylinders):
@@ -358,17 +394,13 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         length = g.get("conrod_length", geometry.conrod_length)
         offset = g.get("offset", geometry.offset)
         if not length > radius + abs(offset):
-            key = "conrod_length" if "conrod_length" in g or "offset" not in g else "offset"
-            loc, name = where(i, key)
-            raise LayoutError(
-                f"conrod_length {length * 1e3:.6g} mm is not more than crank radius "
-                f"{radius * 1e3:.6g} mm + |offset| {abs(offset) * 1e3:.6g} mm "
-                f"(cylinder {i + 1})",
-                loc,
-                field=name,
-                valid="the crank slider exists only while conrod_length > crank_radius + |offset|",
-            )
-        rec, rot, dinertia, record = _cylinder_masses(spec, cyl, length, i, where, sharing[i])
+            impossible.setdefault(_geometry_problem(doc, cylinders, prefix, i), []).append(i + 1)
+        try:
+            rec, rot, dinertia, record = _cylinder_masses(spec, cyl, length, i, where, sharing[i])
+        except LayoutError as exc:  # reported with every other problem below
+            problems.append(exc)
+            rec = rot = dinertia = math.nan
+            record = None
         if record is not None:
             part_rows.append(record)
         values["throw"].append(math.radians(cyl.throw_angle))
@@ -381,12 +413,29 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         values["rotating_mass"].append(rot)
         values["conrod_inertia_correction"].append(dinertia)
 
+    for (loc, name, message), numbers in impossible.items():
+        problems.append(
+            LayoutError(
+                f"{message} ({_cylinder_list(numbers, n)})",
+                loc,
+                field=name,
+                valid="the crank slider exists only while conrod_length > crank_radius + |offset|",
+            )
+        )
     arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
     z = arrays["z"]
     reference_z = spec.reference_z if spec.reference_z is not None else 0.5 * (z.min() + z.max())
     pitch = _pitch(spec, z)
-    firing = _firing_order(spec, n, doc)
-    gas = _gas(spec, doc, cylinders, prefix, arrays, firing) if spec.gas is not None else None
+    firing = _collect(problems, lambda: _firing_order(spec, n, doc))
+    gas = (
+        _collect(problems, lambda: _gas(spec, doc, cylinders, prefix, arrays, firing))
+        if spec.gas is not None
+        else None
+    )
+    mounts = _collect(problems, lambda: _mounts(spec, doc))
+    stroke = 2.0 * float(np.max(arrays["crank_radius"]))
+    mains = _collect(problems, lambda: _mains(spec, doc, arrays["z"], pitch, stroke))
+    raise_all(problems)
     return spec, Engine(
         name=spec.name,
         speed=spec.speed,
@@ -402,10 +451,92 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         balance=_balance_settings(spec.balance),
         gas=gas,
         mass_parts=_mass_parts(part_rows) if part_rows else None,
-        mounts=_mounts(spec, doc),
-        mains=_mains(spec, doc, arrays["z"], pitch, 2.0 * float(np.max(arrays["crank_radius"]))),
+        mounts=mounts,
+        mains=mains,
         **arrays,
     )
+
+
+T = TypeVar("T")
+
+
+def _collect(problems: list[LayoutError], check: Callable[[], T]) -> T | None:
+    """The value of ``check()``; a :class:`LayoutError` it raises is added to ``problems``
+    (every problem of a file is reported at once) and None returned instead."""
+    try:
+        return check()
+    except LayoutErrors as exc:
+        problems.extend(exc.errors)
+    except LayoutError as exc:
+        problems.append(exc)
+    return None
+
+
+def _cylinder_list(numbers: list[int], n: int) -> str:
+    if len(numbers) == n > 1:
+        return "every cylinder"
+    if len(numbers) == 1:
+        return f"cylinder {numbers[0]}"
+    return f"cylinders {', '.join(str(k) for k in numbers)}"
+
+
+def _written(doc: SourceDocument, path: tuple[str | int, ...]) -> str | None:
+    """A value as the file wrote it (``'120 mm'``; a YAML number as a number), or None
+    where the file gives nothing at ``path``."""
+    value: Any = doc.data
+    for part in path:
+        try:
+            value = value[part]
+        except (KeyError, IndexError, TypeError):
+            return None
+    if value is None or isinstance(value, dict | list):
+        return None
+    return f"'{value}'" if isinstance(value, str) else str(value)
+
+
+def _geometry_problem(
+    doc: SourceDocument,
+    cylinders: list[CylinderSpec],
+    prefix: tuple[str | int, ...] | None,
+    i: int,
+) -> tuple[Location, str, str]:
+    """Where and what an impossible crank slider of cylinder ``i`` is: the fields on both
+    sides of ``conrod_length > crank_radius + |offset|`` with their values as written.
+
+    Located at the cylinder's own entry when it overrides one of them (the conrod length
+    first, then the stroke or crank radius, then the offset), else at
+    ``geometry.conrod_length``.
+    """
+    cyl = cylinders[i]
+
+    def source(key: str) -> tuple[str | int, ...]:
+        if prefix is not None and getattr(cyl, key, None) is not None:
+            return (*prefix, i, key)
+        return ("geometry", key)
+
+    def given(key: str) -> bool:
+        path = source(key)
+        return path[0] != "geometry" or _written(doc, path) is not None
+
+    def name(path: tuple[str | int, ...]) -> str:  # the key; the full path of an override
+        return str(path[-1]) if path[0] == "geometry" else dotted_path(path)
+
+    rod = source("conrod_length")
+    radius_key = next(
+        (k for k in ("stroke", "crank_radius") if source(k)[0] != "geometry"),
+        "stroke" if given("stroke") else "crank_radius",
+    )
+    radius = source(radius_key)
+    offset = source("offset")
+    radius_text = f"{name(radius)} {_written(doc, radius)}"
+    if radius_key == "stroke":
+        radius_text = f"crank_radius ({radius_text} / 2)"
+    offset_text = (
+        f"|{name(offset)}| {_written(doc, offset)}" if given("offset") else "|offset| 0 (not given)"
+    )
+    message = f"{name(rod)} {_written(doc, rod)} is not more than {radius_text} + {offset_text}"
+    at = next((p for p in (rod, radius, offset) if p[0] != "geometry"), rod)
+    return doc.location(at), dotted_path(at), message
 
 
 def _mains(

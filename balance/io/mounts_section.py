@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, BeforeValidator, Field, ValidationError, model_validator
 
-from balance.core.errors import LayoutError
+from balance.core.errors import LayoutError, LayoutErrors, raise_all
 from balance.core.mounts import (
     COORDINATES,
     MountPoint,
@@ -32,8 +32,8 @@ from balance.core.mounts import (
     normal_modes,
     stiffness_matrix,
 )
-from balance.io.schema import FieldProblem, Length, Mass, _q, _Strict
-from balance.io.units import UnitProblem, registry
+from balance.io.schema import FieldProblem, Length, _kg_m2, _q, _Strict
+from balance.io.units import UnitProblem, check_thousands, registry
 from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
 
 __all__ = [
@@ -44,6 +44,8 @@ __all__ = [
     "mount_system",
     "mounts_from_dict",
     "mounts_from_text",
+    "section_error",
+    "section_errors",
 ]
 
 #: Cosine of the angle between a mount's axes 1 and 2 above which they count as parallel.
@@ -88,6 +90,7 @@ def _per_unit(
     if bare is not None and bare != 0:
         raise UnitProblem(f"{value!r} has no unit", f"give a unit, e.g. '{bare:g} {likely}'")
     if isinstance(value, str):
+        check_thousands(value)
         match = _NUMBER.match(value) if len(value) <= 80 else None
         if match is None:
             raise UnitProblem(f"cannot read {value!r} as {what}", valid)
@@ -121,7 +124,13 @@ def _damping(value: Any) -> float:
     return _per_unit(value, "a damping", "N s/m", _DAMPING_UNITS, "'300 N s/m'", "N s/m")
 
 
-Inertia = Annotated[float, _q("inertia")]
+def _kg(number: float) -> str:
+    """The unit proposed for a bare powertrain mass: kilograms at any size."""
+    return "kg"
+
+
+Mass = Annotated[float, _q("mass", _kg)]
+Inertia = Annotated[float, _q("inertia", _kg_m2)]
 Stiffness = Annotated[float, BeforeValidator(_stiffness)]
 Damping = Annotated[float, BeforeValidator(_damping)]
 Point = Annotated[list[Length], Field(min_length=3, max_length=3)]
@@ -348,14 +357,25 @@ def _from_document(doc: SourceDocument) -> MountSystem:
     try:
         spec = MountsSpec.model_validate(data)
     except ValidationError as exc:
-        raise section_error(exc, doc, prefix) from None
+        raise_all(section_errors(exc, doc, prefix))
+        raise  # pragma: no cover - a failed validation has at least one problem
     return mount_system(spec)
 
 
 def section_error(
     exc: ValidationError, doc: SourceDocument, prefix: tuple[str | int, ...] = ()
 ) -> LayoutError:
-    """The first problem of a failed validation of a ``mounts:`` section, located.
+    """Every problem of a failed validation of a ``mounts:`` section, located: one
+    :class:`~balance.core.errors.LayoutError`, or a
+    :class:`~balance.core.errors.LayoutErrors` for several (see :func:`section_errors`)."""
+    errors = section_errors(exc, doc, prefix)
+    return errors[0] if len(errors) == 1 else LayoutErrors(errors)
+
+
+def section_errors(
+    exc: ValidationError, doc: SourceDocument, prefix: tuple[str | int, ...] = ()
+) -> list[LayoutError]:
+    """Every problem of a failed validation of a ``mounts:`` section, located.
 
     Parameters
     ----------
@@ -366,12 +386,14 @@ def section_error(
     prefix : tuple
         Path of the section in the document (``("mounts",)`` under a ``mounts:`` key).
     """
-    errors = sorted(exc.errors(include_url=False), key=lambda e: e["type"] != "extra_forbidden")
-    err = errors[0]
+    return [_section_problem(err, doc, prefix) for err in exc.errors(include_url=False)]
+
+
+def _section_problem(err: Any, doc: SourceDocument, prefix: tuple[str | int, ...]) -> LayoutError:
+    """One problem of a ``mounts:`` section, located."""
     loc = prefix + tuple(
         p for p in err["loc"] if isinstance(p, int) or not str(p).startswith("function-")
     )
-    more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
     problem = (err.get("ctx") or {}).get("error")
     kind = err["type"]
     if kind == "extra_forbidden":
@@ -380,11 +402,11 @@ def section_error(
         hint = difflib.get_close_matches(key, names, n=1)
         valid = (f"did you mean '{hint[0]}'? " if hint else "") + f"valid keys: {', '.join(names)}"
         return LayoutError(
-            f"unknown key '{key}'{more}", doc.location(loc, key=True), dotted_path(loc), valid
+            f"unknown key '{key}'", doc.location(loc, key=True), dotted_path(loc), valid
         )
     if kind == "missing":
         return LayoutError(
-            f"missing '{loc[-1]}'{more}",
+            f"missing '{loc[-1]}'",
             doc.location(loc[:-1]),
             dotted_path(loc),
             _MISSING.get(str(loc[-1]), f"add '{loc[-1]}'"),
@@ -392,18 +414,18 @@ def section_error(
     if isinstance(problem, FieldProblem):
         full = loc + problem.at
         return LayoutError(
-            f"{problem}{more}", doc.location(full), dotted_path(full) or None, problem.valid
+            str(problem), doc.location(full), dotted_path(full) or None, problem.valid
         )
     if isinstance(problem, UnitProblem):
-        return LayoutError(f"{problem}{more}", doc.location(loc), dotted_path(loc), problem.valid)
+        return LayoutError(str(problem), doc.location(loc), dotted_path(loc), problem.valid)
     if kind in {"too_short", "too_long"}:
         valid = "three values [x, y, z]" if loc and loc[-1] != "points" else "1 to 64 mounts"
         if loc and loc[-1] == "axes":
             valid = "two directions: [[axis 1], [axis 2]]"
         given = err.get("input")
         count = f"{len(given)} entries" if isinstance(given, list) else err["msg"]
-        return LayoutError(f"{count}{more}", doc.location(loc), dotted_path(loc), valid)
-    return LayoutError(f"{err['msg']}{more}", doc.location(loc), dotted_path(loc) or None)
+        return LayoutError(count, doc.location(loc), dotted_path(loc), valid)
+    return LayoutError(err["msg"], doc.location(loc), dotted_path(loc) or None)
 
 
 _MISSING = {

@@ -1,12 +1,15 @@
 """The layout file's schema (pydantic models over plain data).
 
 Every quantity is read through :func:`balance.io.units.parse_quantity`, so after validation a
-model holds SI floats (degrees for angles).  These models are only the file's shape; the
-engine the physics sees is :class:`balance.io.layout_file.Layout`.
+model holds SI floats (degrees for angles); a dimensional quantity written as a bare number
+other than 0 is refused there, with the likely unit proposed (``CONTRACT`` §3).  These
+models are only the file's shape; the engine the physics sees is
+:class:`balance.io.layout_file.Layout`.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
@@ -30,8 +33,16 @@ __all__ = [
 ]
 
 
-def _q(kind: str) -> BeforeValidator:
-    return BeforeValidator(lambda value: parse_quantity(value, kind))
+def _q(kind: str, likely: Callable[[float], str] | None = None) -> BeforeValidator:
+    """A quantity of unit kind ``kind``; ``likely`` proposes the unit of a bare number
+    (default :func:`balance.io.units.likely_unit`)."""
+    return BeforeValidator(lambda value: parse_quantity(value, kind, likely))
+
+
+def _kg_m2(number: float) -> str:
+    """The unit proposed for a bare moment of inertia of a whole body (a flywheel, a
+    powertrain on its mounts): kg m^2 at any size."""
+    return "kg m^2"
 
 
 Length = Annotated[float, _q("length")]
@@ -42,6 +53,7 @@ Fraction = Annotated[float, _q("fraction")]
 OptLength = Annotated[float | None, _q("length")]
 OptMass = Annotated[float | None, _q("mass")]
 OptInertia = Annotated[float | None, _q("inertia")]
+OptBodyInertia = Annotated[float | None, _q("inertia", _kg_m2)]
 OptAngle = Annotated[float | None, _q("angle")]
 Pressure = Annotated[float, _q("pressure")]
 OptPressure = Annotated[float | None, _q("pressure")]
@@ -49,15 +61,26 @@ OptFraction = Annotated[float | None, _q("fraction")]
 
 
 def _energy(value: Any) -> float | None:
-    """An energy [J] from a plain number (joules) or text with a unit ('1.2 kJ')."""
+    """An energy [J] from text with a unit ('1.2 kJ'); a bare number other than 0 is refused
+    with the likely unit proposed (J from 100 on, kJ below)."""
     if value is None:
         return None
     from balance.io.units import UnitProblem, registry
 
-    valid = "give the heat released per cylinder and cycle, e.g. '1.6 kJ', or a number in J"
+    valid = "give the heat released per cylinder and cycle with a unit, e.g. '1.6 kJ'"
     if isinstance(value, bool) or not isinstance(value, int | float | str):
         raise UnitProblem(f"expected an energy, got {value!r}", valid)
+    bare = value if not isinstance(value, str) else None
     if isinstance(value, str):
+        try:
+            bare = float(value)
+        except ValueError:
+            bare = None
+    if bare is not None and bare == bare and bare != 0:
+        written = str(value).strip()
+        suggestion = f"{written} {'J' if abs(bare) >= 100 else 'kJ'}"
+        raise UnitProblem(f"{written} has no unit", f"give a unit, e.g. '{suggestion}'", suggestion)
+    if isinstance(value, str) and bare is None:
         try:
             number = float(registry().Quantity(value).to("J").magnitude)
         except Exception:
@@ -443,7 +466,7 @@ class GasSpec(_Strict):
 class FlywheelSpec(_Strict):
     """The ``flywheel:`` section: an inertia to check, or a speed fluctuation to size one."""
 
-    inertia: OptInertia = None
+    inertia: OptBodyInertia = None
     speed_fluctuation: OptFraction = None
 
     @model_validator(mode="after")
@@ -457,7 +480,8 @@ class FlywheelSpec(_Strict):
         _positive(self.inertia, "inertia")
         if self.speed_fluctuation is not None and not 0.0 < self.speed_fluctuation < 1.0:
             raise FieldProblem(
-                f"speed_fluctuation is {self.speed_fluctuation:.4g}",
+                f"speed_fluctuation is {self.speed_fluctuation:.4g} "
+                f"({self.speed_fluctuation * 100:.4g} %)",
                 "a fraction above 0 and below 100 %, e.g. '1 %'",
                 ("speed_fluctuation",),
             )

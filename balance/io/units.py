@@ -1,8 +1,21 @@
 """Units at the boundary: one pint registry, quantities in, SI floats out.
 
-Layout files give quantities as strings with units (``"86 mm"``, ``"6000 rpm"``) or as
-plain numbers in SI base units (angles: degrees).  This module turns each into a float in
-the unit the core computes in, and nothing past it sees a unit.
+Layout files and the command line give quantities as strings with units (``"86 mm"``,
+``"6000 rpm"``).  This module turns each into a float in the unit the core computes in, and
+nothing past it sees a unit.
+
+A dimensional quantity (a length, mass, moment of inertia, speed, pressure or volume)
+written as a bare number is refused, with the unit it most likely has proposed
+(``6000`` for a speed: "give a unit, e.g. '6000 rpm'"; ``CONTRACT`` §3); only 0 may be
+bare.  Angles may be bare numbers, read as degrees; fractions may be bare (0.5 = 50 %),
+but a bare fraction above 2 is refused as a likely percentage (``60`` -> "'60 %'").
+
+Unit names are read as written.  A name of two or more letters, each of its words two or
+more letters long, whose other capitalisations are no unit of the same kind, is also read
+in any letter case (:data:`ANY_CASE`: ``RPM``, ``Rpm``, ``KG``, ``BAR``, ``DEG``, ``HZ``...).
+Where case tells two units of one kind apart (``mm`` and ``Mm``, ``MPa`` and ``mPa``,
+``mg`` and ``Mg``) or the name is one letter (``g`` and the gauss ``G``), another case is
+refused with the readings named (:data:`CASE_MATTERS`).
 
 The registry is built lazily on first use, so importing :mod:`balance` does not pay for it.
 
@@ -17,6 +30,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 from functools import cache
 from typing import TYPE_CHECKING, Any
 
@@ -26,8 +40,13 @@ if TYPE_CHECKING:  # pragma: no cover
     import pint
 
 __all__ = [
+    "ANY_CASE",
+    "CASE_MATTERS",
+    "DIMENSIONAL",
     "KINDS",
     "UnitProblem",
+    "check_thousands",
+    "likely_unit",
     "parse_quantity",
     "registry",
 ]
@@ -36,12 +55,14 @@ __all__ = [
 class UnitProblem(ValueError):
     """A value that cannot be read as the quantity asked for.
 
-    ``args[0]`` says what is wrong; :attr:`valid` says what would be valid.
+    ``args[0]`` says what is wrong; :attr:`valid` says what would be valid;
+    :attr:`suggestion` is the text proposed instead (``"6000 rpm"``), when there is one.
     """
 
-    def __init__(self, message: str, valid: str) -> None:
+    def __init__(self, message: str, valid: str, suggestion: str | None = None) -> None:
         super().__init__(message)
         self.valid = valid
+        self.suggestion = suggestion
 
 
 @cache
@@ -54,23 +75,32 @@ def registry() -> pint.UnitRegistry:
     return ureg
 
 
-# kind: (SI target unit, plain-number meaning, example, largest sane magnitude)
+# kind: (SI target unit, what a bare number means, example, largest sane magnitude)
 KINDS: dict[str, tuple[str, str, str, float]] = {
-    "length": ("m", "metres", "'86 mm'", 100.0),
-    "mass": ("kg", "kilograms", "'0.45 kg'", 1e6),
-    "inertia": ("kg * m ** 2", "kg m^2", "'1.9e-3 kg m^2'", 1e6),
+    "length": ("m", "", "'86 mm'", 100.0),
+    "mass": ("kg", "", "'0.45 kg'", 1e6),
+    "inertia": ("kg * m ** 2", "", "'1.9e-3 kg m^2'", 1e6),
     "angle": ("deg", "degrees", "'90 deg'", 1e6),
-    "speed": ("rad / s", "rad/s", "'6000 rpm'", 1e8),
+    "speed": ("rad / s", "", "'6000 rpm'", 1e8),
     "fraction": ("", "a fraction (0.5 = 50 %)", "'50 %'", 1e3),
-    "pressure": ("Pa", "pascals", "'1 bar'", 1e10),
-    "volume": ("m ** 3", "cubic metres", "'2.0 L'", 1e3),
+    "pressure": ("Pa", "", "'1 bar'", 1e10),
+    "volume": ("m ** 3", "", "'2.0 L'", 1e3),
 }
+
+#: Kinds whose bare numbers (other than 0) are refused: every kind with a dimension.
+DIMENSIONAL = frozenset(k for k, (_, bare, _, _) in KINDS.items() if not bare)
+
+#: Largest bare number read as a fraction; above it a bare number is taken for a
+#: percentage written without its sign (``balance_factor: 60``).
+LARGEST_BARE_FRACTION = 2.0
 
 _NUMBER = re.compile(
     r"^\s*([+-]?(?:(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?|(?:nan|inf(?:inity)?)(?![a-z])))"
     r"\s*(.*?)\s*$",
     re.IGNORECASE,
 )
+# a number written with thousands separators: 13,000 / 13 000 / 13_000 / 13'000
+_THOUSANDS = re.compile(r"^\s*([+-]?\d{1,3}(?:[,_' ]\d{3})+(?:\.\d*)?)(?![\d,_'])\s*(.*?)\s*$")
 _BIG_EXPONENT = re.compile(r"(\*\*|\^)\s*[+-]?\d{3,}")
 _ANGLE_NAMES = ("radian", "degree", "turn", "revolution", "arcminute", "arcsecond", "grade")
 _DIMENSION_NAMES = {
@@ -99,17 +129,57 @@ def _has_angle(unit: Any) -> bool:
     return False
 
 
-def parse_quantity(value: Any, kind: str) -> float:
+def likely_unit(number: float, kind: str) -> str:
+    """The unit a bare number of this kind most likely had in mind.
+
+    Lengths of 1 and more are taken for millimetres, smaller ones for metres; masses of
+    10 and more for grams (a piston's, a rod's), smaller ones for kilograms; pressures of
+    1000 and more for pascals, smaller ones for bar; volumes of 50 and more for cubic
+    centimetres, smaller ones for litres; speeds for rpm; moments of inertia of 1 and
+    more for kg cm^2 (a conrod's is about 20 kg cm^2), smaller ones for kg m^2.
+    A field may know better (a powertrain's mass is in kilograms, its inertia in kg m^2):
+    see :func:`parse_quantity`'s ``likely``.
+    """
+    size = abs(number)
+    if kind == "length":
+        return "mm" if size >= 1 else "m"
+    if kind == "mass":
+        return "g" if size >= 10 else "kg"
+    if kind == "pressure":
+        return "Pa" if size >= 1000 else "bar"
+    if kind == "volume":
+        return "cc" if size >= 50 else "L"
+    if kind == "inertia":
+        return "kg cm^2" if size >= 1 else "kg m^2"
+    return {"speed": "rpm", "angle": "deg", "fraction": "%"}[kind]
+
+
+def _number_text(value: float | int | str) -> str:
+    """A number as the user wrote it (text), or shortest-round-trip for a YAML number."""
+    if isinstance(value, str):
+        return value.strip()
+    if isinstance(value, int):
+        return str(value)
+    return repr(float(value)) if not float(value).is_integer() else str(int(value))
+
+
+def parse_quantity(value: Any, kind: str, likely: Callable[[float], str] | None = None) -> float:
     """Read a quantity as a float in the SI unit of ``kind``.
 
     Parameters
     ----------
     value : str or float or int
-        ``"86 mm"``, ``"6000 rpm"``, ``"50 %"``... or a plain number in SI base units
-        (degrees for angles, a fraction for fractions).
+        ``"86 mm"``, ``"6000 rpm"``, ``"50 %"``...  A bare number (a YAML number, or
+        text without a unit) is refused for a dimensional kind (:data:`DIMENSIONAL`)
+        unless it is 0; for angles it is degrees, for fractions a fraction (at most
+        :data:`LARGEST_BARE_FRACTION`).
     kind : str
         One of :data:`KINDS`: ``length`` [m], ``mass`` [kg], ``inertia`` [kg m^2],
-        ``angle`` [deg], ``speed`` [rad/s], ``fraction`` [1], ``pressure`` [Pa].
+        ``angle`` [deg], ``speed`` [rad/s], ``fraction`` [1], ``pressure`` [Pa],
+        ``volume`` [m^3].
+    likely : callable, optional
+        The unit to propose for a bare number (given the number); default
+        :func:`likely_unit`.
 
     Returns
     -------
@@ -119,7 +189,8 @@ def parse_quantity(value: Any, kind: str) -> float:
     Raises
     ------
     UnitProblem
-        If the value is not a finite number of the right dimension.
+        If the value is not a finite number of the right dimension, or a bare number
+        where a unit is required; its ``suggestion`` holds the proposed text.
 
     Examples
     --------
@@ -127,27 +198,51 @@ def parse_quantity(value: Any, kind: str) -> float:
     628.319
     >>> parse_quantity("86 mm", "length")
     0.086
+    >>> parse_quantity("0", "length")
+    0.0
     """
     target, plain, example, largest = KINDS[kind]
-    valid = f"give {kind} with a unit, e.g. {example}, or a plain number in {plain}"
+    valid = f"give {kind} with a unit, e.g. {example}" + (
+        f", or a plain number in {plain}" if plain else ""
+    )
     if isinstance(value, bool) or value is None:
         raise UnitProblem(f"expected {kind}, got {value!r}", valid)
     if isinstance(value, int | float):
-        number = float(value)
-        result = number
+        result = float(value)
+        bare = True
     elif isinstance(value, str):
-        result = _from_text(value, kind, valid)
+        result, bare = _from_text(value, kind, valid)
     else:
         shown = "a list" if isinstance(value, list) else "a mapping"
         raise UnitProblem(f"expected {kind}, got {shown}", valid)
     if not math.isfinite(result):
         raise UnitProblem(f"{value!r} is not a finite number", valid)
+    if bare and result != 0:
+        _check_bare(value, result, kind, likely)
     if abs(result) > largest:
         raise UnitProblem(
             f"{value!r} is out of range for {kind}",
             f"magnitude at most {largest:g} {target or '(fraction)'}",
         )
     return result
+
+
+def _check_bare(
+    value: Any, number: float, kind: str, likely: Callable[[float], str] | None
+) -> None:
+    """Refuse a bare number where a unit is required (or a percentage without its sign)."""
+    written = _number_text(value)
+    if kind in DIMENSIONAL:
+        unit = (likely or (lambda n: likely_unit(n, kind)))(number)
+        suggestion = f"{written} {unit}"
+        raise UnitProblem(f"{written} has no unit", f"give a unit, e.g. '{suggestion}'", suggestion)
+    if kind == "fraction" and abs(number) > LARGEST_BARE_FRACTION:
+        suggestion = f"{written} %"
+        raise UnitProblem(
+            f"{written} is read as a fraction ({number * 100:g} %)",
+            f"a bare number is a fraction (0.5 = 50 %); did you mean '{suggestion}'?",
+            suggestion,
+        )
 
 
 # Common units read without pint (importing pint and building its registry costs about
@@ -191,10 +286,70 @@ _FAST_UNITS: dict[str, tuple[str, float]] = {
     "cm^3": ("volume", 1e-6),
 }
 
+#: Unit names read in any letter case (lower case -> the name as in the fast table): each
+#: has two or more letters in every word, and no other capitalisation of it is a unit of
+#: the same kind (a test checks this against pint).
+ANY_CASE: dict[str, str] = {
+    name.lower(): name
+    for name in (
+        "cm",
+        "in",
+        "inch",
+        "ft",
+        "kg",
+        "lb",
+        "deg",
+        "degree",
+        "degrees",
+        "rad",
+        "rpm",
+        "rev/min",
+        "Hz",
+        "percent",
+        "kg cm^2",
+        "Pa",
+        "kPa",
+        "bar",
+        "cc",
+        "cm^3",
+    )
+}
 
-def _from_text(text: str, kind: str, valid: str) -> float:
+#: Unit names whose letter case tells units apart (lower case -> (the spellings read,
+#: what would be valid)): another capitalisation is refused with the readings named.
+CASE_MATTERS: dict[str, tuple[tuple[str, ...], str]] = {
+    "mm": (("mm", "Mm"), "did you mean 'mm' (millimetres) or 'Mm' (megametres)?"),
+    "mpa": (("MPa", "mPa"), "did you mean 'MPa' (megapascals) or 'mPa' (millipascals)?"),
+    "mg": (("mg", "Mg"), "did you mean 'mg' (milligrams) or 'Mg' (megagrams)?"),
+    "m": (("m",), "for metres write 'm'"),
+    "g": (("g",), "for grams write 'g' ('G' is the gauss)"),
+}
+
+
+def check_thousands(text: str) -> None:
+    """Refuse a number written with thousands separators (``13,000 rpm``, ``13 000 rpm``).
+
+    Raises
+    ------
+    UnitProblem
+        With the number written without them proposed (``13000 rpm``).
+    """
+    thousands = _THOUSANDS.match(text)
+    if thousands:
+        digits = re.sub(r"[,_' ]", "", thousands.group(1))
+        suggestion = f"{digits} {thousands.group(2)}".strip()
+        raise UnitProblem(
+            f"{text.strip()!r} has a thousands separator",
+            f"write the number without it, e.g. '{suggestion}'",
+            suggestion,
+        )
+
+
+def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
+    """The value of a quantity's text in the kind's SI unit, and whether it was bare."""
     if len(text) > 80:
         raise UnitProblem("value text is too long", valid)
+    check_thousands(text)
     match = _NUMBER.match(text)
     if not match:
         raise UnitProblem(f"cannot read {text!r} as {kind}", valid)
@@ -203,17 +358,22 @@ def _from_text(text: str, kind: str, valid: str) -> float:
         raise UnitProblem(f"{text!r} is not a finite number", valid)
     unit_text = match.group(2)
     if not unit_text:
-        return number
+        return number, True
     if _BIG_EXPONENT.search(unit_text):
         raise UnitProblem(f"unit {unit_text!r} has an absurd exponent", valid)
     fast = _FAST_UNITS.get(unit_text)
+    if fast is None and unit_text.lower() in ANY_CASE:
+        fast = _FAST_UNITS[ANY_CASE[unit_text.lower()]]
     if fast is not None:
         fast_kind, factor = fast
         if fast_kind == kind:
-            return number * factor
+            return number * factor, False
         raise UnitProblem(
             f"{text!r} is {_KIND_ARTICLE[fast_kind]}, not {_KIND_ARTICLE.get(kind, kind)}", valid
         )
+    spellings = CASE_MATTERS.get(unit_text.lower())
+    if spellings is not None and unit_text not in spellings[0]:
+        raise UnitProblem(f"unit {unit_text!r}: letter case matters here", spellings[1])
     if unit_text.startswith("/"):
         unit_text = "1" + unit_text
     ureg = registry()
@@ -223,9 +383,9 @@ def _from_text(text: str, kind: str, valid: str) -> float:
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise UnitProblem(f"unknown unit {unit_text!r} ({detail})", valid) from None
     if kind == "speed":
-        return _speed(number, unit, text, valid)
+        return _speed(number, unit, text, valid), False
     try:
-        return float(ureg.Quantity(number, unit).to(KINDS[kind][0]).magnitude)
+        return float(ureg.Quantity(number, unit).to(KINDS[kind][0]).magnitude), False
     except Exception:
         raise UnitProblem(
             f"{text!r} is {_dimension_name(unit)}, not {_KIND_ARTICLE.get(kind, kind)}", valid

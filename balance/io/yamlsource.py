@@ -180,6 +180,15 @@ _CORE_TAGS = {
 }
 
 
+def _is_tab(text: str, line: int, column: int, problem: str) -> bool:
+    """Whether a syntax error at 0-based ``line`` and ``column`` is a tab where YAML wants
+    spaces (the parser says "cannot start any token" for a tab that indents a key)."""
+    if "tab" in problem:
+        return True
+    lines = text.splitlines()
+    return 0 <= line < len(lines) and lines[line][column : column + 1] == "\t"
+
+
 def dotted_path(path: Path) -> str:
     text = ""
     for part in path:
@@ -274,6 +283,12 @@ def parse_yaml(text: str, file: str = "<input>") -> SourceDocument:
             if "expected a single document" in (exc.context or ""):
                 raise LayoutError(
                     "more than one YAML document", location, valid="one layout per file"
+                ) from None
+            if mark is not None and _is_tab(text, mark.line, mark.column, problem):
+                raise LayoutError(
+                    "a tab character: YAML does not allow tabs for indentation",
+                    location,
+                    valid="indent with spaces",
                 ) from None
             raise LayoutError(
                 f"YAML syntax error: {problem}", location, valid="check indentation and quoting"

@@ -82,7 +82,8 @@ def variant(layout: Engine, values: Mapping[str, float]) -> Engine:
     layout : Engine
         The base layout.
     values : mapping of str to float
-        Field name (see the module notes) to value.
+        Field name (see the module notes) to value: a Python number, SI (degrees for
+        angles), not text, so no unit is written.
 
     Returns
     -------
@@ -519,7 +520,9 @@ def sweep(
     vary : mapping or sequence
         ``{field: values}`` with values an array (SI, degrees for angles) or text such as
         ``"130mm:160mm:31"``; or a sequence of ``"field=values"`` strings or :class:`Vary`.
-        Each becomes a dimension of the result, in the order given.
+        Each becomes a dimension of the result, in the order given.  Numbers from Python
+        are SI floats; text is read as on the command line, where a dimensional value
+        needs its unit (a bare number other than 0 is refused).
     orders : int, str or sequence of int, optional
         Orders (default 1 to 8).
     model : {'exact', 'series', 'textbook'}

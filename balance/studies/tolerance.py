@@ -104,7 +104,8 @@ def tolerance(
     layout : Engine
         The nominal engine.
     scatter : sequence of Scatter or str
-        Scattered fields (``"reciprocating=±3g"``...).
+        Scattered fields (``"reciprocating=±3g"``...): text as on the command line, where
+        a tolerance needs its unit; a :class:`Scatter` holds it in SI.
     samples : int
         Number of engines drawn.
     orders : int, str or sequence of int

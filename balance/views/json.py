@@ -28,7 +28,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
     from balance.core.torque import TorqueResult
 
-__all__ = ["json_number", "order_entries", "to_dict", "to_json"]
+__all__ = ["json_number", "order_entries", "to_dict", "to_json", "warnings_json"]
 
 ComplexArray = NDArray[np.complex128]
 
@@ -90,7 +90,8 @@ def _rotating(phasor: complex, reference: float) -> dict[str, Any]:
 
 
 def to_dict(result: Result, factor_study: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    """The result as plain data in the contract's JSON shape (SI units, degrees).
+    """The result as plain data in the contract's JSON shape (SI units, degrees), with
+    the plausibility warnings as ``warnings`` (:func:`warnings_json`).
 
     ``factor_study``: a balance-factor study (:func:`balance.studies.factor.factor_study_dataset`,
     or any mapping of its variable names to arrays), reported as ``balance_factor_study``.
@@ -149,7 +150,14 @@ def to_dict(result: Result, factor_study: Mapping[str, Any] | None = None) -> di
         from balance.views.bearings import bearings_json
 
         out["bearings"] = bearings_json(result.bearings)
+    out["warnings"] = warnings_json(result)
     return out
+
+
+def warnings_json(result: Result) -> list[dict[str, str]]:
+    """The plausibility warnings: ``[{"rule": ..., "field": ..., "message": ...}]``
+    (:mod:`balance.core.plausibility`), an empty list when there are none."""
+    return [{"rule": w.rule, "field": w.field, "message": w.message} for w in result.warnings]
 
 
 def _mounts(result: Result) -> dict[str, Any]:

@@ -36,6 +36,7 @@ __all__ = [
     "render_factor_study",
     "render_proposal",
     "render_torque",
+    "render_warnings",
 ]
 
 #: Why a moment has no normalised value: the pitch is undefined.
@@ -171,7 +172,15 @@ def render(result: Result) -> RenderableType:
         from balance.views.bearings import bearings_tables
 
         parts.extend(bearings_tables(result.bearings))
+    parts.extend(render_warnings(result))
     return Group(*parts)
+
+
+def render_warnings(result: Result) -> list[RenderableType]:
+    """The plausibility warnings as the table's footer, one line each (none: nothing)."""
+    from rich.text import Text
+
+    return [Text(f"warning: {w.field}: {w.message}", style="yellow") for w in result.warnings]
 
 
 def _roll_table(result: Result) -> NumberTable:
