@@ -273,6 +273,13 @@ def _layout_section(result: Result, figures: bool) -> str:
         "m_rot [kg]",
         "rod inertia corr. [kg m²]",
     ]
+    stroke = result.cylinder_stroke
+    tdc = None if result.cylinder_tdc is None else np.degrees(result.cylinder_tdc)
+    links = engine.links
+    if stroke is not None:
+        headers += ["actual stroke [mm]", "TDC at [deg]"]
+    if links is not None:
+        headers.append("link rod")
     throw = np.degrees(np.asarray(engine.throw, dtype=np.float64))
     bank = np.degrees(np.asarray(engine.bank, dtype=np.float64))
     rows = []
@@ -291,6 +298,16 @@ def _layout_section(result: Result, figures: bool) -> str:
                 _num(engine.conrod_inertia_correction[i]),
             ]
         )
+        if stroke is not None and tdc is not None:
+            rows[-1] += [_num(stroke[i], 1e3), _num(tdc[i])]
+        if links is not None:
+            m = int(links.master[i])
+            rows[-1].append(
+                f"on cylinder {m + 1}'s rod: pin {_num(links.pin_radius[i], 1e3)} mm at "
+                f"{_num(np.degrees(links.pin_angle[i]))} deg, rod {_num(engine.conrod_length[i], 1e3)} mm"
+                if m >= 0
+                else "-"
+            )
     assumptions = [
         "Constant crank speed; crank, conrods and block rigid.",
         "Each conrod is split into a reciprocating mass at the piston pin and a rotating "

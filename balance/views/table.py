@@ -19,7 +19,14 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
     from balance.core.torque import TorqueResult
 
-__all__ = ["format_number", "render", "render_factor_study", "render_proposal", "render_torque"]
+__all__ = [
+    "cylinders_table",
+    "format_number",
+    "render",
+    "render_factor_study",
+    "render_proposal",
+    "render_torque",
+]
 
 
 def format_number(value: float, digits: int = 4) -> str:
@@ -101,6 +108,8 @@ def render(result: Result) -> RenderableType:
     parts: list[RenderableType] = [Text(title, style="bold"), norm, *tables, Text(rotating_text)]
     if result.roll is not None:
         parts.append(_roll_table(result))
+    if result.cylinder_stroke is not None:
+        parts.append(cylinders_table(result))
     if result.torque is not None:
         parts.append(render_torque(result.torque))
     if result.balanced is not None:
@@ -114,6 +123,37 @@ def render(result: Result) -> RenderableType:
 
         parts.extend(bearings_tables(result.bearings))
     return Group(*parts)
+
+
+def cylinders_table(result: Result) -> RenderableType:
+    """Each cylinder's actual stroke and TDC crank angle, and its link rod if it has one."""
+    from rich.table import Table
+
+    assert result.cylinder_stroke is not None and result.cylinder_tdc is not None
+    engine = result.engine
+    links = engine.links
+    table = Table(title="Cylinders: actual stroke and top dead centre", title_justify="left")
+    for label in ("cylinder", "stroke [mm]", "TDC at [deg]"):
+        table.add_column(label, justify="right")
+    if links is not None:
+        table.add_column("rod")
+    tdc = np.degrees(result.cylinder_tdc)
+    for i in range(engine.n_cylinders):
+        row = [str(i + 1), format_number(float(result.cylinder_stroke[i]) * 1e3, 6)]
+        row.append(format_number(float(tdc[i]), 6))
+        if links is not None:
+            m = int(links.master[i])
+            if m >= 0:
+                row.append(
+                    f"link on {m + 1}: pin {format_number(float(links.pin_radius[i]) * 1e3)} mm "
+                    f"at {format_number(math.degrees(float(links.pin_angle[i])))} deg, "
+                    f"{format_number(float(engine.conrod_length[i]) * 1e3)} mm"
+                )
+            else:
+                carried = int(np.count_nonzero(links.master == i))
+                row.append(f"master of {carried}" if carried else "on the pin")
+        table.add_row(*row)
+    return table
 
 
 def _roll_table(result: Result) -> RenderableType:
