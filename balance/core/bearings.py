@@ -376,12 +376,18 @@ def _pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
     cache: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
     tables = []
     travels = _travels(engine)
+    link_cache: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
     for i, (r, length, e) in enumerate(
         zip(engine.crank_radius, engine.conrod_length, engine.offset, strict=True)
     ):
         key = (float(r), float(length), float(e))
-        if travels[i] is not None:  # a link piston: its own volume curve
-            tables.append(model_pressure(gas.model, gas.bore, *key, engine.cycle, travels[i]))
+        travel = travels[i]
+        if travel is not None:  # a link piston: its own volume curve
+            if travel.key not in link_cache:
+                link_cache[travel.key] = model_pressure(
+                    gas.model, gas.bore, *key, engine.cycle, travel
+                )
+            tables.append(link_cache[travel.key])
             continue
         if key not in cache:
             cache[key] = model_pressure(gas.model, gas.bore, *key, engine.cycle)

@@ -218,11 +218,14 @@ class PistonTravel:
         distance from the crank axis [m].
     top, bottom : float
         That distance at the top and bottom dead centres [m].
+    key : tuple of float
+        The geometry the travel depends on: equal keys, equal travels (for caching).
     """
 
     position: Callable[[FloatArray], FloatArray]
     top: float
     bottom: float
+    key: tuple[float, ...] = ()
 
 
 def cylinder_volume(
@@ -253,6 +256,27 @@ def cylinder_volume(
     return np.asarray(swept / (ratio - 1.0) + area * (s_max - radius * s))
 
 
+def _volumes(
+    spec: GasModel,
+    bore: float,
+    radius: float,
+    length: float,
+    offset: float,
+    cycle_deg: float,
+    travel: PistonTravel | None = None,
+) -> tuple[FloatArray, FloatArray, float, float]:
+    """The model's grid of cycle angles [deg], the volume on it, at bottom dead centre and
+    at the start of combustion [m^3]: what does not depend on the heat released."""
+    half = cycle_deg / 2.0
+    alpha = np.arange(-half, half, MODEL_STEP_DEG)
+    ratio = spec.compression_ratio
+    volume = cylinder_volume(alpha, bore, radius, length, offset, ratio, travel)
+    v_bdc = float(cylinder_volume(np.array([-180.0]), bore, radius, length, offset, ratio, travel)[0])
+    start = np.array([spec.combustion_start])
+    v_start = float(cylinder_volume(start, bore, radius, length, offset, ratio, travel)[0])
+    return alpha, volume, v_bdc, v_start
+
+
 def _model_table(
     spec: GasModel,
     bore: float,
@@ -262,18 +286,15 @@ def _model_table(
     cycle_deg: float,
     heat: float,
     travel: PistonTravel | None = None,
+    volumes: tuple[FloatArray, FloatArray, float, float] | None = None,
 ) -> tuple[FloatArray, FloatArray]:
-    """Pressure of the model on a fine grid of cycle angles, for a heat release [J]."""
-    half = cycle_deg / 2.0
-    alpha = np.arange(-half, half, MODEL_STEP_DEG)
-    volume = cylinder_volume(alpha, bore, radius, length, offset, spec.compression_ratio, travel)
+    """Pressure of the model on a fine grid of cycle angles, for a heat release [J]
+    (``volumes``: :func:`_volumes` of the same arguments, computed once for a search)."""
+    if volumes is None:
+        volumes = _volumes(spec, bore, radius, length, offset, cycle_deg, travel)
+    alpha, volume, v_bdc, v_start = volumes
     p = np.full(alpha.shape, spec.exhaust_pressure)
     closed = (alpha >= -180.0) & (alpha <= 180.0)
-    v_bdc = float(
-        cylinder_volume(
-            np.array([-180.0]), bore, radius, length, offset, spec.compression_ratio, travel
-        )[0]
-    )
     start = spec.combustion_start
     before = closed & (alpha < start)
     p[before] = spec.intake_pressure * (v_bdc / volume[before]) ** spec.polytropic_compression
@@ -283,11 +304,6 @@ def _model_table(
     a_after = alpha[after]
     v_after = volume[after]
     n2 = spec.polytropic_expansion
-    v_start = float(
-        cylinder_volume(
-            np.array([start]), bore, radius, length, offset, spec.compression_ratio, travel
-        )[0]
-    )
     p_start = spec.intake_pressure * (v_bdc / v_start) ** spec.polytropic_compression
     fraction = np.clip((a_after - start) / spec.combustion_duration, 0.0, 1.0)
     burnt = 1.0 - np.exp(-spec.wiebe_a * fraction ** (spec.wiebe_m + 1.0))
@@ -332,19 +348,22 @@ def model_pressure(
         pressure [Pa].
     """
     cycle_deg = cycle_degrees(cycle)
+    volumes = _volumes(spec, bore, radius, length, offset, cycle_deg, travel)
     if spec.heat_released is not None:
         return _model_table(
-            spec, bore, radius, length, offset, cycle_deg, spec.heat_released, travel
+            spec, bore, radius, length, offset, cycle_deg, spec.heat_released, travel, volumes
         )
     target = float(spec.peak_pressure)  # type: ignore[arg-type]
 
+    def table(heat: float) -> tuple[FloatArray, FloatArray]:
+        return _model_table(spec, bore, radius, length, offset, cycle_deg, heat, travel, volumes)
+
     def peak(heat: float) -> float:
-        table = _model_table(spec, bore, radius, length, offset, cycle_deg, heat, travel)
-        return float(table[1].max())
+        return float(table(heat)[1].max())
 
     low, high = 0.0, 100.0
     if peak(low) >= target:
-        return _model_table(spec, bore, radius, length, offset, cycle_deg, 0.0, travel)
+        return table(0.0)
     while peak(high) < target:
         high *= 2.0
     for _ in range(60):
@@ -355,7 +374,7 @@ def model_pressure(
             high = mid
         if high - low <= 1e-10 * high:
             break
-    return _model_table(spec, bore, radius, length, offset, cycle_deg, 0.5 * (low + high), travel)
+    return table(0.5 * (low + high))
 
 
 def pressure_at(
@@ -375,21 +394,24 @@ def pressure_at(
     alpha = np.asarray(alpha_deg, dtype=np.float64)
     out = np.empty(alpha.shape)
     tables: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
+    link_tables: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
     for i in range(alpha.shape[0]):
         travel = travels[i] if travels is not None else None
         if gas.angle is not None and gas.pressure is not None:
             angle, pressure = gas.angle, gas.pressure
         elif travel is not None:
             assert gas.model is not None
-            angle, pressure = model_pressure(
-                gas.model,
-                gas.bore,
-                float(radius[i]),
-                float(length[i]),
-                float(offset[i]),
-                cycle,
-                travel,
-            )
+            if travel.key not in link_tables:
+                link_tables[travel.key] = model_pressure(
+                    gas.model,
+                    gas.bore,
+                    float(radius[i]),
+                    float(length[i]),
+                    float(offset[i]),
+                    cycle,
+                    travel,
+                )
+            angle, pressure = link_tables[travel.key]
         else:
             assert gas.model is not None
             key = (float(radius[i]), float(length[i]), float(offset[i]))

@@ -247,17 +247,17 @@ class LinkMotion:
 
     @property
     def pin(self) -> ComplexArray:
-        """:math:`\Lambda` as :math:`Y + iX`."""
+        r""":math:`\Lambda` as :math:`Y + iX`."""
         return np.asarray(self.pin_y + 1j * self.pin_x)
 
     @property
     def dpin(self) -> ComplexArray:
-        """:math:`\Lambda'` as :math:`Y + iX`."""
+        r""":math:`\Lambda'` as :math:`Y + iX`."""
         return np.asarray(self.dpin_y + 1j * self.dpin_x)
 
     @property
     def d2pin(self) -> ComplexArray:
-        """:math:`\Lambda''` as :math:`Y + iX`."""
+        r""":math:`\Lambda''` as :math:`Y + iX`."""
         return np.asarray(self.d2pin_y + 1j * self.d2pin_x)
 
 
@@ -398,19 +398,27 @@ def link_reach(geometry: LinkGeometry) -> FloatArray:
     The link rod reaches its piston pin while this is below 1 (:math:`|h| < l_j/r`).  The
     maximum is sampled on :data:`REACH_GRID` crank angles; between samples :math:`|h|` can
     exceed the sampled maximum by at most :math:`\max|h''|\,(\pi/N)^2/2`, which is added.
+    Infinite where the master rod itself cannot move.
     """
     if geometry.size == 0:
         return np.zeros(0)
     beta = 2.0 * np.pi * np.arange(REACH_GRID) / REACH_GRID
     lam_m, eps_m, kappa, delta, shift, lam, eps = geometry.columns()
-    sin_m = np.sin(beta + shift)
-    sin_g = lam_m * (sin_m - eps_m)
+    beta_m = beta + shift
+    sin_m, cos_m = np.sin(beta_m), np.cos(beta_m)
+    u = sin_m - eps_m
+    sin_g = lam_m * u
     if np.any(np.abs(sin_g) >= 1.0):
         return np.full(geometry.size, np.inf)
-    m = link_motion(beta, lam_m, eps_m, kappa, delta, shift, lam, eps)
-    h = m.sin_rod / lam
+    cos_g = np.sqrt(1.0 - sin_g * sin_g)
+    dg = lam_m * cos_m / cos_g
+    d2g = (lam_m * lam_m * u * cos_m * dg - lam_m * sin_m * cos_g) / (cos_g * cos_g)
+    kw_y = kappa * (np.cos(delta) * cos_g + np.sin(delta) * sin_g)
+    kw_x = kappa * (np.sin(delta) * cos_g - np.cos(delta) * sin_g)
+    h = np.sin(beta) + kw_x - eps
+    d2h = -d2g * kw_y - dg * dg * kw_x - np.sin(beta)
     top = np.max(np.abs(h), axis=-1)
-    curvature = np.max(np.abs(m.d2pin.imag), axis=-1)
+    curvature = np.max(np.abs(d2h), axis=-1)
     return np.asarray(lam[:, 0] * (top + curvature * (np.pi / REACH_GRID) ** 2 / 2.0))
 
 
@@ -945,5 +953,7 @@ def piston_travels(engine: Engine) -> list[PistonTravel | None]:
         ) -> FloatArray:
             return np.asarray(r * link_motion(start + np.radians(alpha_deg), *params).s)
 
-        out[j] = PistonTravel(position, r * float(s_top[row]), r * float(s_bottom[row]))
+        out[j] = PistonTravel(
+            position, r * float(s_top[row]), r * float(s_bottom[row]), key=(*params, r)
+        )
     return out

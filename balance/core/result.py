@@ -143,7 +143,7 @@ class Request:
 
 @dataclass(frozen=True)
 class Result:
-    """The answer to a :class:`Request` (SI units: N, N m, rad/s, m).
+    r"""The answer to a :class:`Request` (SI units: N, N m, rad/s, m).
 
     Attributes
     ----------

@@ -400,7 +400,7 @@ class _Group:
 
 
 def articulated_kinematics(layout: Engine, theta: ArrayLike) -> list[_Group]:
-    """The kinematics of every master with its link rods (see :func:`_rod_on_bore`).
+    r"""The kinematics of every master with its link rods (see :func:`_rod_on_bore`).
 
     The link pin of link rod j is :math:`L = C + \rho e^{i(\vartheta_m + \alpha)}` on the
     master rod (angle :math:`\vartheta_m`); its derivatives follow from the master rod's.
@@ -523,7 +523,7 @@ def _articulated_reciprocating(layout: Engine, theta: FloatArray, lever: bool) -
 
 @dataclass(frozen=True)
 class ArticulatedSolution:
-    """What the Newton–Euler solution of the master-and-link groups gives, over crank angles.
+    r"""What the Newton–Euler solution of the master-and-link groups gives, over crank angles.
 
     Attributes
     ----------
@@ -763,7 +763,7 @@ def block_force_newton_euler(
     small_end_share: float = 1.0 / 3.0,
     cg_fraction: float = 0.3,
 ) -> tuple[ComplexArray, ComplexArray]:
-    """Whole force and moment on the block [N, N m] (reciprocating and rotating), inertia
+    r"""Whole force and moment on the block [N, N m] (reciprocating and rotating), inertia
     only: plain cylinders by :math:`-\sum m a` of their two-mass models, master-and-link
     groups by :func:`articulated_newton_euler`."""
     th = np.asarray(theta, dtype=np.float64)
