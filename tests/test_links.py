@@ -154,7 +154,9 @@ def test_forces_moments_and_roll_equal_newton_euler_of_the_rigid_bodies(name):
     m_fwd, m_bwd = td.phasors_from_samples(moment, ORDERS)
     first = (ORDERS == 1).astype(float)
     tol = 1e-10 * _scale(engine)
-    np.testing.assert_allclose(f_fwd, result.force_forward + first * result.rotating_force, atol=tol)
+    np.testing.assert_allclose(
+        f_fwd, result.force_forward + first * result.rotating_force, atol=tol
+    )
     np.testing.assert_allclose(f_bwd, result.force_backward, atol=tol)
     span = max(float(np.ptp(engine.z)), 0.1)
     np.testing.assert_allclose(
@@ -225,9 +227,7 @@ def test_gas_torque_and_roll_equal_newton_euler():
     roll = td.roll_newton_euler(engine, theta, gas_force=gas)
     scale = float(np.max(np.abs(result.roll_torque)))
     np.testing.assert_allclose(roll, result.roll_torque[::8], atol=1e-10 * scale)
-    plain = dataclasses.replace(
-        engine, conrod_inertia_correction=np.zeros(engine.n_cylinders)
-    )
+    plain = dataclasses.replace(engine, conrod_inertia_correction=np.zeros(engine.n_cylinders))
     plain_result = compute_torque(plain, ORDERS)
     torque = td.crank_torque_newton_euler(
         plain, theta, gas_force=plain_result.gas_force[:, ::8].T, small_end_share=0.3
@@ -394,9 +394,12 @@ def _measured_error(engine: Engine, model: str, **options: object) -> float:
     assert exact.link_pin_forward is not None and exact.link_pin_backward is not None
     pin = got.link_pin_forward
     if pin is None:  # the model leaves the link pins' relative motion out
-        error = error + 2.0 * np.maximum(
-            np.abs(exact.link_pin_forward), np.abs(exact.link_pin_backward)
-        ) / unit
+        error = (
+            error
+            + 2.0
+            * np.maximum(np.abs(exact.link_pin_forward), np.abs(exact.link_pin_backward))
+            / unit
+        )
     return float(error.max())
 
 
@@ -600,7 +603,7 @@ def test_mounts_take_the_link_engines_forces():
     )
     result = compute(engine, Request(mounts=True))
     assert result.mounts is not None and result.roll is not None
-    orders, ff, fb, _, _, roll = order_loads(result)
+    _, ff, fb, _, _, roll = order_loads(result)
     p = result.phasors
     np.testing.assert_array_equal(ff[1:8], p.force_forward[1:])
     np.testing.assert_array_equal(fb[:8], p.force_backward)
@@ -629,21 +632,49 @@ cylinders:
         ("master: 1,", "master: 0,", ":8:21: cylinders[2].link.master:", "master is 0"),
         ("master: 1,", "master: 2,", ":8:21: cylinders[2].link.master:", "names itself"),
         ("master: 1,", "master: one,", ":8:21: cylinders[2].link.master:", "whole number"),
-        ("{throw: 0 deg, bank: 90", "{throw: 10 deg, bank: 90", ":7:13: cylinders[2].throw:",
-         "its throw is 10 deg, the master's 0 deg"),
-        ("bank: 90 deg, z: 0 mm", "bank: 90 deg, z: 5 mm", ":7:37: cylinders[2].z:",
-         "its z is 5 mm"),
-        ("length: 160 mm", "length: 45 mm", ":8:70: cylinders[2].link.length:",
-         "cannot reach its piston"),
-        ("z: 0 mm, conrod: 0.6 kg", "z: 0 mm, reciprocating: 1 kg, conrod: 0.6 kg",
-         ":7:58: cylinders[2].reciprocating:", "lumped 'reciprocating' on link cylinder 2"),
-        ("conrod: 0.6 kg, conrod_cg", "conrod_length: 170 mm, conrod: 0.6 kg, conrod_cg",
-         ":7:58: cylinders[2].conrod_length:", "'conrod_length' on link cylinder 2"),
+        (
+            "{throw: 0 deg, bank: 90",
+            "{throw: 10 deg, bank: 90",
+            ":7:13: cylinders[2].throw:",
+            "its throw is 10 deg, the master's 0 deg",
+        ),
+        (
+            "bank: 90 deg, z: 0 mm",
+            "bank: 90 deg, z: 5 mm",
+            ":7:37: cylinders[2].z:",
+            "its z is 5 mm",
+        ),
+        (
+            "length: 160 mm",
+            "length: 45 mm",
+            ":8:70: cylinders[2].link.length:",
+            "cannot reach its piston",
+        ),
+        (
+            "z: 0 mm, conrod: 0.6 kg",
+            "z: 0 mm, reciprocating: 1 kg, conrod: 0.6 kg",
+            ":7:58: cylinders[2].reciprocating:",
+            "lumped 'reciprocating' on link cylinder 2",
+        ),
+        (
+            "conrod: 0.6 kg, conrod_cg",
+            "conrod_length: 170 mm, conrod: 0.6 kg, conrod_cg",
+            ":7:58: cylinders[2].conrod_length:",
+            "'conrod_length' on link cylinder 2",
+        ),
         ("conrod: 0.6 kg, ", "", ":7:5: cylinders[2].conrod:", "gives no 'conrod'"),
-        ("pin_radius: 40 mm", "pin_radius: -4 mm", ":8:36: cylinders[2].link.pin_radius:",
-         "pin_radius must be zero or more"),
-        ("length: 160 mm}", "lenght: 160 mm}", ":8:62: cylinders[2].link.lenght:",
-         "unknown key 'lenght'"),
+        (
+            "pin_radius: 40 mm",
+            "pin_radius: -4 mm",
+            ":8:36: cylinders[2].link.pin_radius:",
+            "pin_radius must be zero or more",
+        ),
+        (
+            "length: 160 mm}",
+            "lenght: 160 mm}",
+            ":8:62: cylinders[2].link.lenght:",
+            "unknown key 'lenght'",
+        ),
     ],
 )
 def test_bad_link_entries_name_line_column_and_field(tmp_path, old, new, where, message):
@@ -676,8 +707,9 @@ def test_link_cylinders_need_masses_by_part(tmp_path):
     )
     with pytest.raises(LayoutError) as info:
         layout_from_text(text, "f.yaml")
-    assert "f.yaml:8:12: cylinders[2].link: cylinder 2 has a link rod, but the engine's masses" in str(
-        info.value
+    assert (
+        "f.yaml:8:12: cylinders[2].link: cylinder 2 has a link rod, but the engine's masses"
+        in str(info.value)
     )
 
 

@@ -183,9 +183,9 @@ def choose_model(
 # --------------------------------------------------------------------------- link cylinders
 
 
-def _master_angle_bounds(ratio_master: ArrayLike, offset_master: ArrayLike) -> tuple[
-    NDArray[np.float64], NDArray[np.float64]
-]:
+def _master_angle_bounds(
+    ratio_master: ArrayLike, offset_master: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     r""":math:`\gamma_1 \ge \max|\gamma'|` and :math:`\gamma_2 \ge \max(|\gamma''| +
     \gamma'^2)` of a master rod, from :math:`|\cos\gamma| \ge \sqrt{1 - x_m^2}`."""
     lam = np.asarray(ratio_master, dtype=np.float64)
@@ -244,7 +244,9 @@ def articulation_bound(geometry: LinkGeometry, mass_ratio: ArrayLike) -> NDArray
         s1 = 1.0 + kappa * g1
         s2 = 1.0 + kappa * g2
         piston = kappa * (
-            g2 + 3.0 * lam**2 * x * s1**2 / root**5 + lam * (s2 + 2.0 * s1 * g1) / root**3
+            g2
+            + 3.0 * lam**2 * x * s1**2 / root**5
+            + lam * (s2 + 2.0 * s1 * g1) / root**3
             + x * g2 / root
         )
     piston = np.where(x < 1.0, piston, np.inf)

@@ -244,6 +244,4 @@ class Engine:
         gas = self.gas.reordered(idx) if self.gas is not None else None
         parts = self.mass_parts.reordered(idx) if self.mass_parts is not None else None
         links = self.links.reordered(idx) if self.links is not None else None
-        return replace(
-            self, firing_order=None, gas=gas, mass_parts=parts, links=links, **arrays
-        )
+        return replace(self, firing_order=None, gas=gas, mass_parts=parts, links=links, **arrays)

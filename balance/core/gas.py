@@ -271,7 +271,9 @@ def _volumes(
     alpha = np.arange(-half, half, MODEL_STEP_DEG)
     ratio = spec.compression_ratio
     volume = cylinder_volume(alpha, bore, radius, length, offset, ratio, travel)
-    v_bdc = float(cylinder_volume(np.array([-180.0]), bore, radius, length, offset, ratio, travel)[0])
+    v_bdc = float(
+        cylinder_volume(np.array([-180.0]), bore, radius, length, offset, ratio, travel)[0]
+    )
     start = np.array([spec.combustion_start])
     v_start = float(cylinder_volume(start, bore, radius, length, offset, ratio, travel)[0])
     return alpha, volume, v_bdc, v_start

@@ -366,15 +366,13 @@ def _pin_roll(motion: LinkMotion) -> FloatArray:
     \Lambda'')`: the roll of a unit mass at the link pin per :math:`r^2\omega^2`."""
     m = motion
     return np.asarray(
-        m.dpin_y * m.d2pin_y
-        + m.dpin_x * m.d2pin_x
-        - (m.pin_y * m.d2pin_x - m.pin_x * m.d2pin_y)
+        m.dpin_y * m.d2pin_y + m.dpin_x * m.d2pin_x - (m.pin_y * m.d2pin_x - m.pin_x * m.d2pin_y)
     )
 
 
-def _master_pin_force(ratio_master: ArrayLike, offset_master: ArrayLike, beta_m: ArrayLike) -> tuple[
-    FloatArray, FloatArray
-]:
+def _master_pin_force(
+    ratio_master: ArrayLike, offset_master: ArrayLike, beta_m: ArrayLike
+) -> tuple[FloatArray, FloatArray]:
     r"""Real and imaginary parts of :math:`q(\beta_m) = e^{-i\gamma}(\gamma'^2 + i\gamma'')`
     (the master rod's frame, :math:`Y + iX`)."""
     b = np.asarray(beta_m, dtype=np.float64)
@@ -621,9 +619,7 @@ def link_coefficients(geometry: LinkGeometry, orders: ArrayLike) -> LinkCoeffici
 
     # rounding of the samples: the plain estimate with the larger of the two rods' reach,
     # one more factor 1/D for the roll functions (as in kinematics.roll_coefficients)
-    reach_link = np.minimum(
-        unique_l[:, 5] * (1.0 + unique_l[:, 2] + np.abs(unique_l[:, 6])), 0.999
-    )
+    reach_link = np.minimum(unique_l[:, 5] * (1.0 + unique_l[:, 2] + np.abs(unique_l[:, 6])), 0.999)
     reach_master = unique_l[:, 0] * (1.0 + np.abs(unique_l[:, 1]))
     x_l = np.maximum(reach_link, reach_master)
     floor_l = rounding_floor(x_l, 0.0)
@@ -662,7 +658,7 @@ def pin_masses(engine: Engine) -> FloatArray:
     if engine.links is None:
         return out
     linked = engine.links.master >= 0
-    share = 0.0
+    share: FloatArray | float = 0.0
     parts = engine.mass_parts
     if parts is not None:
         share = np.nan_to_num(parts.crank_unbalance) / parts.rods_per_throw
@@ -777,9 +773,7 @@ def articulated_free_phasors(
         direction = np.exp(1j * (psi[m_idx] + links.pin_angle[j]))[:, None]
         phase = k * (phi[j] - psi[m_idx])[:, None]
         pin_fwd = geometry.pin[:, None] * direction * exact_links.pin_forward * np.exp(1j * phase)
-        pin_bwd = (
-            geometry.pin[:, None] * direction * exact_links.pin_backward * np.exp(-1j * phase)
-        )
+        pin_bwd = geometry.pin[:, None] * direction * exact_links.pin_backward * np.exp(-1j * phase)
         pin_amp = _column_of(pin_mass, j) * r[j]
         pin_terms.append((pin_amp, pin_fwd, pin_bwd))
 
@@ -803,7 +797,7 @@ def articulated_free_phasors(
     }
     # each cylinder's link-pin phasors (the proposal's counterweights take the forward
     # first order of every cylinder, these included)
-    per_fwd = np.zeros(np.broadcast_shapes(np.shape(pin_mass), (n,)) + (ks.size,), complex)
+    per_fwd = np.zeros((*np.broadcast_shapes(np.shape(pin_mass), (n,)), ks.size), complex)
     per_bwd = np.zeros_like(per_fwd)
     for pin_amp, fwd, bwd in pin_terms:
         per_fwd[..., j, :] = pin_amp[..., None] * fwd

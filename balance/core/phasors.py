@@ -18,6 +18,7 @@ sweep is one call) and return complex arrays with the orders on the last axis.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -208,7 +209,7 @@ def _complex_dot(
     return cancel_to_zero(total, scale, n)
 
 
-def weighted_phasor_sum(terms: list[tuple[ArrayLike, ArrayLike]]) -> ComplexArray:
+def weighted_phasor_sum(terms: Sequence[tuple[ArrayLike, ArrayLike]]) -> ComplexArray:
     r"""A cleaned sum of weighted complex terms over cylinders: :math:`\sum_j\sum_i w_{j,i}
     u_{j,i,k}`.
 

@@ -21,10 +21,10 @@ unknowns of one linear solve per crank angle (:func:`articulated_newton_euler`).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-
-from dataclasses import dataclass
 
 from balance.core.balancing import Proposal
 from balance.core.engine import Engine
@@ -43,6 +43,9 @@ __all__ = [
     "block_force_newton_euler",
     "crank_angles",
     "crank_torque_newton_euler",
+    "link_pin_force_samples",
+    "link_piston_acceleration",
+    "link_piston_acceleration_at",
     "phasors_from_samples",
     "proposal_force_samples",
     "proposal_roll_samples",
@@ -50,9 +53,6 @@ __all__ = [
     "roll_newton_euler",
     "roll_phasors_from_samples",
     "rotating_force_samples",
-    "link_pin_force_samples",
-    "link_piston_acceleration",
-    "link_piston_acceleration_at",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -190,9 +190,7 @@ def roll_newton_euler(
     wall, _, _, s, e, gas = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
     torque = -s * wall - e * gas
     if layout.has_links:
-        solution = articulated_newton_euler(
-            layout, theta, small_end_share, cg_fraction, gas_force
-        )
+        solution = articulated_newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
         plain = _plain_mask(layout)
         return np.asarray(
             np.where(plain, torque, 0.0).sum(axis=1) + solution.roll, dtype=np.float64
@@ -226,9 +224,7 @@ def crank_torque_newton_euler(
     _, pin_force, C, _, _, _ = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
     torque = C.imag * pin_force.real - C.real * pin_force.imag
     if layout.has_links:
-        solution = articulated_newton_euler(
-            layout, theta, small_end_share, cg_fraction, gas_force
-        )
+        solution = articulated_newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
         plain = _plain_mask(layout)
         return np.asarray(
             np.where(plain, torque, 0.0).sum(axis=1) + solution.crank_torque, dtype=np.float64
@@ -506,16 +502,21 @@ def _articulated_reciprocating(layout: Engine, theta: FloatArray, lever: bool) -
     r = layout.crank_radius
     arm = (layout.z - layout.reference_z) if lever else np.ones(layout.n_cylinders)
     _, _, d2s = normalised_slider(
-        beta[:, plain], rod_ratio(r[plain], layout.conrod_length[plain]),
+        beta[:, plain],
+        rod_ratio(r[plain], layout.conrod_length[plain]),
         offset_ratio(layout.offset[plain], r[plain]),
     )
-    force = -layout.reciprocating_mass[plain] * w2 * r[plain] * d2s * np.exp(1j * layout.bank[plain])
+    force = (
+        -layout.reciprocating_mass[plain] * w2 * r[plain] * d2s * np.exp(1j * layout.bank[plain])
+    )
     total = (force * arm[plain]).sum(axis=1)
     j = layout.links.link_indices
     link_acc = link_piston_acceleration(layout, theta)  # (links, angles)
-    pistons = -(layout.reciprocating_mass[j] * w2 * r[j])[:, None] * link_acc * np.exp(
-        1j * layout.bank[j]
-    )[:, None]
+    pistons = (
+        -(layout.reciprocating_mass[j] * w2 * r[j])[:, None]
+        * link_acc
+        * np.exp(1j * layout.bank[j])[:, None]
+    )
     pins = link_pin_force_samples(layout, theta)
     total = total + ((pistons + pins) * arm[j][:, None]).sum(axis=0)
     return np.asarray(total, dtype=np.complex128)
@@ -550,6 +551,42 @@ class ArticulatedSolution:
     block_moment: ComplexArray
     roll: FloatArray
     crank_torque: FloatArray
+
+
+@dataclass(frozen=True)
+class _LinearSystem:
+    """Real linear equations, one set per crank angle, written with complex numbers
+    (``y + ix``): a complex equation is two rows, a complex unknown two columns."""
+
+    A: FloatArray  # (angles, rows, columns)
+    rhs: FloatArray  # (angles, rows)
+
+    def put(self, row: int, col: int, z: ComplexArray | complex) -> None:
+        """Coefficient ``z`` of the complex unknown at ``col`` in the complex equation at
+        ``row``: ``z F`` has real part ``z_r F_y - z_i F_x`` and imaginary part
+        ``z_i F_y + z_r F_x``."""
+        zz = np.broadcast_to(np.asarray(z, dtype=np.complex128), self.A.shape[:1])
+        self.A[:, row, col] += zz.real
+        self.A[:, row, col + 1] -= zz.imag
+        self.A[:, row + 1, col] += zz.imag
+        self.A[:, row + 1, col + 1] += zz.real
+
+    def put_real(self, row: int, col: int, z: ComplexArray | complex) -> None:
+        """Complex coefficient of the real unknown at ``col`` (a normal force) at ``row``."""
+        zz = np.broadcast_to(np.asarray(z, dtype=np.complex128), self.A.shape[:1])
+        self.A[:, row, col] += zz.real
+        self.A[:, row + 1, col] += zz.imag
+
+    def put_moment(self, row: int, col: int, arm: ComplexArray, sign: float) -> None:
+        r"""``sign * arm x F`` for the complex unknown F at ``col``, in the scalar equation at
+        ``row``: :math:`\operatorname{Im}(\bar a F) = a_y F_x - a_x F_y`."""
+        self.A[:, row, col] += -sign * arm.imag
+        self.A[:, row, col + 1] += sign * arm.real
+
+    def set_rhs(self, row: int, z: ComplexArray) -> None:
+        """Right-hand side of the complex equation at ``row``."""
+        self.rhs[:, row] = z.real
+        self.rhs[:, row + 1] = z.imag
 
 
 def articulated_newton_euler(
@@ -658,28 +695,13 @@ def articulated_newton_euler(
         n_m = 1j * np.exp(1j * layout.bank[m])
         b_m = np.exp(1j * layout.bank[m])
 
-        def put(row: int, col: int, z: ComplexArray | complex) -> None:
-            """Complex coefficient z of complex unknown col in complex equation row."""
-            zz = np.broadcast_to(np.asarray(z, dtype=np.complex128), (n_t,))
-            A[:, row, col] += zz.real
-            A[:, row, col + 1] -= zz.imag
-            A[:, row + 1, col] += zz.imag
-            A[:, row + 1, col + 1] += zz.real
-
-        def put_real(row: int, col: int, z: ComplexArray | complex) -> None:
-            """Complex coefficient of the real unknown col (a normal force) in row."""
-            zz = np.broadcast_to(np.asarray(z, dtype=np.complex128), (n_t,))
-            A[:, row, col] += zz.real
-            A[:, row + 1, col] += zz.imag
-
-        def put_moment(row: int, col: int, arm: ComplexArray, sign: float) -> None:
-            """sign * arm x F for the complex unknown F at col: arm_y F_x - arm_x F_y."""
-            A[:, row, col] += -sign * arm.imag
-            A[:, row, col + 1] += sign * arm.real
-
-        def set_rhs(row: int, z: ComplexArray) -> None:
-            rhs[:, row] = z.real
-            rhs[:, row + 1] = z.imag
+        system = _LinearSystem(A, rhs)
+        put, put_real, put_moment, set_rhs = (
+            system.put,
+            system.put_real,
+            system.put_moment,
+            system.set_rhs,
+        )
 
         # master piston (rows 0, 1)
         put(0, 0, 1.0)

@@ -759,8 +759,6 @@ def _check_link_masses(
         )
 
 
-
-
 def _links(
     doc: SourceDocument,
     cylinders: list[CylinderSpec],
@@ -882,7 +880,7 @@ def expand_layout(source: str | Path) -> str:
     out["masses"] = _masses_dict(spec.masses.model_dump(exclude_none=True))
     entries = []
     for cyl in cylinders:
-        entry: dict[str, str] = {
+        entry: dict[str, Any] = {
             "throw": _fmt(_wrap_deg(cyl.throw_angle), "deg"),
             "bank": _fmt(cyl.bank, "deg"),
             "z": _fmt(cyl.z, "mm", 1e3),

@@ -158,7 +158,10 @@ def check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:
                 "cylinders[N]." + field.key + " instead"
             )
         elif attribute in LUMPED and (field.cylinder is None or linked[field.cylinder]):
-            why = "a link cylinder's masses are given by part (its rod's lower end is not on the crank pin)"
+            why = (
+                "a link cylinder's masses are given by part (its rod's lower end is not on "
+                "the crank pin)"
+            )
         else:
             continue
         raise InputError(

@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from balance.core import kinematics
 from balance.core.analysis import FreePhasors, engine_cylinders, free_phasors_of, speed_squared
-from balance.core.engine import CYLINDER_FIELDS, Engine
+from balance.core.engine import Engine
 from balance.core.errors import AnalysisError, InputError
 from balance.core.speed import rad_per_s_to_rpm
 from balance.io.fields import (

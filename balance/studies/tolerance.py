@@ -35,8 +35,8 @@ from balance.core.analysis import (
 )
 from balance.core.balancing import proposal_phasors
 from balance.core.engine import CYLINDER_FIELDS, Engine
-from balance.core.links import pin_masses
 from balance.core.errors import AnalysisError, InputError
+from balance.core.links import pin_masses
 from balance.io.fields import Scatter, parse_orders, parse_scatter
 from balance.studies.changes import Change, apply_changes
 

@@ -304,7 +304,8 @@ def _layout_section(result: Result, figures: bool) -> str:
             m = int(links.master[i])
             rows[-1].append(
                 f"on cylinder {m + 1}'s rod: pin {_num(links.pin_radius[i], 1e3)} mm at "
-                f"{_num(np.degrees(links.pin_angle[i]))} deg, rod {_num(engine.conrod_length[i], 1e3)} mm"
+                f"{_num(np.degrees(links.pin_angle[i]))} deg, "
+                f"rod {_num(engine.conrod_length[i], 1e3)} mm"
                 if m >= 0
                 else "-"
             )
