@@ -24,8 +24,7 @@ variable                                          dims                  units
 ``piston_acceleration_cos`` / ``_sin``            cylinder, order       1
 per-cylinder layout (``throw_angle``...)          cylinder              deg, m, kg
 ``cylinder_stroke`` / ``tdc_crank_angle``         cylinder              m / deg
-``link_master``, ``link_pin_radius`` / ``_angle``  cylinder              1, m / deg
-(link rods only)
+``link_master``, ``link_pin_*`` (link rods only)  cylinder              1, m, deg
 ``speed``, ``reference_z``, ``pitch``,            ()                    rad/s, m,
 ``reference_force``, ``reference_moment``                               N, N m
 ================================================  ====================  ===========

@@ -127,14 +127,15 @@ def render(result: Result) -> RenderableType:
 
 def cylinders_table(result: Result) -> RenderableType:
     """Each cylinder's actual stroke and TDC crank angle, and its link rod if it has one."""
+    from rich.markup import escape
     from rich.table import Table
 
     assert result.cylinder_stroke is not None and result.cylinder_tdc is not None
     engine = result.engine
     links = engine.links
-    table = Table(title="Cylinders: actual stroke and top dead centre", title_justify="left")
+    table = Table(title="Cylinders: stroke and TDC", title_justify="left")
     for label in ("cylinder", "stroke [mm]", "TDC at [deg]"):
-        table.add_column(label, justify="right")
+        table.add_column(escape(label), justify="right")
     if links is not None:
         table.add_column("rod")
     tdc = np.degrees(result.cylinder_tdc)
