@@ -54,9 +54,16 @@ def main() -> None:
                 f"| {i + 1} | {rod} | {result.cylinder_stroke[i] * 1e3:.3f} | "
                 f"{np.degrees(result.cylinder_tdc[i]):.3f} | {nominal:.3f} |"
             )
-        rows = [("idealised (`radial-%d-idealised`)" % n, ideal), ("same rods on the pin", flat),
-                ("master and link rods (`radial-%d`)" % n, real)]
-        print("\n| engine | " + " | ".join(f"order {k}" for k in range(1, 9)) + " | order 1 with rotating |")
+        rows = [
+            (f"idealised (`radial-{n}-idealised`)", ideal),
+            ("same rods on the pin", flat),
+            (f"master and link rods (`radial-{n}`)", real),
+        ]
+        print(
+            "\n| engine | "
+            + " | ".join(f"order {k}" for k in range(1, 9))
+            + " | order 1 with rotating |"
+        )
         print("|---" * 10 + "|")
         for label, engine in rows:
             peak, first = _peaks(engine)

@@ -575,13 +575,20 @@ class LinkCoefficients:
 
 
 def _unique_rows(values: FloatArray) -> tuple[FloatArray, NDArray[np.intp]]:
-    if values.shape[0] == 0:
-        return values, np.zeros(0, dtype=np.intp)
-    unique, inverse = np.unique(values, axis=0, return_inverse=True)
-    return unique, inverse.ravel().astype(np.intp)
+    """The distinct rows (in order of first appearance) and each row's index among them."""
+    seen: dict[tuple[float, ...], int] = {}
+    inverse = np.empty(values.shape[0], dtype=np.intp)
+    for i, row in enumerate(values.tolist()):
+        inverse[i] = seen.setdefault(tuple(row), len(seen))
+    unique = np.array(list(seen), dtype=np.float64).reshape(len(seen), values.shape[1])
+    return unique, inverse
 
 
-def link_coefficients(geometry: LinkGeometry, orders: ArrayLike) -> LinkCoefficients:
+def link_coefficients(
+    geometry: LinkGeometry,
+    orders: ArrayLike,
+    plain: tuple[ArrayLike, ArrayLike] | None = None,
+) -> LinkCoefficients:
     r"""Fourier coefficients of every link function, exact to machine precision.
 
     Each distinct link geometry's four functions (:class:`LinkCoefficients`) and each
@@ -590,9 +597,19 @@ def link_coefficients(geometry: LinkGeometry, orders: ArrayLike) -> LinkCoeffici
     :func:`balance.core.kinematics.fourier_coefficients`, which doubles the samples of each
     function until its aliased tail is below its rounding floor; every function is decided
     on by itself, so the coefficients do not depend on what else is in the batch.
+
+    ``plain`` (rod ratios and offset ratios of plain cylinders) adds their functions to the
+    same batch, as link pistons with a zero pin radius (:func:`link_motion` is then the
+    plain slider): their rows follow the link cylinders' in every array.
     """
     ks = np.asarray(orders, dtype=np.intp).ravel()
     link_params = np.stack(geometry.columns(), axis=0)[..., 0].T  # (links, 7)
+    if plain is not None:
+        lam_p = np.asarray(plain[0], dtype=np.float64).ravel()
+        rows_p = np.zeros((lam_p.size, 7))
+        rows_p[:, 5] = lam_p
+        rows_p[:, 6] = np.asarray(plain[1], dtype=np.float64).ravel()
+        link_params = np.concatenate([link_params, rows_p], axis=0)
     unique_l, inverse_l = _unique_rows(link_params)
     master_params = np.stack([geometry.ratio_master, geometry.offset_master], axis=-1)
     unique_m, inverse_m = _unique_rows(master_params)
@@ -727,7 +744,7 @@ def articulated_free_phasors(
     exact in every model, as for plain engines.  Every sum is cleaned of rounding noise
     once, against all of its terms (:func:`balance.core.phasors.cancel_to_zero`).
     """
-    from balance.core.kinematics import acceleration_coefficients, roll_coefficients
+    from balance.core.kinematics import acceleration_coefficients
 
     r = np.asarray(crank_radius, dtype=np.float64)
     length = np.asarray(conrod_length, dtype=np.float64)
@@ -746,16 +763,20 @@ def articulated_free_phasors(
     coefficients = np.zeros((n, ks.size), dtype=np.complex128)
     ratio = rod_ratio(r, length)
     eps = offset_ratio(e, r)
-    exact_links = link_coefficients(geometry, ks) if (model == "exact" or roll) else None
-    if plain.size:
-        coefficients[plain] = acceleration_coefficients(
-            ratio[plain], eps[plain], ks, model=model, terms=terms
-        )
+    exact_links = None
+    if model == "exact" or roll:  # one batch: link cylinders, then the plain ones
+        exact_links = link_coefficients(geometry, ks, (ratio[plain], eps[plain]))
+    at_plain = slice(j.size, None)
     if model == "exact":
         assert exact_links is not None
-        coefficients[j] = exact_links.acceleration
+        coefficients[j] = exact_links.acceleration[: j.size]
+        coefficients[plain] = exact_links.acceleration[at_plain]
     else:
         coefficients[j] = acceleration_coefficients(ratio[j], eps[j], ks, model=model, terms=terms)
+        if plain.size:
+            coefficients[plain] = acceleration_coefficients(
+                ratio[plain], eps[plain], ks, model=model, terms=terms
+            )
 
     m_rec = np.asarray(reciprocating_mass, dtype=np.float64)
     amp = m_rec * r
@@ -815,10 +836,10 @@ def articulated_free_phasors(
         assert exact_links is not None
         g_rec = np.zeros((n, ks.size), dtype=np.complex128)
         g_rod = np.zeros((n, ks.size), dtype=np.complex128)
-        if plain.size:
-            g_rec[plain], g_rod[plain] = roll_coefficients(ratio[plain], eps[plain], ks)
-        g_rec[j], g_rod[j] = exact_links.roll_piston, exact_links.roll_rod
-        g_pin = exact_links.roll_pin
+        g_rec[j], g_rod[j] = exact_links.roll_piston[: j.size], exact_links.roll_rod[: j.size]
+        g_rec[plain] = exact_links.roll_piston[at_plain]
+        g_rod[plain] = exact_links.roll_rod[at_plain]
+        g_pin = exact_links.roll_pin[: j.size]
         roll_turn = np.exp(1j * k * (phi - psi)[:, None])
         a_rec = m_rec * r**2
         a_rod = np.asarray(conrod_inertia_correction, dtype=np.float64)
