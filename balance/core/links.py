@@ -68,13 +68,13 @@ ch. 8 (master-and-link rods of radial engines; balance).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import phasors
 from balance.core.engine import Engine, Links
-from balance.core.gas import PistonTravel
 from balance.core.kinematics import (
     fourier_coefficients,
     offset_ratio,
@@ -82,6 +82,9 @@ from balance.core.kinematics import (
     rounding_floor,
 )
 from balance.core.speed import speed_squared
+
+if TYPE_CHECKING:  # pragma: no cover (the gas model loads when a gas analysis needs it)
+    from balance.core.gas import PistonTravel
 
 __all__ = [
     "LinkCoefficients",
@@ -950,6 +953,8 @@ def piston_travels(engine: Engine) -> list[PistonTravel | None]:
     """Each link piston's travel against its cycle angle from its actual TDC
     (:class:`balance.core.gas.PistonTravel`, for the gas model's volume); None for the other
     cylinders."""
+    from balance.core.gas import PistonTravel
+
     out: list[PistonTravel | None] = [None] * engine.n_cylinders
     if not engine.has_links:
         return out
