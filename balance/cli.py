@@ -107,7 +107,9 @@ class Model(StrEnum):
 
 # options that several commands declare alike, written once
 _OutputFile = Annotated[Path | None, typer.Option("--output", "-o", help="Write to this file.")]
-_ReplaceOutput = Annotated[bool, typer.Option("--force", help="Replace an existing output file.")]
+_ReplaceOutput = Annotated[
+    bool, typer.Option("--force", help="Replace an existing output file.")
+]
 _Speed = Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")]
 _Bearings = Annotated[
     bool,
@@ -474,12 +476,7 @@ def propose_command(
         )
     strategies = _strategy_bearings(engine, request) if request.bearings else None
     _write(
-        result,
-        format,
-        output,
-        force,
-        proposal_only=True,
-        factor_study=study,
+        result, format, output, force, proposal_only=True, factor_study=study,
         strategies=strategies,
     )
 

@@ -143,7 +143,7 @@ class Request:
 
 @dataclass(frozen=True)
 class Result:
-    r"""The answer to a :class:`Request` (SI units: N, N m, rad/s, m).
+    """The answer to a :class:`Request` (SI units: N, N m, rad/s, m).
 
     Attributes
     ----------
@@ -181,7 +181,7 @@ class Result:
     cylinder_stroke : ndarray or None
         Each cylinder's piston travel between its dead centres [m], when asked.
     cylinder_tdc : ndarray or None
-        Crank angle :math:`\theta` in :math:`[0, 2\pi)` at which each piston is farthest
+        Crank angle :math:`\\theta` in :math:`[0, 2\\pi)` at which each piston is farthest
         from the crank axis [rad], when asked.
     """
 
