@@ -60,9 +60,10 @@ checks all of it against a Newton–Euler solution of the rigid bodies.
 References
 ----------
 Fearn, "The articulated connecting rod", Journal of the Royal Aeronautical Society, 1927
-(the link piston's displacement as a Fourier series; forces at the crank pin).  C. F. Taylor,
-*The Internal-Combustion Engine in Theory and Practice*, vol. 2, 2nd ed., MIT Press 1985,
-ch. 8 (master-and-link rods of radial engines; balance).
+(the link piston's displacement as a Fourier series; the forces at the crank pin and on the
+master rod).  C. F. Taylor, *The Internal-Combustion Engine in Theory and Practice*, vol. 2,
+2nd ed., MIT Press 1985, ch. 8 (engine balance: the plain crank slider's treatment that this
+module extends).
 """
 
 from __future__ import annotations
