@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core import accuracy, kinematics, phasors
 from balance.core.balancing import proposal_phasors, propose, shaft_roll_phasors
-from balance.core.engine import CYLINDER_FIELDS, Engine, ShaftPosition
+from balance.core.engine import CYLINDER_FIELDS, Engine, Links, ShaftPosition
 from balance.core.errors import InputError
 from balance.core.plausibility import check_engine
 from balance.core.result import Balanced, Phasors, Request, Result
@@ -33,8 +33,11 @@ __all__ = [
     "balance_engine",
     "compute",
     "compute_phasors",
+    "engine_cylinders",
     "free_phasors",
     "free_phasors_of",
+    "link_pin_first_order",
+    "piston_first_order",
     "speed_squared",
 ]
 
@@ -83,31 +86,51 @@ def compute_phasors(
         return _compute_time(layout, ks, samples, moments=moments, roll=roll)
     r = layout.crank_radius
     unit = free_phasors_of(
-        {name: getattr(layout, name) for name in CYLINDER_FIELDS},
+        engine_cylinders(layout),
         layout.z - layout.reference_z,
         ks,
         model=model,
         terms=terms,
         moments=moments,
         roll=roll,
+        links=layout.links if layout.has_links else None,
     )
     w2 = speed_squared(layout.speed)
-    bound = accuracy.error_bound(
-        model,
-        kinematics.rod_ratio(r, layout.conrod_length),
-        kinematics.offset_ratio(layout.offset, r),
-        terms=terms,
-        max_order=int(ks.max()),
-    )
+    if layout.has_links:
+        bound = accuracy.engine_error_bound(model, layout, terms=terms, max_order=int(ks.max()))
+    else:
+        bound = accuracy.error_bound(
+            model,
+            kinematics.rod_ratio(r, layout.conrod_length),
+            kinematics.offset_ratio(layout.offset, r),
+            terms=terms,
+            max_order=int(ks.max()),
+        )
+    values = unit.scaled(w2)
+    if unit.pin_forward is not None and unit.pin_backward is not None:
+        values["link_pin_forward"] = unit.pin_forward * w2
+        values["link_pin_backward"] = unit.pin_backward * w2
     return _assemble(
         layout,
         ks,
-        unit.scaled(w2),
+        values,
         unit.coefficients,
         model=model,
         terms=terms,
         error_bound=bound,
     )
+
+
+def engine_cylinders(layout: Engine) -> dict[str, Any]:
+    """The table of cylinders that :func:`free_phasors_of` reads: the arrays of
+    :data:`balance.core.engine.CYLINDER_FIELDS`, and for an engine with link rods the link
+    rods' link-pin shares (``link_pin_mass``, :func:`balance.core.links.pin_masses`)."""
+    cylinders: dict[str, Any] = {name: getattr(layout, name) for name in CYLINDER_FIELDS}
+    if layout.has_links:
+        from balance.core.links import pin_masses
+
+        cylinders["link_pin_mass"] = pin_masses(layout)
+    return cylinders
 
 
 def _orders_array(orders: int | Iterable[int] | None) -> NDArray[np.intp]:
@@ -130,7 +153,9 @@ class FreePhasors:
     Every inertia force is proportional to :math:`\omega^2`; these are the sums with
     :math:`\omega = 1` rad/s [kg m, kg m², kg m²]; :meth:`scaled` multiplies them by
     :math:`\omega^2`.  Shapes: leading grid axes, then the orders (the rotating phasors
-    have no order axis).  Phasors not asked for are None.
+    have no order axis).  Phasors not asked for are None.  ``pin_forward`` and
+    ``pin_backward`` (engines with link rods only) hold each cylinder's link-pin phasors,
+    shape ``(..., cylinders, orders)`` (:func:`balance.core.links.articulated_free_phasors`).
     """
 
     force_forward: ComplexArray
@@ -141,6 +166,8 @@ class FreePhasors:
     moment_backward: ComplexArray | None = None
     rotating_moment: ComplexArray | None = None
     roll: ComplexArray | None = None
+    pin_forward: ComplexArray | None = None
+    pin_backward: ComplexArray | None = None
 
     def scaled(self, omega_squared: ArrayLike) -> dict[str, ComplexArray | None]:
         r"""The phasors at :math:`\omega^2` [N, N m]; ``omega_squared`` broadcasts against
@@ -180,6 +207,8 @@ def free_phasors(
     terms: int = 3,
     moments: bool = True,
     roll: bool = True,
+    links: Links | None = None,
+    link_pin_mass: ArrayLike | None = None,
 ) -> FreePhasors:
     r"""Free force, moment and roll phasors at unit crank speed, over any grid of engines.
 
@@ -202,6 +231,12 @@ def free_phasors(
         Acceleration model (:func:`balance.core.kinematics.acceleration_coefficients`).
     moments, roll : bool
         Whether to form the moment and roll sums.
+    links : Links, optional
+        Articulated rods (:class:`balance.core.engine.Links`); given, the sums are those of
+        :func:`balance.core.links.articulated_free_phasors` (the geometry must then be one
+        engine's, 1-D; the masses may carry grid axes).
+    link_pin_mass : array_like, optional
+        The link rods' link-pin shares per cylinder [kg] (needed with ``links``).
 
     Returns
     -------
@@ -213,6 +248,44 @@ def free_phasors(
     function and then multiply by :math:`\omega^2`; each value is formed by the same
     operations in the same order, so the two agree bit for bit.
     """
+    if links is not None and np.any(links.master >= 0):
+        from balance.core.links import articulated_free_phasors
+
+        assert link_pin_mass is not None, "link engines need the link-pin masses"
+        parts = articulated_free_phasors(
+            reciprocating_mass=reciprocating_mass,
+            rotating_mass=rotating_mass,
+            pin_mass=link_pin_mass,
+            crank_radius=crank_radius,
+            conrod_length=conrod_length,
+            offset=offset,
+            throw=throw,
+            bank=bank,
+            lever=lever,
+            conrod_inertia_correction=conrod_inertia_correction,
+            links=links,
+            orders=orders,
+            model=model,
+            terms=terms,
+            moments=moments,
+            roll=roll,
+        )
+        force_forward, force_backward = parts["force_forward"], parts["force_backward"]
+        rotating_force, coefficients = parts["rotating_force"], parts["coefficients"]
+        assert force_forward is not None and force_backward is not None
+        assert rotating_force is not None and coefficients is not None
+        return FreePhasors(
+            force_forward=force_forward,
+            force_backward=force_backward,
+            rotating_force=rotating_force,
+            coefficients=coefficients,
+            moment_forward=parts.get("moment_forward"),
+            moment_backward=parts.get("moment_backward"),
+            rotating_moment=parts.get("rotating_moment"),
+            roll=parts.get("roll"),
+            pin_forward=parts.get("pin_forward"),
+            pin_backward=parts.get("pin_backward"),
+        )
     r = np.asarray(crank_radius, dtype=np.float64)
     ratio = kinematics.rod_ratio(r, conrod_length)
     eps = kinematics.offset_ratio(offset, r)
@@ -255,7 +328,10 @@ def free_phasors_of(
     **options: Any,
 ) -> FreePhasors:
     """:func:`free_phasors` of a table of cylinders: a mapping with the arrays named as
-    :data:`balance.io.layout_file.CYLINDER_FIELDS` (a layout's, or a sweep's grid of them)."""
+    :data:`balance.io.layout_file.CYLINDER_FIELDS` (a layout's, or a sweep's grid of them),
+    and ``link_pin_mass`` for an engine with link rods (:func:`engine_cylinders`)."""
+    if options.get("links") is not None:
+        options = {**options, "link_pin_mass": cylinders["link_pin_mass"]}
     return free_phasors(
         cylinders["reciprocating_mass"],
         cylinders["rotating_mass"],
@@ -293,7 +369,11 @@ def _assemble(
         value = values.get(name)
         return complex(np.nan, np.nan) if value is None else complex(value)
 
+    pin_fwd = values.get("link_pin_forward")
+    pin_bwd = values.get("link_pin_backward")
     return Phasors(
+        link_pin_forward=pin_fwd,
+        link_pin_backward=pin_bwd,
         orders=ks,
         force_forward=get("force_forward"),
         force_backward=get("force_backward"),
@@ -357,6 +437,11 @@ def _compute_time(
     amp = layout.reciprocating_mass * r * omega2
     n = layout.n_cylinders
     force_scale = float(np.sum(amp))
+    if layout.has_links:  # the link pins' relative motion: at most m r w^2 (rho/r) gamma_2
+        from balance.core.links import pin_masses
+
+        pin = layout.links.pin_radius if layout.links is not None else 0.0
+        force_scale += float(np.sum(pin_masses(layout) * pin * omega2))
     values = _rotating(layout, moments)
     f_fwd, f_bwd = timedomain.phasors_from_samples(
         timedomain.reciprocating_force_samples(layout, theta), ks
@@ -382,7 +467,26 @@ def _compute_time(
             n * 8,
         )
     beta = theta[None, :]
-    per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], eps[:, None])
+    if layout.has_links:
+        bound = accuracy.engine_error_bound("time", layout, samples=samples, max_order=k_max)
+        assert layout.links is not None
+        j = layout.links.link_indices
+        plain = layout.links.master < 0
+        per_cylinder = np.zeros((n, samples))
+        per_cylinder[plain] = kinematics.normalised_acceleration(
+            beta, ratio[plain, None], eps[plain, None]
+        )
+        # sampled at theta: shift to the cylinder's own beta_j = theta + phi - psi_j
+        ahead = theta[None, :] - (layout.throw[j] - layout.bank[j])[:, None]
+        per_cylinder[j] = -timedomain.link_piston_acceleration_at(layout, ahead)
+        pins = np.zeros((n, samples), dtype=np.complex128)
+        pins[j] = timedomain.link_pin_force_samples(layout, theta)
+        pin_fwd, pin_bwd = timedomain.phasors_from_samples(pins, ks)
+        values["link_pin_forward"] = pin_fwd
+        values["link_pin_backward"] = pin_bwd
+    else:
+        per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], eps[:, None])
+        bound = accuracy.error_bound("time", ratio, eps, samples=samples, max_order=k_max)
     coeffs = 2.0 * np.fft.rfft(per_cylinder, axis=-1)[:, ks] / samples
     return _assemble(
         layout,
@@ -392,9 +496,7 @@ def _compute_time(
         model="time",
         terms=0,
         samples=samples,
-        error_bound=accuracy.error_bound(
-            "time", ratio, eps, samples=samples, max_order=k_max
-        ),
+        error_bound=bound,
     )
 
 
@@ -450,6 +552,8 @@ def balance_engine(
         if 1 in wanted
         else np.ones(layout.n_cylinders, dtype=np.complex128)
     )
+    if 1 in wanted and source.link_pin_forward is not None:
+        first_order = first_order + _link_pin_first_order(layout, source)
     proposal = propose(
         layout,
         first_order,
@@ -512,6 +616,45 @@ def balance_engine(
     )
 
 
+def _link_pin_first_order(layout: Engine, source: Phasors) -> ComplexArray:
+    r"""What each link pin's relative motion adds to its cylinder's :math:`G_1` as the
+    counterweights see it: :math:`2P^{+}_1/(m_{rec} r\omega^2 e^{i\varphi})`, so that the
+    counterweight targets (:func:`balance.core.balancing.counterweight_targets`) hold the
+    whole forward first order of every cylinder."""
+    assert source.link_pin_forward is not None
+    at = int(np.searchsorted(source.orders, 1))
+    carrier = (
+        layout.reciprocating_mass
+        * layout.crank_radius
+        * speed_squared(layout.speed)
+        * np.exp(1j * layout.throw)
+    )
+    return np.asarray(2.0 * source.link_pin_forward[:, at] / carrier, dtype=np.complex128)
+
+
+def piston_first_order(layout: Engine) -> ComplexArray:
+    r""":math:`G_1` of each cylinder's :math:`-s''/r` (exact; a link piston's in
+    :math:`\beta_j`), for the balance-factor study."""
+    r = layout.crank_radius
+    ratio = kinematics.rod_ratio(r, layout.conrod_length)
+    eps = kinematics.offset_ratio(layout.offset, r)
+    if not layout.has_links:
+        return np.asarray(kinematics.acceleration_coefficients(ratio, eps, [1])[..., 0])
+    return np.asarray(
+        compute_phasors(layout, [1], moments=False, roll=False).acceleration_coefficients[:, 0]
+    )
+
+
+def link_pin_first_order(layout: Engine) -> tuple[ComplexArray, ComplexArray] | None:
+    """Forward and backward first-order phasors of each cylinder's link pin moving relative
+    to its crank pin, at the engine's speed [N] (None without link rods)."""
+    if not layout.has_links:
+        return None
+    p = compute_phasors(layout, [1], moments=False, roll=False)
+    assert p.link_pin_forward is not None and p.link_pin_backward is not None
+    return p.link_pin_forward[:, 0], p.link_pin_backward[:, 0]
+
+
 def compute(engine: Engine, request: Request) -> Result:
     """Analyse an engine: what the request asks for, and nothing else.
 
@@ -534,11 +677,14 @@ def compute(engine: Engine, request: Request) -> Result:
     model, terms = request.model, request.terms
     if request.tolerance is not None:
         r = engine.crank_radius
-        model, terms, _ = accuracy.choose_model(
-            request.tolerance,
-            kinematics.rod_ratio(r, engine.conrod_length),
-            kinematics.offset_ratio(engine.offset, r),
-        )
+        if engine.has_links:
+            model, terms, _ = accuracy.choose_model_for(request.tolerance, engine)
+        else:
+            model, terms, _ = accuracy.choose_model(
+                request.tolerance,
+                kinematics.rod_ratio(r, engine.conrod_length),
+                kinematics.offset_ratio(engine.offset, r),
+            )
         request = replace(request, model=model, terms=terms)
     ks = np.asarray(request.orders, dtype=np.intp)
     phasors_ = compute_phasors(
@@ -591,6 +737,11 @@ def compute(engine: Engine, request: Request) -> Result:
         * float(speed_squared(engine.speed)),
         warnings=check_engine(engine, request.counterweight_radius),
     )
+    if request.cylinders:
+        from balance.core.links import engine_dead_centres
+
+        stroke, tdc = engine_dead_centres(engine)
+        result = replace(result, cylinder_stroke=stroke, cylinder_tdc=tdc)
     if request.mounts:
         from balance.core.mount_loads import mounts_of
 

@@ -828,10 +828,14 @@ def proposal_phasors(
 
 
 def _residual_first_order(
-    layout: Engine, first_order: ComplexArray, factor: float
+    layout: Engine,
+    first_order: ComplexArray,
+    factor: float,
+    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
 ) -> tuple[complex, complex, complex]:
     """Free first-order force phasors (forward, backward) and moment peak after counterweights
-    carrying rotating mass plus ``factor`` of the reciprocating mass, per-throw."""
+    carrying rotating mass plus ``factor`` of the reciprocating mass, per-throw; link pins'
+    relative motion (``pin_first_order``: forward and backward per cylinder [N]) added."""
     w2 = float(speed_squared(layout.speed))
     r = layout.crank_radius
     c1 = 0.5 * np.asarray(first_order, dtype=np.complex128)
@@ -840,13 +844,19 @@ def _residual_first_order(
     turn = np.exp(1j * (layout.throw - layout.bank))
     fwd_terms = rec * c1 * turn * along - factor * rec * np.exp(1j * layout.throw)
     bwd_terms = rec * np.conj(c1) * np.conj(turn) * along
+    if pin_first_order is not None:
+        fwd_terms = fwd_terms + pin_first_order[0]
+        bwd_terms = bwd_terms + pin_first_order[1]
     lever = layout.z - layout.reference_z
     moment_peak = abs(complex((fwd_terms * lever).sum())) + abs(complex((bwd_terms * lever).sum()))
     return complex(fwd_terms.sum()), complex(bwd_terms.sum()), complex(moment_peak)
 
 
 def balance_factor_study(
-    layout: Engine, first_order: ComplexArray, factors: Sequence[float] | FloatArray
+    layout: Engine,
+    first_order: ComplexArray,
+    factors: Sequence[float] | FloatArray,
+    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
 ) -> dict[str, FloatArray]:
     r"""Residual first-order force against balance factor.
 
@@ -867,7 +877,7 @@ def balance_factor_study(
     horizontal = np.empty(f.size)
     moment = np.empty(f.size)
     for i, factor in enumerate(f):
-        fwd, bwd, mpk = _residual_first_order(layout, first_order, float(factor))
+        fwd, bwd, mpk = _residual_first_order(layout, first_order, float(factor), pin_first_order)
         vertical[i] = abs(fwd + bwd.conjugate())
         horizontal[i] = abs(fwd - bwd.conjugate())
         moment[i] = mpk.real
@@ -879,13 +889,17 @@ def balance_factor_study(
     }
 
 
-def optimal_balance_factor(layout: Engine, first_order: ComplexArray) -> float:
+def optimal_balance_factor(
+    layout: Engine,
+    first_order: ComplexArray,
+    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
+) -> float:
     """Balance factor in [0, 1] that minimises the larger of the vertical and horizontal
     first-order residual peaks (ternary search: the larger of two convex functions is
     convex)."""
 
     def worst(factor: float) -> float:
-        study = balance_factor_study(layout, first_order, [factor])
+        study = balance_factor_study(layout, first_order, [factor], pin_first_order)
         return float(max(study["vertical_peak"][0], study["horizontal_peak"][0]))
 
     lo, hi = 0.0, 1.0

@@ -56,7 +56,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core.balancing import Proposal, throw_groups
 from balance.core.engine import Engine
-from balance.core.gas import model_pressure
+from balance.core.gas import PistonTravel, model_pressure
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 from balance.core.speed import speed_squared
 
@@ -329,6 +329,11 @@ def big_end_forces(
     Q_Y\tan\gamma` and the rod force is :math:`Q_Y/\cos\gamma`: Kolchin and Demidov's
     :math:`P\tan\beta` and :math:`P/\cos\beta`.  In the engine frame,
     :math:`F = (F_Y + \mathrm{i}F_X)\,e^{\mathrm{i}\psi}`.
+
+    With link rods (CONTRACT §5) a link cylinder's row is 0 and its master's row is the
+    force of the master rod carrying its link rods
+    (:func:`balance.core.links.articulated_big_end_forces`), so the pin loads of
+    :func:`pin_groups` are the sums that CONTRACT §6 asks for.
     """
     th = np.asarray(theta, dtype=np.float64)[None, :]
     col = _column
@@ -349,7 +354,12 @@ def big_end_forces(
     m_pin = col(engine.rotating_mass - crank_unbalance_share(engine)) * w2 * r
     f_x = wall + m_pin * sin_b
     f_y = -q_y + m_pin * cos_b
-    return np.asarray((f_y + 1j * f_x) * np.exp(1j * col(engine.bank)), dtype=np.complex128)
+    forces = np.asarray((f_y + 1j * f_x) * np.exp(1j * col(engine.bank)), dtype=np.complex128)
+    if engine.has_links:  # master rods carry their link rods (CONTRACT §6)
+        from balance.core.links import articulated_big_end_forces
+
+        return articulated_big_end_forces(engine, theta, forces, gas_force)
+    return forces
 
 
 def _column(values: FloatArray) -> FloatArray:
@@ -365,12 +375,33 @@ def _pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
     assert gas.model is not None
     cache: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
     tables = []
-    for r, length, e in zip(engine.crank_radius, engine.conrod_length, engine.offset, strict=True):
+    travels = _travels(engine)
+    link_cache: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
+    for i, (r, length, e) in enumerate(
+        zip(engine.crank_radius, engine.conrod_length, engine.offset, strict=True)
+    ):
         key = (float(r), float(length), float(e))
+        travel = travels[i]
+        if travel is not None:  # a link piston: its own volume curve
+            if travel.key not in link_cache:
+                link_cache[travel.key] = model_pressure(
+                    gas.model, gas.bore, *key, engine.cycle, travel
+                )
+            tables.append(link_cache[travel.key])
+            continue
         if key not in cache:
             cache[key] = model_pressure(gas.model, gas.bore, *key, engine.cycle)
         tables.append(cache[key])
     return tables
+
+
+def _travels(engine: Engine) -> list[PistonTravel | None]:
+    """Each cylinder's piston travel if it is a link piston (None for plain sliders)."""
+    if not engine.has_links:
+        return [None] * engine.n_cylinders
+    from balance.core.links import piston_travels
+
+    return piston_travels(engine)
 
 
 def gas_forces(

@@ -21,7 +21,14 @@ if TYPE_CHECKING:  # pragma: no cover (annotations only: gas and mounts load whe
     from balance.core.masses import MassParts
     from balance.core.mounts import MountSystem
 
-__all__ = ["CYLINDER_FIELDS", "STRATEGIES", "BalanceSettings", "Engine", "ShaftPosition"]
+__all__ = [
+    "CYLINDER_FIELDS",
+    "STRATEGIES",
+    "BalanceSettings",
+    "Engine",
+    "Links",
+    "ShaftPosition",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -71,6 +78,65 @@ class BalanceSettings:
     orders: tuple[int, ...] | None = None
     strategy: str = "two-plane"
     shafts: tuple[ShaftPosition, ...] | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Links:
+    """Articulated (master-and-link) rods: which cylinders hang on another cylinder's rod.
+
+    One entry per cylinder of the engine.  A *link cylinder* is one whose rod is hinged on
+    the rod of its *master* cylinder (CONTRACT §5); the two share throw and axial
+    position.  For a link cylinder the engine's ``conrod_length`` is the link rod's length
+    (link-pin centre to piston-pin centre), its ``crank_radius`` its master's, and its
+    lumped masses are those of its piston and link rod split by static equivalence about
+    the link pin (:func:`balance.core.masses.two_mass_split`); the physics is in
+    :mod:`balance.core.links`.
+
+    Attributes
+    ----------
+    master : ndarray of int
+        Index (0-based) of the master cylinder of each cylinder; -1 for a cylinder whose
+        rod runs on the crank pin (masters and plain cylinders).
+    pin_radius : ndarray
+        Distance from the crank-pin centre to the link-pin centre on the master rod [m];
+        0 where there is no link.
+    pin_angle : ndarray
+        Direction of the line from the crank-pin centre to the link-pin centre, from the
+        master rod's centre line (big end to small end) in the sense of bank angles [rad];
+        0 where there is no link.
+    """
+
+    master: NDArray[np.intp]
+    pin_radius: FloatArray
+    pin_angle: FloatArray
+
+    @property
+    def linked(self) -> NDArray[np.bool_]:
+        """Which cylinders are link cylinders."""
+        return np.asarray(self.master >= 0)
+
+    @property
+    def link_indices(self) -> NDArray[np.intp]:
+        """Indices of the link cylinders, ascending."""
+        return np.flatnonzero(self.master >= 0).astype(np.intp)
+
+    @property
+    def masters(self) -> NDArray[np.intp]:
+        """Indices of the cylinders that carry at least one link rod, ascending."""
+        return np.unique(self.master[self.master >= 0]).astype(np.intp)
+
+    def reordered(self, idx: NDArray[np.intp]) -> Links:
+        """The links of renumbered cylinders (``idx[new] = old``): every master reference
+        follows its cylinder to its new number."""
+        new_of_old = np.empty_like(idx)
+        new_of_old[idx] = np.arange(idx.size, dtype=np.intp)
+        old_master = self.master[idx]
+        master = np.where(old_master >= 0, new_of_old[np.maximum(old_master, 0)], -1)
+        return Links(
+            master=np.asarray(master, dtype=np.intp),
+            pin_radius=self.pin_radius[idx],
+            pin_angle=self.pin_angle[idx],
+        )
 
 
 #: The per-cylinder arrays of a :class:`Engine`, in order.
@@ -138,6 +204,8 @@ class Engine:
     mains : tuple of float or None
         Main-bearing positions [m] of a ``bearings:`` section, strictly increasing; None for
         the default mains (:func:`balance.core.bearings.engine_default_mains`).
+    links : Links or None
+        Articulated rods (:class:`Links`); None when every rod runs on its crank pin.
     """
 
     name: str
@@ -165,11 +233,17 @@ class Engine:
     mass_parts: MassParts | None = field(default=None, repr=False)
     mounts: MountSystem | None = field(default=None, repr=False)
     mains: tuple[float, ...] | None = None
+    links: Links | None = field(default=None, repr=False)
 
     @property
     def n_cylinders(self) -> int:
         """Number of cylinders."""
         return int(self.throw.size)
+
+    @property
+    def has_links(self) -> bool:
+        """Whether some cylinder's rod hangs on another cylinder's rod (:class:`Links`)."""
+        return self.links is not None and bool(np.any(self.links.master >= 0))
 
     @property
     def displacement(self) -> float:
@@ -190,7 +264,7 @@ class Engine:
 
         Only the numbering changes: every cylinder keeps its throw, bank and position, so
         the crank angle origin stays where it was.  The firing order is dropped (its
-        numbers would no longer match).
+        numbers would no longer match); link rods keep their masters (:meth:`Links.reordered`).
         """
         idx = np.asarray(order, dtype=np.intp)
         if sorted(idx.tolist()) != list(range(self.n_cylinders)):
@@ -198,4 +272,5 @@ class Engine:
         arrays = {name: getattr(self, name)[idx] for name in CYLINDER_FIELDS}
         gas = self.gas.reordered(idx) if self.gas is not None else None
         parts = self.mass_parts.reordered(idx) if self.mass_parts is not None else None
-        return replace(self, firing_order=None, gas=gas, mass_parts=parts, **arrays)
+        links = self.links.reordered(idx) if self.links is not None else None
+        return replace(self, firing_order=None, gas=gas, mass_parts=parts, links=links, **arrays)

@@ -35,6 +35,7 @@ Engines*, Mir 1984 (indicator diagram, gas force :math:`P_g = (p - p_0)F_p`).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -45,6 +46,7 @@ from balance.core.kinematics import normalised_slider, offset_ratio, rod_ratio
 __all__ = [
     "GasInput",
     "GasModel",
+    "PistonTravel",
     "cycle_degrees",
     "cylinder_volume",
     "firing_tdc",
@@ -141,6 +143,7 @@ def firing_tdc(
     cycle: str,
     firing_order: tuple[int, ...] | None,
     tdc_given: list[float | None] | None,
+    actual_tdc: FloatArray | None = None,
 ) -> FloatArray | str:
     r"""Crank angle of each cylinder's firing TDC [deg], or a message saying what is missing.
 
@@ -150,6 +153,12 @@ def firing_tdc(
     the one before; without a firing order, each cylinder's ``tdc`` angle (mod 720) when
     every cylinder gives one.
 
+    ``actual_tdc`` [deg] (NaN where not given) replaces :math:`\psi_i - \varphi_i` for
+    cylinders whose piston is farthest out at another crank angle: a link piston
+    (:mod:`balance.core.links`), whose cycle starts at its actual top dead centre.  A
+    ``tdc`` given for such a cylinder names its nominal TDC (its throw), and its firing TDC
+    is the actual TDC nearest to it.
+
     Returns
     -------
     ndarray or str
@@ -157,6 +166,12 @@ def firing_tdc(
     """
     base = np.mod(np.asarray(bank_deg) - np.asarray(throw_deg), 360.0)
     base = np.where(np.isclose(base, 360.0, rtol=0, atol=1e-9), 0.0, base)
+    shift = np.zeros(base.shape)
+    if actual_tdc is not None:
+        actual = np.asarray(actual_tdc, dtype=np.float64)
+        given = ~np.isnan(actual)
+        shift = np.where(given, np.mod(actual - base + 180.0, 360.0) - 180.0, 0.0)
+        base = np.where(given, np.mod(actual, 360.0), base)
     if cycle == "two-stroke":
         return np.asarray(base, dtype=np.float64)
     n = base.size
@@ -181,7 +196,7 @@ def firing_tdc(
             )
         return np.asarray(np.mod(out, 720.0), dtype=np.float64)
     if tdc_given is not None and all(t is not None for t in tdc_given):
-        return np.asarray(np.mod(np.asarray(tdc_given, dtype=np.float64), 720.0))
+        return np.asarray(np.mod(np.asarray(tdc_given, dtype=np.float64) + shift, 720.0))
     return (
         "a four-stroke with gas forces needs the firing order, to tell the firing TDC from "
         "the TDC 360 deg away"
@@ -191,14 +206,47 @@ def firing_tdc(
 # --------------------------------------------------------------------------- model
 
 
+@dataclass(frozen=True)
+class PistonTravel:
+    """Where a piston pin is against its cycle angle, for a cylinder that is no plain crank
+    slider (a link piston, :func:`balance.core.links.piston_travels`).
+
+    Attributes
+    ----------
+    position : callable
+        Cycle angle from the cylinder's (actual) top dead centre [deg] -> the piston pin's
+        distance from the crank axis [m].
+    top, bottom : float
+        That distance at the top and bottom dead centres [m].
+    key : tuple of float
+        The geometry the travel depends on: equal keys, equal travels (for caching).
+    """
+
+    position: Callable[[FloatArray], FloatArray]
+    top: float
+    bottom: float
+    key: tuple[float, ...] = ()
+
+
 def cylinder_volume(
-    alpha_deg: FloatArray, bore: float, radius: float, length: float, offset: float, ratio: float
+    alpha_deg: FloatArray,
+    bore: float,
+    radius: float,
+    length: float,
+    offset: float,
+    ratio: float,
+    travel: PistonTravel | None = None,
 ) -> FloatArray:
     r"""Cylinder volume [m^3] at cycle angle ``alpha_deg`` for compression ratio ``ratio``.
 
-    :math:`V = V_s/(\varepsilon - 1) + A(s_{max} - s)`, :math:`V_s = A(s_{max} - s_{min})`.
+    :math:`V = V_s/(\varepsilon - 1) + A(s_{max} - s)`, :math:`V_s = A(s_{max} - s_{min})`;
+    with ``travel`` (a link piston) :math:`s`, :math:`s_{max}` and :math:`s_{min}` are its.
     """
     area = math.pi / 4.0 * bore**2
+    if travel is not None:
+        swept = area * (travel.top - travel.bottom)
+        position = np.asarray(travel.position(np.asarray(alpha_deg, dtype=np.float64)))
+        return np.asarray(swept / (ratio - 1.0) + area * (travel.top - position))
     s_max = math.sqrt((length + radius) ** 2 - offset**2)
     s_min = math.sqrt((length - radius) ** 2 - offset**2)
     s, _, _ = normalised_slider(
@@ -206,6 +254,29 @@ def cylinder_volume(
     )
     swept = area * (s_max - s_min)
     return np.asarray(swept / (ratio - 1.0) + area * (s_max - radius * s))
+
+
+def _volumes(
+    spec: GasModel,
+    bore: float,
+    radius: float,
+    length: float,
+    offset: float,
+    cycle_deg: float,
+    travel: PistonTravel | None = None,
+) -> tuple[FloatArray, FloatArray, float, float]:
+    """The model's grid of cycle angles [deg], the volume on it, at bottom dead centre and
+    at the start of combustion [m^3]: what does not depend on the heat released."""
+    half = cycle_deg / 2.0
+    alpha = np.arange(-half, half, MODEL_STEP_DEG)
+    ratio = spec.compression_ratio
+    volume = cylinder_volume(alpha, bore, radius, length, offset, ratio, travel)
+    v_bdc = float(
+        cylinder_volume(np.array([-180.0]), bore, radius, length, offset, ratio, travel)[0]
+    )
+    start = np.array([spec.combustion_start])
+    v_start = float(cylinder_volume(start, bore, radius, length, offset, ratio, travel)[0])
+    return alpha, volume, v_bdc, v_start
 
 
 def _model_table(
@@ -216,16 +287,16 @@ def _model_table(
     offset: float,
     cycle_deg: float,
     heat: float,
+    travel: PistonTravel | None = None,
+    volumes: tuple[FloatArray, FloatArray, float, float] | None = None,
 ) -> tuple[FloatArray, FloatArray]:
-    """Pressure of the model on a fine grid of cycle angles, for a heat release [J]."""
-    half = cycle_deg / 2.0
-    alpha = np.arange(-half, half, MODEL_STEP_DEG)
-    volume = cylinder_volume(alpha, bore, radius, length, offset, spec.compression_ratio)
+    """Pressure of the model on a fine grid of cycle angles, for a heat release [J]
+    (``volumes``: :func:`_volumes` of the same arguments, computed once for a search)."""
+    if volumes is None:
+        volumes = _volumes(spec, bore, radius, length, offset, cycle_deg, travel)
+    alpha, volume, v_bdc, v_start = volumes
     p = np.full(alpha.shape, spec.exhaust_pressure)
     closed = (alpha >= -180.0) & (alpha <= 180.0)
-    v_bdc = float(
-        cylinder_volume(np.array([-180.0]), bore, radius, length, offset, spec.compression_ratio)[0]
-    )
     start = spec.combustion_start
     before = closed & (alpha < start)
     p[before] = spec.intake_pressure * (v_bdc / volume[before]) ** spec.polytropic_compression
@@ -235,9 +306,6 @@ def _model_table(
     a_after = alpha[after]
     v_after = volume[after]
     n2 = spec.polytropic_expansion
-    v_start = float(
-        cylinder_volume(np.array([start]), bore, radius, length, offset, spec.compression_ratio)[0]
-    )
     p_start = spec.intake_pressure * (v_bdc / v_start) ** spec.polytropic_compression
     fraction = np.clip((a_after - start) / spec.combustion_duration, 0.0, 1.0)
     burnt = 1.0 - np.exp(-spec.wiebe_a * fraction ** (spec.wiebe_m + 1.0))
@@ -252,7 +320,13 @@ def _model_table(
 
 
 def model_pressure(
-    spec: GasModel, bore: float, radius: float, length: float, offset: float, cycle: str
+    spec: GasModel,
+    bore: float,
+    radius: float,
+    length: float,
+    offset: float,
+    cycle: str,
+    travel: PistonTravel | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     """The parametric model's pressure trace (see the module notes).
 
@@ -264,6 +338,10 @@ def model_pressure(
         Bore, crank radius, conrod length and offset of the cylinder [m].
     cycle : {'four-stroke', 'two-stroke'}
         The working cycle.
+    travel : PistonTravel, optional
+        The piston's travel when it is no plain crank slider (a link piston): the volume is
+        then its, the cycle angle counted from its actual top dead centre; the strokes of
+        the model stay 180 deg of crank angle each.
 
     Returns
     -------
@@ -272,16 +350,22 @@ def model_pressure(
         pressure [Pa].
     """
     cycle_deg = cycle_degrees(cycle)
+    volumes = _volumes(spec, bore, radius, length, offset, cycle_deg, travel)
     if spec.heat_released is not None:
-        return _model_table(spec, bore, radius, length, offset, cycle_deg, spec.heat_released)
+        return _model_table(
+            spec, bore, radius, length, offset, cycle_deg, spec.heat_released, travel, volumes
+        )
     target = float(spec.peak_pressure)  # type: ignore[arg-type]
 
+    def table(heat: float) -> tuple[FloatArray, FloatArray]:
+        return _model_table(spec, bore, radius, length, offset, cycle_deg, heat, travel, volumes)
+
     def peak(heat: float) -> float:
-        return float(_model_table(spec, bore, radius, length, offset, cycle_deg, heat)[1].max())
+        return float(table(heat)[1].max())
 
     low, high = 0.0, 100.0
     if peak(low) >= target:
-        return _model_table(spec, bore, radius, length, offset, cycle_deg, 0.0)
+        return table(0.0)
     while peak(high) < target:
         high *= 2.0
     for _ in range(60):
@@ -292,7 +376,7 @@ def model_pressure(
             high = mid
         if high - low <= 1e-10 * high:
             break
-    return _model_table(spec, bore, radius, length, offset, cycle_deg, 0.5 * (low + high))
+    return table(0.5 * (low + high))
 
 
 def pressure_at(
@@ -302,17 +386,34 @@ def pressure_at(
     length: FloatArray,
     offset: FloatArray,
     cycle: str,
+    travels: list[PistonTravel | None] | None = None,
 ) -> FloatArray:
     """Absolute pressure [Pa] of each cylinder at cycle angles ``alpha_deg`` (cylinders, N).
 
-    Linear interpolation, periodic over the cycle, in the trace or the model's table.
+    Linear interpolation, periodic over the cycle, in the trace or the model's table (a link
+    piston's own, from its entry of ``travels``).
     """
     alpha = np.asarray(alpha_deg, dtype=np.float64)
     out = np.empty(alpha.shape)
     tables: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
+    link_tables: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
     for i in range(alpha.shape[0]):
+        travel = travels[i] if travels is not None else None
         if gas.angle is not None and gas.pressure is not None:
             angle, pressure = gas.angle, gas.pressure
+        elif travel is not None:
+            assert gas.model is not None
+            if travel.key not in link_tables:
+                link_tables[travel.key] = model_pressure(
+                    gas.model,
+                    gas.bore,
+                    float(radius[i]),
+                    float(length[i]),
+                    float(offset[i]),
+                    cycle,
+                    travel,
+                )
+            angle, pressure = link_tables[travel.key]
         else:
             assert gas.model is not None
             key = (float(radius[i]), float(length[i]), float(offset[i]))

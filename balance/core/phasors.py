@@ -18,6 +18,7 @@ sweep is one call) and return complex arrays with the orders on the last axis.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -31,6 +32,7 @@ __all__ = [
     "roll_phasors",
     "rotating_phasor",
     "sum_over_cylinders",
+    "weighted_phasor_sum",
 ]
 
 ComplexArray = NDArray[np.complex128]
@@ -205,6 +207,39 @@ def _complex_dot(
     total.real = real
     total.imag = imag
     return cancel_to_zero(total, scale, n)
+
+
+def weighted_phasor_sum(terms: Sequence[tuple[ArrayLike, ArrayLike]]) -> ComplexArray:
+    r"""A cleaned sum of weighted complex terms over cylinders: :math:`\sum_j\sum_i w_{j,i}
+    u_{j,i,k}`.
+
+    Parameters
+    ----------
+    terms : list of (weight, unit)
+        ``weight`` per cylinder, shape ``(..., n_j)`` (leading axes broadcast, a sweep's
+        grid); ``unit`` complex per cylinder and order, shape ``(n_j, K)`` or
+        ``(..., n_j, K)``.  Each term may have its own cylinders (``n_j``).
+
+    Returns
+    -------
+    ndarray of complex
+        Shape ``(..., K)``, summed in cylinder order (:func:`sum_over_cylinders`) and
+        cleaned against :math:`\sum|w||u|` over every term (:func:`cancel_to_zero`).
+    """
+    parts = []
+    scale: FloatArray | None = None
+    n = 0
+    for weight, unit in terms:
+        w = np.asarray(weight, dtype=np.float64)[..., None]
+        u = np.asarray(unit, dtype=np.complex128)
+        if u.shape[-2] == 0:
+            continue
+        parts.append((w, u.real, u.imag))
+        size = _dot_over_cylinders(np.abs(w), np.abs(u))
+        scale = size if scale is None else scale + size
+        n += u.shape[-2]
+    assert parts and scale is not None, "at least one term with cylinders"
+    return _complex_dot(parts, scale, n)
 
 
 def reciprocating_force_and_moment(

@@ -35,7 +35,10 @@ class Phasors:
     """Complex phasors of one analysis (SI: N, N m).
 
     ``*_forward`` and ``*_backward`` have one entry per order; the rotating phasors are
-    scalars (order 1, forward only); ``roll`` has one entry per order.
+    scalars (order 1, forward only); ``roll`` has one entry per order.  An engine with link
+    rods also has ``link_pin_forward`` and ``link_pin_backward``, shape (cylinders, orders):
+    each link rod's link-pin mass moving relative to its crank pin (included in the force
+    and moment phasors; zero rows for the other cylinders) [N]; None otherwise.
     """
 
     orders: NDArray[np.intp]
@@ -53,6 +56,8 @@ class Phasors:
     reference_z: float
     samples: int = 0
     error_bound: float = float("nan")
+    link_pin_forward: ComplexArray | None = None
+    link_pin_backward: ComplexArray | None = None
 
 
 @dataclass(frozen=True)
@@ -106,6 +111,9 @@ class Request:
     bearings : bool
         Compute the crank-pin and main-bearing loads and the internal moments
         (:mod:`balance.core.bearings`), without and with the proposed counterweights.
+    cylinders : bool
+        Compute each cylinder's actual stroke and top-dead-centre crank angle
+        (:func:`balance.core.links.dead_centres`).
     """
 
     orders: tuple[int, ...] = (1, 2, 3, 4, 5, 6, 7, 8)
@@ -126,6 +134,7 @@ class Request:
     mounts: bool = False
     mounts_with_proposal: bool = False
     bearings: bool = False
+    cylinders: bool = True
 
     @classmethod
     def of(cls, orders: Iterable[int], **settings: object) -> Request:
@@ -173,6 +182,11 @@ class Result:
     warnings : tuple of PlausibilityWarning
         Inputs far outside piston-engine practice (:mod:`balance.core.plausibility`);
         they change no number.
+    cylinder_stroke : ndarray or None
+        Each cylinder's piston travel between its dead centres [m], when asked.
+    cylinder_tdc : ndarray or None
+        Crank angle :math:`\\theta` in :math:`[0, 2\\pi)` at which each piston is farthest
+        from the crank axis [rad], when asked.
     """
 
     engine: Engine
@@ -190,6 +204,8 @@ class Result:
     mounts: MountsResult | None = None
     bearings: Bearings | None = None
     warnings: tuple[PlausibilityWarning, ...] = ()
+    cylinder_stroke: FloatArray | None = None
+    cylinder_tdc: FloatArray | None = None
 
     @property
     def orders(self) -> NDArray[np.intp]:

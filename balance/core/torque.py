@@ -155,12 +155,24 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     lam = rod_ratio(r, length)
     eps = offset_ratio(e, r)
     w2 = float(speed_squared(layout.speed))
+    travels = None
+    if layout.has_links:
+        from balance.core.links import piston_travels
+
+        travels = piston_travels(layout)
     pressure = pressure_at(
-        gas, alpha, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle
+        gas, alpha, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle, travels
     )
     _, ds, d2s = normalised_slider(beta, lam, eps)
     sin_psi = lam * (np.sin(beta) - eps)
     cos_psi = np.sqrt(1.0 - sin_psi**2)
+    dg, d2g = conrod_angle_derivatives(beta, lam, eps)
+    pin_power = np.zeros(beta.shape)
+    pin_roll = np.zeros(beta.shape)
+    if layout.has_links:
+        ds, d2s, sin_psi, cos_psi, dg, d2g, pin_power, pin_roll = _with_links(
+            layout, beta, ds, d2s, sin_psi, cos_psi, dg, d2g
+        )
     psi = np.arcsin(sin_psi)
     gas_force = (pressure - gas.crankcase_pressure) * gas.piston_area
     inertia_force = layout.reciprocating_mass[:, None] * w2 * r * d2s
@@ -168,14 +180,17 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     side = piston * sin_psi / cos_psi
     rod = piston / cos_psi
     tangential = -piston * ds
+    if layout.has_links:  # a link pin's kinetic energy changes: the crank supplies it
+        tangential = tangential - w2 * r * pin_power
     radial = piston * np.cos(beta + psi) / cos_psi
     cylinder_torque = tangential * r
     engine = cylinder_torque.sum(axis=0)
-    dg, d2g = conrod_angle_derivatives(beta, lam, eps)
     inertia_roll = w2 * (
         layout.reciprocating_mass[:, None] * r**2 * d2s * (ds + eps)
         + layout.conrod_inertia_correction[:, None] * d2g * (1.0 + dg)
     )
+    if layout.has_links:
+        inertia_roll = inertia_roll + w2 * r**2 * pin_roll
     gas_torque = -gas_force * ds * r
     per_cylinder_roll = inertia_roll - gas_torque
     roll_t = per_cylinder_roll.sum(axis=0)
@@ -223,3 +238,40 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         flywheel_inertia=float(inertia),
         cycle_deg=cycle_deg,
     )
+
+
+def _with_links(
+    layout: Engine,
+    beta: FloatArray,
+    ds: FloatArray,
+    d2s: FloatArray,
+    sin_psi: FloatArray,
+    cos_psi: FloatArray,
+    dg: FloatArray,
+    d2g: FloatArray,
+) -> tuple[FloatArray, ...]:
+    r"""The per-cylinder arrays with the link cylinders' rows replaced by their motion
+    (:func:`balance.core.links.link_motion`): the link piston's :math:`s'/r`, :math:`s''/r`,
+    the link rod's angle and its derivatives, and for the link-pin mass :math:`m` (per
+    :math:`m r^2\omega^2`) the rate of its kinetic energy
+    :math:`\operatorname{Re}(\bar\Lambda'\Lambda'')` and its roll."""
+    from balance.core.links import link_geometry, link_motion, pin_masses
+
+    assert layout.links is not None
+    geometry = link_geometry(
+        layout.crank_radius, layout.conrod_length, layout.offset, layout.bank, layout.links
+    )
+    j = geometry.cylinder
+    m = link_motion(beta[j], *geometry.columns())
+    out = [np.array(a, copy=True) for a in (ds, d2s, sin_psi, cos_psi, dg, d2g)]
+    for a, v in zip(out, (m.ds, m.d2s, m.sin_rod, m.cos_rod, m.drod, m.d2rod), strict=True):
+        a[j] = v
+    share = pin_masses(layout)[j][:, None]
+    power = np.zeros(beta.shape)
+    roll = np.zeros(beta.shape)
+    p, dp, d2p = m.pin, m.dpin, m.d2pin
+    power[j] = share * (dp.real * d2p.real + dp.imag * d2p.imag)
+    roll[j] = share * (
+        dp.real * d2p.real + dp.imag * d2p.imag - (p.real * d2p.imag - p.imag * d2p.real)
+    )
+    return (*out, power, roll)

@@ -21,9 +21,10 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ValidationError
 
-from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine, ShaftPosition
+from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine, Links, ShaftPosition
 from balance.core.errors import InputError, LayoutError, LayoutErrors, Location, raise_all
 from balance.core.gas import GasInput, GasModel, cycle_degrees, firing_tdc
+from balance.core.links import dead_centres, link_geometry, link_reach
 from balance.core.masses import MassParts, two_mass_split
 from balance.core.speed import rad_per_s_to_rpm
 from balance.io.bearings_section import check_mains
@@ -287,7 +288,7 @@ def _one_error(err: Any, doc: SourceDocument) -> LayoutError:
             field=dotted_path(loc),
             valid=f"expected {ctx.get('expected', 'one of the documented values')}",
         )
-    if kind.endswith("_type") or kind in {"model_attributes_type"}:
+    if kind.endswith("_type") or kind in {"model_attributes_type", "int_parsing"}:
         got = _TYPE_NAMES.get(type(err["input"]).__name__, type(err["input"]).__name__)
         want = {
             "dict_type": "a mapping",
@@ -296,6 +297,7 @@ def _one_error(err: Any, doc: SourceDocument) -> LayoutError:
             "string_type": "text",
             "int_type": "a whole number",
             "int_from_float": "a whole number",
+            "int_parsing": "a whole number",
         }.get(kind, err["msg"].lower())
         return LayoutError(
             f"expected {want}, got {got}",
@@ -322,6 +324,11 @@ _MISSING_HINTS = {
     "z": "add the axial position of the throw plane, e.g. 'z: 91 mm'",
     "throws": "add the throw angles, e.g. 'throws: [0, 180, 180, 0]'",
     "speed_ratio": "add the shaft's speed over crank speed, e.g. 'speed_ratio: 2'",
+    "master": "add the master cylinder's number, e.g. 'master: 1'",
+    "pin_radius": "add the link pin's distance from the crank-pin centre, e.g. '46 mm'",
+    "pin_angle": "add the link pin's direction from the master rod's centre line, e.g. "
+    "'72 deg' (usually this cylinder's bank minus the master's)",
+    "length": "add the link rod's length, link pin to piston pin, e.g. '230 mm'",
 }
 _TYPE_HINTS: dict[str | int, str] = {
     "cylinders": "a list of cylinders, each {throw: ..., bank: ..., z: ...}",
@@ -330,6 +337,9 @@ _TYPE_HINTS: dict[str | int, str] = {
     "throws": "a list of angles, e.g. [0, 180, 180, 0]",
     "banks": "a list of angles, e.g. [-45 deg, 45 deg]",
     "firing_order": "a list of cylinder numbers, e.g. [1, 3, 4, 2]",
+    "master": "the number (1-based, in file order) of the cylinder whose rod carries this "
+    "link rod, e.g. 'master: 1'",
+    "link": "a mapping {master: 1, pin_radius: 46 mm, pin_angle: 72 deg, length: 230 mm}",
 }
 
 
@@ -381,22 +391,29 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
     geometry = spec.geometry
     problems: list[LayoutError] = []  # every problem of the file, reported together
     impossible: dict[tuple[Location, str, str], list[int]] = {}
+    masters = _link_masters(spec, doc, cylinders)
     values: dict[str, list[float]] = {k: [] for k in CYLINDER_FIELDS}
     part_rows: list[tuple[float, ...]] = []
     for i, cyl in enumerate(cylinders):
+        own = cylinders[masters[i]] if masters[i] >= 0 else cyl
         g = cyl.overrides(GEOMETRY_KEYS)
-        if "stroke" in g:
-            radius = g["stroke"] / 2
-        elif "crank_radius" in g:
-            radius = g["crank_radius"]
+        g_own = own.overrides(GEOMETRY_KEYS)
+        if "stroke" in g_own:
+            radius = g_own["stroke"] / 2
+        elif "crank_radius" in g_own:
+            radius = g_own["crank_radius"]
         else:
             radius = geometry.radius
         length = g.get("conrod_length", geometry.conrod_length)
         offset = g.get("offset", geometry.offset)
-        if not length > radius + abs(offset):
+        if cyl.link is not None:
+            length = cyl.link.length  # the link rod; its reach is checked with the links
+        elif not length > radius + abs(offset):
             impossible.setdefault(_geometry_problem(doc, cylinders, prefix, i), []).append(i + 1)
         try:
-            rec, rot, dinertia, record = _cylinder_masses(spec, cyl, length, i, where, sharing[i])
+            rec, rot, dinertia, record = _cylinder_masses(
+                spec, doc, cyl, length, i, where, sharing[i]
+            )
         except LayoutError as exc:  # reported with every other problem below
             problems.append(exc)
             rec = rot = dinertia = math.nan
@@ -423,13 +440,19 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
             )
         )
     arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
+    # the link rods' reach needs sound master geometry and masses: checked once they are
+    links = None
+    links_checked = not problems
+    if links_checked:
+        links = _collect(problems, lambda: _links(doc, cylinders, masters, arrays))
+        links_checked = not problems
     z = arrays["z"]
     reference_z = spec.reference_z if spec.reference_z is not None else 0.5 * (z.min() + z.max())
     pitch = _pitch(spec, z)
     firing = _collect(problems, lambda: _firing_order(spec, n, doc))
     gas = (
-        _collect(problems, lambda: _gas(spec, doc, cylinders, prefix, arrays, firing))
-        if spec.gas is not None
+        _collect(problems, lambda: _gas(spec, doc, cylinders, prefix, arrays, firing, links))
+        if spec.gas is not None and links_checked
         else None
     )
     mounts = _collect(problems, lambda: _mounts(spec, doc))
@@ -453,6 +476,7 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         mass_parts=_mass_parts(part_rows) if part_rows else None,
         mounts=mounts,
         mains=mains,
+        links=links,
         **arrays,
     )
 
@@ -604,6 +628,7 @@ def _gas(
     prefix: tuple[str | int, ...] | None,
     arrays: dict[str, Any],
     firing: tuple[int, ...] | None,
+    links: Links | None = None,
 ) -> GasInput:
     """Resolve the ``gas:`` and ``flywheel:`` sections: read the trace, place firing TDCs."""
     section = spec.gas
@@ -625,8 +650,25 @@ def _gas(
         angle, pressure = read_pressure_trace(trace, cycle_deg)
         source = str(trace)
     tdc_given = [c.tdc for c in cylinders] if prefix is not None else None
+    actual = None
+    if links is not None:
+        # a link piston's cycle starts at its actual top dead centre (balance.core.links)
+        _, top = dead_centres(
+            arrays["throw"],
+            arrays["bank"],
+            arrays["crank_radius"],
+            arrays["conrod_length"],
+            arrays["offset"],
+            links,
+        )
+        actual = np.where(links.master >= 0, np.degrees(top), np.nan)
     tdc = firing_tdc(
-        np.degrees(arrays["throw"]), np.degrees(arrays["bank"]), spec.cycle, firing, tdc_given
+        np.degrees(arrays["throw"]),
+        np.degrees(arrays["bank"]),
+        spec.cycle,
+        firing,
+        tdc_given,
+        actual_tdc=actual,
     )
     if isinstance(tdc, str):
         path: tuple[str | int, ...] = ("firing_order",) if firing else ("gas",)
@@ -668,7 +710,13 @@ def _rods_per_throw(spec: LayoutSpec, cylinders: list[CylinderSpec]) -> list[int
 
 
 def _cylinder_masses(
-    spec: LayoutSpec, cyl: CylinderSpec, length: float, i: int, where: Any, sharing: int
+    spec: LayoutSpec,
+    doc: SourceDocument,
+    cyl: CylinderSpec,
+    length: float,
+    i: int,
+    where: Any,
+    sharing: int,
 ) -> tuple[float, float, float, tuple[float, ...] | None]:
     """Reciprocating mass, rotating mass, conrod inertia correction of one cylinder, and
     its parts (the fields of :class:`~balance.core.masses.MassParts`; None for lumped masses).
@@ -679,6 +727,8 @@ def _cylinder_masses(
     masses = spec.masses
     part_over = cyl.overrides(PART_KEYS)
     lumped_over = cyl.overrides(LUMPED_KEYS)
+    if cyl.link is not None:
+        _check_link_masses(spec, doc, cyl, i, where)
     if not masses.by_part:
         if part_over:
             key = next(iter(part_over))
@@ -693,12 +743,15 @@ def _cylinder_masses(
         rot = lumped_over.get("rotating", masses.rotating)
         return float(rec), float(rot), 0.0, None  # type: ignore[arg-type]
     parts = {k: getattr(masses, k) for k in PART_KEYS}
+    if cyl.link is not None:  # the engine-wide rod is the master rod, not this link rod
+        parts["conrod_inertia"] = None
     parts.update(part_over)
     cg = parts["conrod_cg_to_big_end"]
     if cg > length:
         loc, name = where(i, "conrod_cg_to_big_end")
         raise LayoutError(
-            f"conrod_cg_to_big_end {cg * 1e3:.6g} mm is longer than the conrod "
+            f"conrod_cg_to_big_end {cg * 1e3:.6g} mm is longer than the "
+            f"{'link rod' if cyl.link is not None else 'conrod'} "
             f"({length * 1e3:.6g} mm, cylinder {i + 1})",
             loc,
             field=name,
@@ -719,6 +772,189 @@ def _cylinder_masses(
     rec = record[6] if not math.isnan(record[6]) else float(rec_split)
     rot = record[7] if not math.isnan(record[7]) else float(rot_split)
     return rec, rot, float(dinertia), record
+
+
+def _link_error(
+    doc: SourceDocument, path: tuple[str | int, ...], message: str, valid: str
+) -> LayoutError:
+    return LayoutError(message, doc.location(path), field=dotted_path(path), valid=valid)
+
+
+_SHARED = "a link cylinder shares its master's throw and z (CONTRACT §5)"
+
+
+def _link_masters(
+    spec: LayoutSpec, doc: SourceDocument, cylinders: list[CylinderSpec]
+) -> list[int]:
+    """Index of each cylinder's master (-1 for none), with every check that needs the
+    other cylinders: the master exists, is not itself a link cylinder, and shares throw and
+    z; a link cylinder gives no crank radius or conrod length of its own."""
+    n = len(cylinders)
+    out = [-1] * n
+    for i, cyl in enumerate(cylinders):
+        if cyl.link is None:
+            continue
+        at = ("cylinders", i, "link")
+        k = cyl.link.master
+        if k > n:
+            raise _link_error(
+                doc,
+                (*at, "master"),
+                f"master {k} is not a cylinder of this layout (cylinder {i + 1})",
+                f"the number of the cylinder whose rod carries this link rod, 1 to {n}",
+            )
+        if k == i + 1:
+            raise _link_error(
+                doc,
+                (*at, "master"),
+                f"cylinder {i + 1} names itself as its master",
+                "name the cylinder whose rod carries this link rod",
+            )
+        master = cylinders[k - 1]
+        if master.link is not None:
+            raise _link_error(
+                doc,
+                (*at, "master"),
+                f"cylinder {k} is itself a link cylinder (its rod hangs on cylinder "
+                f"{master.link.master}'s); cylinder {i + 1} cannot hang on it",
+                "a master's rod runs on the crank pin: name a cylinder without a link entry",
+            )
+        throw_here = cyl.throw_angle % 360.0
+        throw_master = master.throw_angle % 360.0
+        gap = abs((throw_here - throw_master + 180.0) % 360.0 - 180.0)
+        if gap > 1e-9:
+            key = "throw" if cyl.throw is not None else "tdc"
+            raise _link_error(
+                doc,
+                ("cylinders", i, key),
+                f"cylinder {i + 1} hangs on cylinder {k}'s rod but its throw is "
+                f"{throw_here:.6g} deg, the master's {throw_master:.6g} deg",
+                _SHARED,
+            )
+        if abs(cyl.z - master.z) > 1e-12:
+            raise _link_error(
+                doc,
+                ("cylinders", i, "z"),
+                f"cylinder {i + 1} hangs on cylinder {k}'s rod but its z is "
+                f"{cyl.z * 1e3:.6g} mm, the master's {master.z * 1e3:.6g} mm",
+                _SHARED,
+            )
+        for key in ("stroke", "crank_radius"):
+            if getattr(cyl, key) is not None:
+                raise _link_error(
+                    doc,
+                    ("cylinders", i, key),
+                    f"'{key}' on link cylinder {i + 1}: its crank radius is its master's "
+                    f"(cylinder {k})",
+                    "leave it out; a link piston's actual stroke is in the analysis' "
+                    "'cylinders' list",
+                )
+        if cyl.conrod_length is not None:
+            raise _link_error(
+                doc,
+                ("cylinders", i, "conrod_length"),
+                f"'conrod_length' on link cylinder {i + 1}",
+                "give the link rod's length as link.length (geometry.conrod_length and "
+                "conrod_length are master rods' lengths)",
+            )
+        out[i] = k - 1
+    return out
+
+
+def _check_link_masses(
+    spec: LayoutSpec, doc: SourceDocument, cyl: CylinderSpec, i: int, where: Any
+) -> None:
+    """A link cylinder's masses are given by part, its link rod's in its own entry."""
+    at = ("cylinders", i)
+    for key in LUMPED_KEYS:
+        if getattr(cyl, key) is not None:
+            loc, name = where(i, key)
+            raise LayoutError(
+                f"lumped '{key}' on link cylinder {i + 1}: its rod's lower end moves with the "
+                "master rod, not on the crank circle",
+                loc,
+                field=name,
+                valid="give its piston_group, conrod (the link rod), conrod_cg_to_big_end "
+                "(from the link pin) and optional conrod_inertia",
+            )
+    if not spec.masses.by_part:
+        raise LayoutError(
+            f"cylinder {i + 1} has a link rod, but the engine's masses are lumped",
+            doc.location((*at, "link")),
+            field=dotted_path((*at, "link")),
+            valid="give masses by part (piston_group, conrod, conrod_cg_to_big_end) and each "
+            "link rod's conrod and conrod_cg_to_big_end in its cylinder's entry",
+        )
+    for key in ("conrod", "conrod_cg_to_big_end"):
+        if getattr(cyl, key) is None:
+            raise LayoutError(
+                f"link cylinder {i + 1} gives no '{key}' of its link rod",
+                doc.location(at),
+                field=dotted_path((*at, key)),
+                valid="give the link rod's conrod (mass) and conrod_cg_to_big_end (its centre "
+                "of gravity from the link pin) in this cylinder's entry",
+            )
+    if spec.masses.conrod_inertia is not None and cyl.conrod_inertia is None:
+        raise LayoutError(
+            f"link cylinder {i + 1} gives no conrod_inertia of its link rod",
+            doc.location(at),
+            field=dotted_path((*at, "conrod_inertia")),
+            valid="the engine-wide conrod_inertia is the master rods'; give the link rod's in "
+            "this cylinder's entry (or leave conrod_inertia out everywhere)",
+        )
+
+
+def _links(
+    doc: SourceDocument,
+    cylinders: list[CylinderSpec],
+    masters: list[int],
+    arrays: dict[str, FloatArray],
+) -> Links | None:
+    """The :class:`~balance.core.engine.Links` of the file (None without link entries),
+    with the link rods' reach checked: a link rod must be longer than its link pin's
+    largest distance across its bore, or the mechanism cannot move."""
+    if all(m < 0 for m in masters):
+        return None
+    n = len(cylinders)
+    links = Links(
+        master=np.asarray(masters, dtype=np.intp),
+        pin_radius=np.asarray(
+            [c.link.pin_radius if c.link is not None else 0.0 for c in cylinders], dtype=np.float64
+        ),
+        pin_angle=np.asarray(
+            [math.radians(c.link.pin_angle) if c.link is not None else 0.0 for c in cylinders],
+            dtype=np.float64,
+        ),
+    )
+    for m in sorted({m for m in masters if m >= 0}):
+        r, length, e = (float(arrays[k][m]) for k in ("crank_radius", "conrod_length", "offset"))
+        if not length > r + abs(e):  # already checked for plain cylinders; kept for clarity
+            raise _link_error(
+                doc,
+                ("cylinders", m, "conrod_length"),
+                f"master rod of cylinder {m + 1} is too short",
+                "conrod_length > crank_radius + |offset|",
+            )
+    geometry = link_geometry(
+        arrays["crank_radius"], arrays["conrod_length"], arrays["offset"], arrays["bank"], links
+    )
+    reach = link_reach(geometry)
+    for row, j in enumerate(geometry.cylinder.tolist()):
+        if not reach[row] < 1.0:
+            link = cylinders[j].link
+            assert link is not None
+            across = reach[row] * link.length if math.isfinite(reach[row]) else math.inf
+            raise _link_error(
+                doc,
+                ("cylinders", j, "link", "length"),
+                f"link rod of cylinder {j + 1} ({link.length * 1e3:.6g} mm) cannot reach its "
+                f"piston: its link pin swings {across * 1e3:.6g} mm across the bore axis",
+                "length must exceed the link pin's largest distance from the bore axis "
+                "(about crank radius + pin_radius + |offset|); lengthen the link rod or "
+                "shorten pin_radius",
+            )
+    assert n == links.master.size
+    return links
 
 
 def _pitch(spec: LayoutSpec, z: FloatArray) -> float:
@@ -789,13 +1025,20 @@ def expand_layout(source: str | Path) -> str:
     out["masses"] = _masses_dict(spec.masses.model_dump(exclude_none=True))
     entries = []
     for cyl in cylinders:
-        entry: dict[str, str] = {
+        entry: dict[str, Any] = {
             "throw": _fmt(_wrap_deg(cyl.throw_angle), "deg"),
             "bank": _fmt(cyl.bank, "deg"),
             "z": _fmt(cyl.z, "mm", 1e3),
         }
-        over = cyl.model_dump(exclude_none=True, exclude={"throw", "tdc", "bank", "z"})
+        over = cyl.model_dump(exclude_none=True, exclude={"throw", "tdc", "bank", "z", "link"})
         entry.update(_masses_dict(over))
+        if cyl.link is not None:
+            entry["link"] = {
+                "master": int(cyl.link.master),
+                "pin_radius": _fmt(cyl.link.pin_radius, "mm", 1e3),
+                "pin_angle": _fmt(cyl.link.pin_angle, "deg"),
+                "length": _fmt(cyl.link.length, "mm", 1e3),
+            }
         entries.append(entry)
     out["cylinders"] = entries
     out["reference_z"] = _fmt(layout.reference_z, "mm", 1e3)
@@ -824,8 +1067,9 @@ def expand_layout(source: str | Path) -> str:
         pass
 
     def _flow_dict(dumper: yaml.SafeDumper, data: dict[str, Any]) -> Any:
-        flow = all(not isinstance(v, dict | list) for v in data.values()) and (
-            "throw" in data or "speed_ratio" in data
+        flow = ("throw" in data or "master" in data or "speed_ratio" in data) and all(
+            not isinstance(v, list) and (not isinstance(v, dict) or "master" in v)
+            for v in data.values()
         )
         return dumper.represent_mapping("tag:yaml.org,2002:map", data, flow_style=flow)
 
@@ -837,7 +1081,33 @@ def expand_layout(source: str | Path) -> str:
         header
         + "\n"
         + yaml.dump(out, Dumper=_Dumper, sort_keys=False, width=100, allow_unicode=True)
+        + _link_comments(layout)
     )
+
+
+def _link_comments(layout: Engine) -> str:
+    """YAML comments with each cylinder's actual stroke and TDC for an engine with link
+    rods (computed, so not part of the layout)."""
+    if not layout.has_links:
+        return ""
+    assert layout.links is not None
+    stroke, tdc = dead_centres(
+        layout.throw,
+        layout.bank,
+        layout.crank_radius,
+        layout.conrod_length,
+        layout.offset,
+        layout.links,
+    )
+    lines = ["# articulated rods: each cylinder's actual stroke and top dead centre (computed)"]
+    for i in range(layout.n_cylinders):
+        m = int(layout.links.master[i])
+        rod = f"link rod on cylinder {m + 1}'s rod" if m >= 0 else "rod on the crank pin"
+        lines.append(
+            f"#   cylinder {i + 1}: {rod}; stroke {stroke[i] * 1e3:.6g} mm, "
+            f"TDC at {math.degrees(tdc[i]):.6g} deg"
+        )
+    return "\n".join(lines) + "\n"
 
 
 def _wrap_deg(angle: float) -> float:

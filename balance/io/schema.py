@@ -28,6 +28,7 @@ __all__ = [
     "GasSpec",
     "GeometrySpec",
     "LayoutSpec",
+    "LinkSpec",
     "MassesSpec",
     "ShaftSpec",
 ]
@@ -219,6 +220,36 @@ class MassesSpec(_Strict):
         return self.piston_group is not None
 
 
+class LinkSpec(_Strict):
+    """A cylinder's ``link:`` entry: its rod hangs on another cylinder's rod (CONTRACT §5).
+
+    ``master`` is that cylinder's number (1-based, in file order); ``pin_radius`` the
+    distance from the crank-pin centre to the link-pin centre on the master rod;
+    ``pin_angle`` the direction of that line from the master rod's centre line (big end to
+    small end) in the sense of bank angles; ``length`` the link rod's length, link pin to
+    piston pin.  The checks that need the other cylinders are in
+    :mod:`balance.io.layout_file`.
+    """
+
+    master: int
+    pin_radius: Length
+    pin_angle: Angle
+    length: Length
+
+    @model_validator(mode="after")
+    def _check(self) -> LinkSpec:
+        if self.master < 1:
+            raise FieldProblem(
+                f"master is {self.master}",
+                "the number (1-based, in file order) of the cylinder whose rod carries this "
+                "link rod",
+                ("master",),
+            )
+        _positive(self.pin_radius, "pin_radius", allow_zero=True)
+        _positive(self.length, "length")
+        return self
+
+
 class CylinderSpec(_Strict):
     """One cylinder of the explicit form, with optional per-cylinder overrides."""
 
@@ -239,6 +270,8 @@ class CylinderSpec(_Strict):
     conrod_cg_to_big_end: OptLength = None
     conrod_inertia: OptInertia = None
     crank_unbalance: OptMass = None
+    # articulated rod (CONTRACT §5)
+    link: LinkSpec | None = None
 
     @model_validator(mode="after")
     def _check(self) -> CylinderSpec:

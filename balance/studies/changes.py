@@ -31,7 +31,7 @@ from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.io.fields import Field
 
-__all__ = ["LUMPED", "Change", "apply_changes", "lumped_again"]
+__all__ = ["LUMPED", "Change", "apply_changes", "check_link_fields", "lumped_again"]
 
 FloatArray = NDArray[np.float64]
 
@@ -74,6 +74,8 @@ def apply_changes(
         With arrays of the broadcast shape of the values (cylinders last), and the speed
         and ``reference_z`` as given (arrays for a grid).
     """
+    if engine.has_links:
+        check_link_fields(engine, [field for field, _ in changes])
     new: dict[str, Any] = {}
     parts: dict[str, Any] = {}
     lumped: list[Change] = []
@@ -120,6 +122,52 @@ def apply_changes(
         centre = 0.5 * (z.min(axis=-1) + z.max(axis=-1))
         new["reference_z"] = float(centre) if np.ndim(centre) == 0 else centre[..., None]
     return replace(engine, **new)
+
+
+#: Fields that move the kinematics of an engine with link rods (its geometry).
+_GEOMETRY = frozenset({"throw", "bank", "z", "crank_radius", "conrod_length", "offset"})
+#: Rod parts whose engine-wide value the layout file gives the master rods only.
+_ROD_PARTS = frozenset({"parts.conrod", "parts.conrod_cg_to_big_end", "parts.conrod_inertia"})
+
+
+def check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:
+    """Refuse the fields that a study cannot change exactly on an engine with link rods.
+
+    A study of an engine with link rods keeps its geometry: the link rods' Fourier
+    coefficients are computed once for it (:mod:`balance.core.links`), so that each grid
+    point is the single analysis of its variant bit for bit.  Allowed: the speed,
+    ``reference_z``, the masses by part (engine-wide ``piston_group`` and
+    ``crank_unbalance``; any part of one cylinder) and lumped masses of cylinders that are
+    not link cylinders.
+
+    Raises
+    ------
+    InputError
+        Naming the first field refused and what may be changed instead.
+    """
+    assert engine.links is not None
+    linked = engine.links.master >= 0
+    numbers = ", ".join(str(int(i) + 1) for i in np.flatnonzero(linked))
+    for field in fields:
+        attribute = field.attribute
+        if attribute in _GEOMETRY:
+            why = "it moves the link kinematics, which are computed once per engine"
+        elif attribute in _ROD_PARTS and field.cylinder is None:
+            why = (
+                "the engine-wide rod is the master rods' (each link rod has its own); vary "
+                "cylinders[N]." + field.key + " instead"
+            )
+        elif attribute in LUMPED and (field.cylinder is None or linked[field.cylinder]):
+            why = (
+                "a link cylinder's masses are given by part (its rod's lower end is not on "
+                "the crank pin)"
+            )
+        else:
+            continue
+        raise InputError(
+            f"{field.text}: cannot be varied on an engine with link rods (cylinders {numbers}): "
+            f"{why}; vary the speed, reference_z or the masses by part"
+        )
 
 
 def _put(base: ArrayLike, field: Field, value: ArrayLike, n: int, add: bool) -> Any:

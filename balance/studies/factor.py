@@ -6,10 +6,9 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core.analysis import speed_squared
+from balance.core.analysis import link_pin_first_order, piston_first_order, speed_squared
 from balance.core.balancing import balance_factor_study, optimal_balance_factor
 from balance.core.engine import Engine
-from balance.core.kinematics import acceleration_coefficients, offset_ratio, rod_ratio
 from balance.core.phasors import CANCELLATION_FACTOR
 
 __all__ = ["factor_study_dataset"]
@@ -42,11 +41,10 @@ def factor_study_dataset(
         counterweights (``strategy``, ``counterweight_radius`` as for the proposal).
     """
     f = np.linspace(0.0, 1.0, 21) if factors is None else np.asarray(factors, dtype=np.float64)
-    r = layout.crank_radius
-    ratio, eps = rod_ratio(r, layout.conrod_length), offset_ratio(layout.offset, r)
-    g1 = acceleration_coefficients(ratio, eps, [1])[..., 0]
-    study = _zero_below_rounding(balance_factor_study(layout, g1, f), layout, g1, f)
-    best = optimal_balance_factor(layout, g1)
+    g1 = piston_first_order(layout)
+    pins = link_pin_first_order(layout)  # link rods' pins (None without link rods)
+    study = _zero_below_rounding(balance_factor_study(layout, g1, f, pins), layout, g1, f)
+    best = optimal_balance_factor(layout, g1, pins)
 
     def var(data: ArrayLike, units: str, long_name: str) -> xr.Variable:
         return xr.Variable(

@@ -26,8 +26,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core import kinematics
-from balance.core.analysis import FreePhasors, free_phasors_of, speed_squared
-from balance.core.engine import CYLINDER_FIELDS, Engine
+from balance.core.analysis import FreePhasors, engine_cylinders, free_phasors_of, speed_squared
+from balance.core.engine import Engine
 from balance.core.errors import AnalysisError, InputError
 from balance.core.speed import rad_per_s_to_rpm
 from balance.io.fields import (
@@ -175,7 +175,7 @@ def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
         shape[axis] = values.size
         changes.append((v.field, np.reshape(values, (*shape, 1))))
     engine = apply_changes(plan.layout, changes, problem=_CG_BEYOND_ROD)
-    params: dict[str, Any] = {name: getattr(engine, name) for name in CYLINDER_FIELDS}
+    params: dict[str, Any] = engine_cylinders(engine)  # with the link-pin masses, if any
     params["speed"] = np.asarray(engine.speed, dtype=np.float64)
     params["reference_z"] = np.asarray(engine.reference_z, dtype=np.float64)
     return params
@@ -192,6 +192,7 @@ def _unit_phasors(plan: _Plan, p: dict[str, Any]) -> FreePhasors:
             terms=plan.terms,
             moments=plan.moments,
             roll=plan.roll,
+            links=plan.layout.links if plan.layout.has_links else None,
         )
     except AnalysisError as exc:
         raise InputError(f"--vary: some grid points have an impossible geometry: {exc}") from None

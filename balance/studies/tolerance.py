@@ -36,6 +36,7 @@ from balance.core.analysis import (
 from balance.core.balancing import proposal_phasors
 from balance.core.engine import CYLINDER_FIELDS, Engine
 from balance.core.errors import AnalysisError, InputError
+from balance.core.links import pin_masses
 from balance.io.fields import Scatter, parse_orders, parse_scatter
 from balance.studies.changes import Change, apply_changes
 
@@ -161,10 +162,17 @@ def tolerance(
             changes.append((s.field, delta if s.field.cylinder is None else delta[:, None]))
         drawn = apply_changes(fixed, changes, add=True, problem=_CG_BEYOND_ROD)
         p = {name: np.broadcast_to(getattr(drawn, name), (m, n)).copy() for name in CYLINDER_FIELDS}
+        links = None
+        if layout.has_links:  # one geometry (check_link_fields): the link path wants it 1-D
+            links = layout.links
+            p.update({name: getattr(drawn, name) for name in _GEOMETRY})
+            p["link_pin_mass"] = np.broadcast_to(pin_masses(drawn), (m, n)).copy()
         if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
             raise InputError("--scatter: the scatter makes some masses negative; reduce it")
         try:
-            unit = free_phasors_of(p, p["z"] - layout.reference_z, ks, model=model, roll=False)
+            unit = free_phasors_of(
+                p, p["z"] - layout.reference_z, ks, model=model, roll=False, links=links
+            )
         except AnalysisError as exc:
             raise InputError(
                 f"--scatter: some samples have an impossible geometry: {exc}"
@@ -194,6 +202,9 @@ def tolerance(
         seed=seed,
     )
 
+
+#: The geometry arrays of an engine, kept 1-D for an engine with link rods.
+_GEOMETRY = ("throw", "bank", "z", "crank_radius", "conrod_length", "offset")
 
 _CG_BEYOND_ROD = (
     "--scatter: the scatter puts a conrod's centre of gravity beyond its small end; reduce it"

@@ -23,6 +23,8 @@ variable                                          dims                  units
 ``roll_amplitude_normalised``                     roll_order            1
 ``piston_acceleration_cos`` / ``_sin``            cylinder, order       1
 per-cylinder layout (``throw_angle``...)          cylinder              deg, m, kg
+``cylinder_stroke`` / ``tdc_crank_angle``         cylinder              m / deg
+``link_master``, ``link_pin_*`` (link rods only)  cylinder              1, m, deg
 ``speed``, ``reference_z``, ``pitch``,            ()                    rad/s, m,
 ``reference_force``, ``reference_moment``                               N, N m
 ================================================  ====================  ===========
@@ -284,6 +286,7 @@ def build_dataset(result: Result) -> xr.Dataset:
     }
     if layout.firing_order:  # numbers as numbers: an integer array, absent when not given
         attrs["firing_order"] = np.asarray(layout.firing_order, dtype=np.int64)
+    data.update(_cylinder_variables(result))
     balanced = result.balanced
     if balanced is not None:
         assert result.residual_roll is not None  # a proposal needs the roll
@@ -319,6 +322,46 @@ def build_dataset(result: Result) -> xr.Dataset:
         data.update(bearing_data)
         coords.update(bearing_coords)
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
+
+
+def _cylinder_variables(result: Result) -> dict[str, xr.Variable]:
+    """Each cylinder's actual stroke and TDC angle, and its link rod (CONTRACT §4–5)."""
+    out: dict[str, xr.Variable] = {}
+    if result.cylinder_stroke is not None and result.cylinder_tdc is not None:
+        out["cylinder_stroke"] = _var(
+            ("cylinder",),
+            result.cylinder_stroke,
+            "m",
+            "piston travel between its dead centres",
+        )
+        out["tdc_crank_angle"] = _var(
+            ("cylinder",),
+            np.degrees(result.cylinder_tdc),
+            "deg",
+            "crank angle at which the piston is farthest from the crank axis",
+        )
+    links = result.engine.links
+    if links is not None:
+        linked = links.master >= 0
+        out["link_master"] = _var(
+            ("cylinder",),
+            np.where(linked, links.master + 1, 0),
+            "1",
+            "number of the cylinder whose rod carries this cylinder's link rod (0: none)",
+        )
+        out["link_pin_radius"] = _var(
+            ("cylinder",),
+            np.where(linked, links.pin_radius, np.nan),
+            "m",
+            "distance of the link pin from the crank-pin centre on the master rod",
+        )
+        out["link_pin_angle"] = _var(
+            ("cylinder",),
+            np.where(linked, np.degrees(links.pin_angle), np.nan),
+            "deg",
+            "direction of the link pin from the master rod's centre line",
+        )
+    return out
 
 
 def _proposal_attrs(balanced: Balanced) -> dict[str, Any]:

@@ -28,7 +28,14 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
     from balance.core.torque import TorqueResult
 
-__all__ = ["json_number", "order_entries", "to_dict", "to_json", "warnings_json"]
+__all__ = [
+    "cylinder_entries",
+    "json_number",
+    "order_entries",
+    "to_dict",
+    "to_json",
+    "warnings_json",
+]
 
 ComplexArray = NDArray[np.complex128]
 
@@ -128,6 +135,8 @@ def to_dict(result: Result, factor_study: Mapping[str, Any] | None = None) -> di
     }
     if result.roll is not None:
         out["roll"] = _roll(result.roll_orders, result.roll)
+    if result.cylinder_stroke is not None:
+        out["cylinders"] = cylinder_entries(result)
     if result.torque is not None:
         out.update(_torque(result.torque))
     if result.balanced is not None:
@@ -158,6 +167,31 @@ def warnings_json(result: Result) -> list[dict[str, str]]:
     """The plausibility warnings: ``[{"rule": ..., "field": ..., "message": ...}]``
     (:mod:`balance.core.plausibility`), an empty list when there are none."""
     return [{"rule": w.rule, "field": w.field, "message": w.message} for w in result.warnings]
+
+
+def cylinder_entries(result: Result) -> list[dict[str, Any]]:
+    """The ``cylinders`` list (CONTRACT §5): number, actual stroke [m], TDC crank angle
+    [deg] in [0, 360); a link cylinder also gets its ``link`` (master, pin and rod)."""
+    assert result.cylinder_stroke is not None and result.cylinder_tdc is not None
+    links = result.engine.links
+    entries = []
+    for i, (stroke, tdc) in enumerate(
+        zip(result.cylinder_stroke, np.degrees(result.cylinder_tdc), strict=True)
+    ):
+        entry: dict[str, Any] = {
+            "number": i + 1,
+            "stroke_m": _num(stroke),
+            "tdc_crank_deg": _num(tdc),
+        }
+        if links is not None and links.master[i] >= 0:
+            entry["link"] = {
+                "master": int(links.master[i]) + 1,
+                "pin_radius_m": _num(links.pin_radius[i]),
+                "pin_angle_deg": _num(math.degrees(float(links.pin_angle[i]))),
+                "length_m": _num(result.engine.conrod_length[i]),
+            }
+        entries.append(entry)
+    return entries
 
 
 def _mounts(result: Result) -> dict[str, Any]:

@@ -237,6 +237,17 @@ def accuracy_statement(result: Result) -> str:
         )
     else:
         text = f"Model {model!r}."
+    if engine.has_links:
+        text += (
+            " Link rods hang on master rods (CONTRACT §5): "
+            + (
+                "their pistons and link pins follow the exact link kinematics."
+                if model in ("exact", "time")
+                else "this model treats each link piston as a plain slider on the crank pin "
+                "and leaves out the link pins' motion (the idealised radial); its bound "
+                "includes what that leaves out."
+            )
+        )
     bound = float(phasors.error_bound)
     if math.isfinite(bound):
         force = bound * float(result.reference_force)
@@ -302,6 +313,13 @@ def _layout_section(result: Result, figures: bool) -> str:
         "m_rot [kg]",
         "rod inertia corr. [kg m²]",
     ]
+    stroke = result.cylinder_stroke
+    tdc = None if result.cylinder_tdc is None else np.degrees(result.cylinder_tdc)
+    links = engine.links
+    if stroke is not None:
+        headers += ["actual stroke [mm]", "TDC at [deg]"]
+    if links is not None:
+        headers.append("link rod")
     throw = np.degrees(np.asarray(engine.throw, dtype=np.float64))
     bank = np.degrees(np.asarray(engine.bank, dtype=np.float64))
     rows = []
@@ -320,6 +338,17 @@ def _layout_section(result: Result, figures: bool) -> str:
                 _num(engine.conrod_inertia_correction[i]),
             ]
         )
+        if stroke is not None and tdc is not None:
+            rows[-1] += [_num(stroke[i], 1e3), _num(tdc[i])]
+        if links is not None:
+            m = int(links.master[i])
+            rows[-1].append(
+                f"on cylinder {m + 1}'s rod: pin {_num(links.pin_radius[i], 1e3)} mm at "
+                f"{_num(np.degrees(links.pin_angle[i]))} deg, "
+                f"rod {_num(engine.conrod_length[i], 1e3)} mm"
+                if m >= 0
+                else "-"
+            )
     assumptions = [
         "Constant crank speed; crank, conrods and block rigid.",
         "Each conrod is split into a reciprocating mass at the piston pin and a rotating "

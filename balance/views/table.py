@@ -29,6 +29,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "NO_PITCH",
+    "cylinders_table",
     "format_number",
     "format_ratio",
     "pitch_text",
@@ -160,6 +161,8 @@ def render(result: Result) -> RenderableType:
         )
     if result.roll is not None:
         parts.append(_roll_table(result))
+    if result.cylinder_stroke is not None:
+        parts.append(cylinders_table(result))
     if result.torque is not None:
         parts.append(render_torque(result.torque))
     if result.balanced is not None:
@@ -181,6 +184,47 @@ def render_warnings(result: Result) -> list[RenderableType]:
     from rich.text import Text
 
     return [Text(f"warning: {w.field}: {w.message}", style="yellow") for w in result.warnings]
+
+
+def cylinders_table(result: Result) -> NumberTable:
+    """Each cylinder's actual stroke and TDC crank angle, and its link rod if it has one."""
+    assert result.cylinder_stroke is not None and result.cylinder_tdc is not None
+    engine = result.engine
+    links = engine.links
+    tdc = np.degrees(result.cylinder_tdc)
+    columns = [Column("cylinder", key=True), Column("stroke", "mm"), Column("TDC at", "deg")]
+    if links is not None:
+        columns += [
+            Column("rod", justify="left"),
+            Column("master"),
+            Column("link pin radius", "mm"),
+            Column("link pin angle", "deg"),
+            Column("rod length", "mm"),
+        ]
+    rows = []
+    for i in range(engine.n_cylinders):
+        row = [
+            str(i + 1),
+            format_number(float(result.cylinder_stroke[i]) * 1e3, 6),
+            format_number(float(tdc[i]), 6),
+        ]
+        if links is not None:
+            m = int(links.master[i])
+            length = format_number(float(engine.conrod_length[i]) * 1e3)
+            if m >= 0:
+                row += [
+                    "link rod",
+                    str(m + 1),
+                    format_number(float(links.pin_radius[i]) * 1e3),
+                    format_number(math.degrees(float(links.pin_angle[i]))),
+                    length,
+                ]
+            else:
+                carried = int(np.count_nonzero(links.master == i))
+                rod = f"master rod, {carried} link(s)" if carried else "on the crank pin"
+                row += [rod, "-", "-", "-", length]
+        rows.append(row)
+    return NumberTable("Cylinders: stroke and TDC", columns, rows)
 
 
 def _roll_table(result: Result) -> NumberTable:
