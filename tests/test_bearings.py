@@ -398,6 +398,22 @@ def test_gas_max_and_mean_against_dense_sampling():
     np.testing.assert_allclose(got_mean, dmean, rtol=1e-9)
 
 
+def test_an_angle_gives_the_same_bits_alone_or_in_a_batch():
+    """The gas statistics search each dip and peak one angle per quantity and compare with
+    the values on the Gauss nodes, all evaluated many angles at once: a load at an angle
+    must not depend on which other angles it is evaluated with (a matrix product would
+    change its last bits with the number of columns)."""
+    engine = load_layout("v8-crossplane-gas")
+    theta = np.random.default_rng(3).uniform(0.0, 4 * np.pi, 67)
+    cws = [(engine.z[0], 0.01 + 0.003j)]
+    together = np.concatenate(bb.loads_at(engine, theta, counterweights=cws), axis=0)
+    for j in (0, 1, 33, 66):
+        alone = np.concatenate(bb.loads_at(engine, theta[j : j + 1], counterweights=cws), axis=0)
+        assert np.array_equal(alone[:, 0], together[:, j])
+    pair = np.concatenate(bb.loads_at(engine, theta[5:7], counterweights=cws), axis=0)
+    assert np.array_equal(pair, together[:, 5:7])
+
+
 def test_mean_converges_geometrically():
     """The trapezoidal mean of a smooth |F| converges geometrically: 64 points already
     agree with 4096 to 1e-9, 512 to rounding."""
