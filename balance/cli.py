@@ -5,7 +5,10 @@ Data goes to stdout (or ``-o PATH``), messages to stderr.  Exit codes: 0 success
 ``file:line:col: field: what is wrong; what is valid``; ``--debug`` shows the traceback.
 """
 
-from __future__ import annotations
+# No ``from __future__ import annotations`` in this module: typer reads the annotations of
+# every command's parameters whenever it builds the command line, and as strings each one
+# would be compiled and evaluated at every start (about 20 ms of a 0.3 s start, the most
+# that balance's own code costs there).  Names imported for type checking only are quoted.
 
 import functools
 import io
@@ -109,9 +112,7 @@ class Model(StrEnum):
 
 # options that several commands declare alike, written once
 _OutputFile = Annotated[Path | None, typer.Option("--output", "-o", help="Write to this file.")]
-_ReplaceOutput = Annotated[
-    bool, typer.Option("--force", help="Replace an existing output file.")
-]
+_ReplaceOutput = Annotated[bool, typer.Option("--force", help="Replace an existing output file.")]
 _Speed = Annotated[str | None, typer.Option("--speed", help="Crank speed, e.g. 7000rpm.")]
 _Quiet = Annotated[
     bool,
@@ -180,7 +181,7 @@ def _prepare(
     force: bool = False,
     binary: bool = False,
     **settings: Any,
-) -> tuple[Engine, Request]:
+) -> "tuple[Engine, Request]":
     """The preamble of a command that analyses one layout, written once.
 
     Reads ``--orders`` and ``--speed`` (each checked here, once), refuses an output that
@@ -324,7 +325,9 @@ def analyse_command(
     _write(result, format, output, force)
 
 
-def _attach_mounts(engine: Engine, file: Path | None, asked: bool, with_proposal: bool) -> Engine:
+def _attach_mounts(
+    engine: "Engine", file: Path | None, asked: bool, with_proposal: bool
+) -> "Engine":
     """The engine with the mounts of ``--mounts FILE`` (checks ``--with-proposal``)."""
     if with_proposal and not asked:
         raise InputError(
@@ -340,7 +343,7 @@ def _attach_mounts(engine: Engine, file: Path | None, asked: bool, with_proposal
 
 
 def _write(
-    result: Result,
+    result: "Result",
     format: Format,
     output: Path | None,
     force: bool,
@@ -377,7 +380,9 @@ def _write(
         _emit_rich(renderable, output, force, width=140)
 
 
-def _proposal_table(result: Result, factor_study: Any = None, strategies: Any = None) -> list[Any]:
+def _proposal_table(
+    result: "Result", factor_study: Any = None, strategies: Any = None
+) -> list[Any]:
     from rich.text import Text
 
     from balance.views.polar import speed_rpm
@@ -499,12 +504,17 @@ def propose_command(
         )
     strategies = _strategy_bearings(engine, request) if request.bearings else None
     _write(
-        result, format, output, force, proposal_only=True, factor_study=study,
+        result,
+        format,
+        output,
+        force,
+        proposal_only=True,
+        factor_study=study,
         strategies=strategies,
     )
 
 
-def _strategy_bearings(engine: Engine, request: Request) -> list[tuple[str, Any]]:
+def _strategy_bearings(engine: "Engine", request: "Request") -> list[tuple[str, Any]]:
     """Each counterweight strategy's bearing loads (``propose --bearings``)."""
     import dataclasses
 
@@ -730,7 +740,7 @@ def report_command(
     sys.stderr.write(f"balance: wrote {output}\n")
 
 
-def _with_section_mounts(engine: Engine, request: Request) -> tuple[Engine, Request]:
+def _with_section_mounts(engine: "Engine", request: "Request") -> "tuple[Engine, Request]":
     """Figures and reports of a layout with a ``mounts:`` section include the mounts."""
     import dataclasses
 

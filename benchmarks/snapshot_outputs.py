@@ -10,7 +10,12 @@ Run it before and after a change that must not move a number, then compare the f
 For each built-in layout it writes the contract JSON (orders 1-8, with the proposal, with
 gas forces where the layout has a ``gas:`` section), the CSV, the table, the proposal
 (``balance propose``) and the netCDF Dataset dumped as text with every float written by
-``float.hex`` (so that two files differ exactly when a bit differs).
+``float.hex`` (so that two files differ exactly when a bit differs); and the same with the
+bearing loads (``--bearings``): the JSON, the Dataset (pins, mains with and without the
+proposal, internal moments, their curves) and the Dataset of ``propose --factor-study
+--bearings`` (the largest loads of every balance factor).  JSON numbers are written by
+``repr``, the shortest text that reads back to the same float, so they too differ exactly
+when a bit does.
 """
 
 from __future__ import annotations
@@ -54,13 +59,24 @@ def snapshot(name: str, out: Path) -> None:
     (out / f"{name}.csv").write_text(run(["analyse", name, "--format", "csv"]))
     (out / f"{name}.table").write_text(run(["analyse", name]))
     (out / f"{name}.propose").write_text(run(["propose", name, "--factor-study"]))
+    (out / f"{name}.bearings.json").write_text(
+        run(["analyse", name, "--format", "json", "--bearings"])
+    )
+    dataset(["analyse", name], out / f"{name}.nc.txt")
+    dataset(["analyse", name, "--bearings"], out / f"{name}.bearings.nc.txt")
+    dataset(
+        ["propose", name, "--factor-study", "--bearings"], out / f"{name}.propose-bearings.nc.txt"
+    )
+
+
+def dataset(command: list[str], path: Path) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         nc = Path(tmp) / "result.nc"
-        status = run(["analyse", name, "--format", "netcdf", "-o", str(nc)])
+        status = run([*command, "--format", "netcdf", "-o", str(nc)])
         dump = subprocess.run(
             [sys.executable, "-c", DUMP, str(nc)], capture_output=True, text=True, check=False
         )
-        (out / f"{name}.nc.txt").write_text(status.split("\n")[0] + "\n" + dump.stdout)
+        path.write_text(status.split("\n")[0] + "\n" + dump.stdout)
 
 
 def main() -> None:

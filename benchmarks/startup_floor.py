@@ -1,15 +1,22 @@
 """The start-up floor of the design's stack, for comparison with ``balance``'s own start.
 
-A command line with nothing of ``balance`` in it: typer with a command of the same
-eleven options as ``balance analyse`` (typer builds a pydantic TypeAdapter for each),
-a small pydantic model validated from a YAML file read with PyYAML, and xarray imported.
-``benchmarks/model_ladder.py`` times it beside ``python -c "import xarray"`` and
-``balance analyse inline-4 --format json``: what ``balance`` adds is the difference.
+A command line with nothing of ``balance`` in it: numpy imported, typer with a command of
+the same eleven options as ``balance analyse`` (typer 0.29 builds a pydantic TypeAdapter
+for each option it parses), a small pydantic model validated from a YAML file read with
+PyYAML, and xarray imported.  ``benchmarks/model_ladder.py --cold-start`` times it beside
+``python -c "import xarray"`` and ``balance analyse inline-4 --format json``.
+
+With ``--without-xarray`` (given first) it leaves xarray out: then it is the floor of what
+``balance analyse --format json`` needs (numpy for the physics, typer for the command line,
+pydantic for the layout schema, PyYAML for the file), and what ``balance`` adds is the
+difference between the two.
 
     python benchmarks/startup_floor.py analyse layouts/inline-4.yaml --format json
+    python benchmarks/startup_floor.py --without-xarray analyse layouts/inline-4.yaml --format json
 """
 
 import os
+import sys
 
 # as balance's command line does: no scan of package metadata for pydantic plugins
 os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
@@ -18,7 +25,12 @@ from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
+import numpy
 import typer
+
+WITH_XARRAY = sys.argv[1:2] != ["--without-xarray"]
+if not WITH_XARRAY:
+    del sys.argv[1]
 
 app = typer.Typer(add_completion=False, pretty_exceptions_enable=False, rich_markup_mode=None)
 
@@ -47,8 +59,7 @@ def analyse(
     tolerance: Annotated[float | None, typer.Option("--tolerance")] = None,
     no_roll: Annotated[bool, typer.Option("--no-roll")] = False,
 ) -> None:
-    """Read and validate a layout file, import xarray, print one line."""
-    import xarray
+    """Read and validate a layout file, import xarray (unless left out), print one line."""
     import yaml
     from pydantic import BaseModel
 
@@ -67,7 +78,12 @@ def analyse(
         speed=data["speed"],
         geometry={k: str(data["geometry"][k]) for k in ("stroke", "conrod_length")},
     )
-    print(spec.name, xarray.__name__)
+    if WITH_XARRAY:
+        import xarray
+
+        print(spec.name, xarray.__name__, numpy.__name__)
+    else:
+        print(spec.name, numpy.__name__)
 
 
 if __name__ == "__main__":

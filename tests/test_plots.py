@@ -344,23 +344,43 @@ def test_every_kind_draws_what_was_computed(options):
         assert synthesis.roll_of(result)[0].size == 0
 
 
-def test_no_pyplot_and_lazy_matplotlib():
+def test_no_pyplot_and_lazy_matplotlib(tmp_path):
     """Importing balance.views.plots loads no matplotlib; drawing never loads pyplot, and
-    the figures and the report read the Result: no xarray Dataset is built."""
+    the figures, ``balance report`` and ``balance plot`` read the Result: no xarray
+    Dataset is built.  One fresh process for all of it (one start of Python and
+    matplotlib), checked after each step."""
     code = (
         "import sys, balance, balance.views.plots, balance.views.report, balance.views.signals\n"
         "from balance.core.analysis import compute\n"
         "from balance.core.result import Request\n"
+        "from balance.cli import main\n"
         "assert 'matplotlib' not in sys.modules, 'matplotlib imported at import time'\n"
         "result = compute(balance.load_layout('inline-3'), Request())\n"
         "figures = [f(result) for f in balance.views.plots.PLOT_KINDS.values()]\n"
         "balance.views.plots.figure_bytes(figures[1], 'png')  # Agg; the report draws SVG\n"
-        "balance.views.report.render_report(result)\n"
         "assert 'matplotlib.pyplot' not in sys.modules, 'pyplot imported'\n"
         "assert 'xarray' not in sys.modules, 'xarray imported'\n"
+        "split = 2 + int(sys.argv[1])\n"
+        "for args in (sys.argv[2:split], sys.argv[split:]):  # the commands\n"
+        "    sys.argv = ['balance', *args]\n"
+        "    try:\n"
+        "        main()\n"
+        "    except SystemExit as stop:\n"
+        "        assert not stop.code, (args, stop.code)\n"
+        "    assert 'matplotlib.pyplot' not in sys.modules, ('pyplot imported', args)\n"
+        "    assert 'xarray' not in sys.modules, ('xarray imported', args)\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    report = ["report", "inline-3", "-o", str(tmp_path / "r.html")]
+    plot = ["plot", "inline-3", "-k", "locus", "-k", "roll", "-o", str(tmp_path)]
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(len(report)), *report, *plot],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert done.returncode == 0, done.stderr
+    assert (tmp_path / "r.html").read_text(encoding="utf-8").startswith("<!DOCTYPE html>")
+    assert (tmp_path / "inline-3-locus.png").exists() and (tmp_path / "inline-3-roll.png").exists()
 
 
 def test_balance_without_a_proposal_is_a_clear_error():

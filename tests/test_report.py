@@ -251,30 +251,3 @@ def test_report_renders_in_a_headless_browser(name, tmp_path):
     assert all(width > 100 and height > 100 for width, height in boxes), boxes
     assert headings == len(SECTIONS)
     assert (tmp_path / f"{name}.png").stat().st_size > 10_000
-
-
-def test_report_and_plot_commands_build_no_dataset(tmp_path: Path) -> None:
-    """``balance report`` and ``balance plot`` hand the Result to the views: no xarray."""
-    import subprocess
-    import sys
-
-    code = (
-        "import sys\n"
-        "from balance.cli import main\n"
-        "sys.argv = ['balance', *sys.argv[1:]]\n"
-        "try:\n"
-        "    main()\n"
-        "except SystemExit as stop:\n"
-        "    assert not stop.code, stop.code\n"
-        "assert 'xarray' not in sys.modules, 'xarray imported'\n"
-    )
-    for args in (
-        ["report", "inline-3", "-o", str(tmp_path / "r.html")],
-        ["plot", "inline-3", "-k", "locus", "-k", "roll", "-o", str(tmp_path)],
-    ):
-        done = subprocess.run(
-            [sys.executable, "-c", code, *args], capture_output=True, text=True, check=False
-        )
-        assert done.returncode == 0, done.stderr
-    assert (tmp_path / "r.html").stat().st_size > 0
-    assert (tmp_path / "inline-3-locus.png").exists() and (tmp_path / "inline-3-roll.png").exists()

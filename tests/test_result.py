@@ -104,32 +104,42 @@ def test_import_is_cheap():
     assert out.stdout.strip() == ""
 
 
-@pytest.mark.parametrize(
-    "args",
-    [
-        ["analyse", "inline-4"],
-        ["analyse", "inline-4", "--format", "json"],
-        ["analyse", "inline-4", "--format", "csv"],
-        ["analyse", "inline-4-gas", "--format", "json"],
-        ["propose", "inline-4"],
-        ["propose", "inline-4", "--format", "json"],
-    ],
-)
-def test_printing_a_result_imports_no_data_frame_units_or_plot_library(args):
+COMMANDS = [
+    ["analyse", "inline-4"],
+    ["analyse", "inline-4", "--format", "json"],
+    ["analyse", "inline-4", "--format", "csv"],
+    ["analyse", "inline-4-gas", "--format", "json"],
+    ["propose", "inline-4"],
+    ["propose", "inline-4", "--format", "json"],
+]
+
+
+def test_printing_a_result_imports_no_data_frame_units_or_plot_library():
     """The table, JSON and CSV views read the Result: the command imports none of xarray,
-    pandas, pint or matplotlib (``-X importtime`` lists every module the process imported)."""
+    pandas, pint or matplotlib.  The six commands run one after another in one fresh
+    process (one start of Python, not six), which lists after each what is imported so
+    far: a heavy module imported by any of them is in every later list too."""
+    code = (
+        "import json, sys\n"
+        "from balance.cli import main\n"
+        "for args in json.loads(sys.argv[1]):\n"
+        "    sys.argv = ['balance', *args]\n"
+        "    try:\n"
+        "        main()\n"
+        "    except SystemExit as stop:\n"
+        "        assert not stop.code, (args, stop.code)\n"
+        "    sys.stderr.write('MODULES ' + ' '.join(sorted(sys.modules)) + '\\n')\n"
+    )
     proc = subprocess.run(
-        [sys.executable, "-X", "importtime", "-m", "balance", *args],
+        [sys.executable, "-c", code, json.dumps(COMMANDS)],
         capture_output=True,
         text=True,
         check=False,
     )
     assert proc.returncode == 0, proc.stderr[-2000:]
-    imported = {
-        line.rsplit("|", 1)[-1].strip()
-        for line in proc.stderr.splitlines()
-        if line.startswith("import time:")
-    }
-    assert "balance.core.analysis" in imported  # the listing is complete
-    heavy = sorted(m for m in imported if m.split(".")[0] in HEAVY)
-    assert heavy == [], f"{' '.join(args)} imported {heavy}"
+    listings = [line.split()[1:] for line in proc.stderr.splitlines() if line.startswith("MODULES")]
+    assert len(listings) == len(COMMANDS)
+    for args, imported in zip(COMMANDS, listings, strict=True):
+        assert "balance.core.analysis" in imported  # the listing is complete
+        heavy = sorted(m for m in imported if m.split(".")[0] in HEAVY)
+        assert heavy == [], f"{' '.join(args)} imported {heavy}"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from typing import Any
 
 import numpy as np
 import pytest
@@ -263,7 +264,12 @@ def test_chunk_slices_cover_the_grid():
 
 
 def test_dask_cluster_gives_identical_result(tmp_path):
-    """A real local cluster (worker processes): the same bits in memory, netCDF and Zarr."""
+    """A real local cluster (worker processes): the same bits in memory, netCDF and Zarr.
+
+    The three runs scatter the same plan on one client; each must do so under a key of its
+    own.  With the plan's hash as its key (Dask's default) a run could scatter the key while
+    the previous run's release of it was still on its way to the scheduler, which then
+    dropped the new copy: "lost dependencies", about one run in twenty."""
     import distributed  # a test dependency
 
     layout = balance.load_layout("v6-90")
@@ -274,6 +280,15 @@ def test_dask_cluster_gives_identical_result(tmp_path):
         ) as cluster,
         distributed.Client(cluster) as client,
     ):
+        scattered: list[str] = []
+        scatter = client.scatter
+
+        def recording_scatter(*args: Any, **kwargs: Any) -> Any:
+            future = scatter(*args, **kwargs)
+            scattered.append(future.key)
+            return future
+
+        client.scatter = recording_scatter  # type: ignore[method-assign]
         remote = sweep(layout, VARY, orders="1-4", chunk_size=7, client=client)
         nc = balance.studies.sweep.sweep_to_file(
             layout, VARY, tmp_path / "s.nc", orders="1-4", chunk_size=7, client=client
@@ -281,6 +296,7 @@ def test_dask_cluster_gives_identical_result(tmp_path):
         store = balance.studies.sweep.sweep_to_file(
             layout, VARY, tmp_path / "s.zarr", orders="1-4", chunk_size=7, client=client
         )
+    assert len(scattered) == 3 and len(set(scattered)) == 3, scattered
     xr.testing.assert_identical(local, remote)
     with xr.open_dataset(nc) as from_netcdf, xr.open_zarr(store) as from_zarr:
         for name in local.data_vars:

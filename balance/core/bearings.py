@@ -416,11 +416,47 @@ def gas_forces(
     gas = engine.gas
     assert gas is not None, "gas_forces needs an engine with a gas section"
     tables = tables if tables is not None else _pressure_tables(engine)
+    return _gas_forces(engine, theta, _periodic_tables(tables, gas.cycle_deg))
+
+
+def _periodic_tables(
+    tables: list[tuple[FloatArray, FloatArray]], period: float
+) -> list[tuple[FloatArray, FloatArray]]:
+    """Each table as ``np.interp(..., period=period)`` prepares it on every call: angles
+    reduced to the period and sorted, one point repeated beyond either end.
+
+    Done once per table (a table shared by several cylinders is prepared once), so that
+    :func:`_gas_forces` interpolates with the same arithmetic and without sorting the
+    table again at every call (the searches of :func:`bearing_loads` call it many times).
+    """
+    prepared: dict[int, tuple[FloatArray, FloatArray]] = {}
+    out = []
+    for angle, pressure in tables:
+        key = id(angle) ^ (id(pressure) << 1)
+        if key not in prepared:
+            xp = np.asarray(angle, dtype=np.float64) % period
+            fp = np.asarray(pressure, dtype=np.float64)
+            order = np.argsort(xp)
+            xp, fp = xp[order], fp[order]
+            prepared[key] = (
+                np.concatenate((xp[-1:] - period, xp, xp[0:1] + period)),
+                np.concatenate((fp[-1:], fp, fp[0:1])),
+            )
+        out.append(prepared[key])
+    return out
+
+
+def _gas_forces(
+    engine: Engine, theta: ArrayLike, periodic: list[tuple[FloatArray, FloatArray]]
+) -> FloatArray:
+    """:func:`gas_forces` from the tables of :func:`_periodic_tables`."""
+    gas = engine.gas
+    assert gas is not None
     th = np.degrees(np.asarray(theta, dtype=np.float64))
     out = np.empty((engine.n_cylinders, th.size))
-    for i, (angle, pressure) in enumerate(tables):
+    for i, (xp, fp) in enumerate(periodic):
         alpha = np.mod(th - gas.firing_tdc[i], gas.cycle_deg)
-        out[i] = np.interp(alpha, angle, pressure, period=gas.cycle_deg)
+        out[i] = np.interp(alpha % gas.cycle_deg, xp, fp)
     return (out - gas.crankcase_pressure) * gas.piston_area
 
 
@@ -524,9 +560,14 @@ class _Model:
         self.moment_cw = moment_arms(cw_z, mains) @ cw_u if cw_z.size else np.zeros(mains.size)
         self.with_gas = with_gas
         self.tables = _pressure_tables(engine) if with_gas else None
+        self.periodic = (
+            _periodic_tables(self.tables, engine.gas.cycle_deg)
+            if self.tables is not None and engine.gas is not None
+            else None
+        )
 
     def pins(self, theta: FloatArray, gas: bool) -> ComplexArray:
-        g = gas_forces(self.engine, theta, self.tables) if gas else None
+        g = _gas_forces(self.engine, theta, self.periodic) if gas and self.periodic else None
         return np.asarray(self.sum_pins @ big_end_forces(self.engine, theta, g))
 
     def throws(self, pins: ComplexArray, theta: FloatArray) -> ComplexArray:
@@ -534,11 +575,11 @@ class _Model:
 
     def mains_of(self, throws: ComplexArray, theta: FloatArray) -> ComplexArray:
         turning = np.exp(1j * theta)[None, :]
-        return np.asarray(self.main_pins @ throws + self.main_cw[:, None] * turning)
+        return _combine(self.main_pins, throws) + self.main_cw[:, None] * turning
 
     def moments_of(self, throws: ComplexArray, theta: FloatArray) -> ComplexArray:
         turning = np.exp(1j * theta)[None, :]
-        return np.asarray(self.moment_pins @ throws + self.moment_cw[:, None] * turning)
+        return _combine(self.moment_pins, throws) + self.moment_cw[:, None] * turning
 
     def cycle_loads(self, theta: FloatArray) -> tuple[ComplexArray, ComplexArray]:
         """Pin and main loads (with gas if asked)."""
@@ -567,6 +608,20 @@ class _Model:
         mains = self.main_pins @ throws + self.main_cw[:, None] * one
         moments = self.moment_pins @ throws + self.moment_cw[:, None] * one
         return k, np.concatenate([pins, mains, moments], axis=0)
+
+
+def _combine(shares: FloatArray, loads: ComplexArray) -> ComplexArray:
+    r""":math:`\sum_j S_{mj} F_j` at every angle, shape (rows of ``shares``, angles).
+
+    Summed load by load, in order, so that the value at an angle has the same bits whatever
+    other angles are evaluated with it (a matrix product's kernel, and so its rounding,
+    depends on the number of columns); the searches of :func:`bearing_loads` evaluate one
+    angle per quantity and compare with the values on the nodes.
+    """
+    out = np.zeros((shares.shape[0], loads.shape[1]), dtype=np.complex128)
+    for j in range(shares.shape[1]):
+        out += shares[:, j : j + 1] * loads[j]
+    return out
 
 
 def loads_at(
@@ -977,7 +1032,7 @@ def largest_loads(
             return np.abs(main[None] + cw_main[:, :, None] * turning).reshape(-1, t.size)
 
         nodes, weights, edges = _gas_nodes(engine, model)
-        main_max = _weighted_stats(loads, nodes, weights, edges, cycle).maximum
+        main_max = _weighted_stats(loads, nodes, weights, edges, cycle, mean_wanted=False).maximum
         moment_max = _spectral_stats(
             k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool)
         ).maximum
@@ -1167,12 +1222,19 @@ def _weighted_stats(
     weights: FloatArray,
     edges: FloatArray,
     period: float,
+    mean_wanted: bool = True,
 ) -> _Stats:
     """Max and mean of the rows of ``f`` from Gauss nodes between kink ``edges``.
 
     Where a quantity dips towards zero (a sampled local minimum below
     :data:`GRADE_BELOW` of its maximum) its integral over the three intervals around the dip
-    is taken again, split at the refined minimum and graded towards it.
+    is taken again, split at the refined minimum and graded towards it.  Without
+    ``mean_wanted`` (only the maximum is used) the dips are not refined and the mean is the
+    Gauss rule's alone.
+
+    ``f`` must give each angle's values independently of the other angles it is given (the
+    searches evaluate one angle per dip, the rules many at once); every dip is searched and
+    integrated at once, each exactly as it would be alone.
     """
     values = f(nodes)
     integral = values @ weights
@@ -1182,46 +1244,59 @@ def _weighted_stats(
     n_int = edges.size - 1
     ext = np.concatenate([edges[-2:-1] - period, edges, edges[1:2] + period])
     done: set[tuple[int, int]] = set()
-    for row, i in zip(*np.nonzero(dips), strict=True):
+    found: list[tuple[int, int, int]] = []  # (row, interval, node) of each dip refined
+    for row, i in zip(*np.nonzero(dips), strict=True) if mean_wanted else ():
         j = int(i) // GAUSS_NODES
         if (int(row), j) in done or top[row] == 0.0:
             continue
-        span = [(j - 1) % n_int, j, (j + 1) % n_int]
-        done.update((int(row), q) for q in span)
-        lo_t = nodes[(int(i) - 1) % nodes.size] - (period if i == 0 else 0.0)
-        hi_t = nodes[(int(i) + 1) % nodes.size] + (period if i == nodes.size - 1 else 0.0)
-
-        def one(t: float, r: int = int(row)) -> float:
-            return float(f(np.array([t]))[r, 0])
-
-        t_min = _golden_min(one, lo_t, hi_t)
-        breaks = np.sort(np.array([ext[j], ext[j + 1], ext[j + 2], ext[j + 3], t_min]))
-        t, w = _graded_segments(breaks, t_min)
-        old = sum(
-            values[row, q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
-            @ weights[q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
-            for q in span
-        )
-        integral[row] += f(t)[row] @ w - old
+        done.update((int(row), q) for q in ((j - 1) % n_int, j, (j + 1) % n_int))
+        found.append((int(row), j, int(i)))
+    if found:
+        rows = np.array([r for r, _, _ in found])
+        at = np.array([i for _, _, i in found])
+        lo_t = nodes[(at - 1) % nodes.size] - np.where(at == 0, period, 0.0)
+        hi_t = nodes[(at + 1) % nodes.size] + np.where(at == nodes.size - 1, period, 0.0)
+        t_min = _golden_min(f, rows, lo_t, hi_t)
+        pieces = []
+        for (_, j, _), t0 in zip(found, t_min, strict=True):
+            breaks = np.sort(np.array([ext[j], ext[j + 1], ext[j + 2], ext[j + 3], t0]))
+            pieces.append(_graded_segments(breaks, float(t0)))
+        graded = f(np.concatenate([t for t, _ in pieces]))
+        first = 0
+        for (row, j, _), (t, w) in zip(found, pieces, strict=True):
+            span = [(j - 1) % n_int, j, (j + 1) % n_int]
+            old = sum(
+                values[row, q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
+                @ weights[q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
+                for q in span
+            )
+            integral[row] += graded[row, first : first + t.size] @ w - old
+            first += t.size
     maximum, argmax = _golden_max(f, nodes, values, period)
     return _Stats(maximum, argmax, integral / period, nodes.size)
 
 
-def _golden_min(g: Callable[[float], float], lo: float, hi: float) -> float:
-    """Golden-section search for the minimum of ``g`` in ``[lo, hi]``."""
+def _golden_min(
+    f: Callable[[FloatArray], FloatArray], rows: NDArray[np.intp], lo: FloatArray, hi: FloatArray
+) -> FloatArray:
+    """Golden-section search for the minimum of row ``rows[d]`` of ``f`` in
+    ``[lo[d], hi[d]]``, for every d at once (each search the same steps as alone)."""
     r = (math.sqrt(5.0) - 1.0) / 2.0
+    cols = np.arange(rows.size)
+
+    def g(t: FloatArray) -> FloatArray:
+        return f(t)[rows, cols]
+
     x1, x2 = hi - r * (hi - lo), lo + r * (hi - lo)
     g1, g2 = g(x1), g(x2)
     for _ in range(GOLDEN_ITERATIONS):
-        if g1 <= g2:
-            hi, x2, g2 = x2, x1, g1
-            x1 = hi - r * (hi - lo)
-            g1 = g(x1)
-        else:
-            lo, x1, g1 = x1, x2, g2
-            x2 = lo + r * (hi - lo)
-            g2 = g(x2)
-    return x1 if g1 <= g2 else x2
+        left = g1 <= g2  # the minimum is in [lo, x2]: shift left, else in [x1, hi]
+        lo, hi = np.where(left, lo, x1), np.where(left, x2, hi)
+        fresh_x = np.where(left, hi - r * (hi - lo), lo + r * (hi - lo))
+        fresh = g(fresh_x)
+        x1, x2 = np.where(left, fresh_x, x2), np.where(left, x1, fresh_x)
+        g1, g2 = np.where(left, fresh, g2), np.where(left, g1, fresh)
+    return np.where(g1 <= g2, x1, x2)
 
 
 def _graded_segments(breaks: FloatArray, toward: float) -> tuple[FloatArray, FloatArray]:

@@ -409,13 +409,21 @@ def _run_chunks(
             return
         from distributed import as_completed
 
-        plan_future = client.scatter(plan, broadcast=True)
+        # hash=False: a fresh key for every run.  With the default the key is the plan's
+        # hash, so a second run of the same plan on the same client scatters a key whose
+        # release by the first run may still be on its way to the scheduler; the scheduler
+        # then forgets the new copy, and the chunks fail with "lost dependencies"
+        # (dask/distributed issue 3703).
+        plan_future = client.scatter(plan, broadcast=True, hash=False)
         futures = {client.submit(_chunk, plan_future, where, pure=False): where for where in chunks}
-        for future in as_completed(list(futures)):
-            where = futures.pop(future)
-            result = future.result()
-            future.release()
-            yield where, result
+        try:
+            for future in as_completed(list(futures)):
+                where = futures.pop(future)
+                result = future.result()
+                future.release()
+                yield where, result
+        finally:  # stopped early (an error, an interrupted write): nothing left on the cluster
+            client.cancel([*futures, plan_future])
 
     if progress is not None:
         progress.start(math.prod(plan.shape))
