@@ -255,17 +255,26 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
         _modes_table(m),
     ]
     step = max(1, m.speed.size // 25)
+    shown = list(range(0, m.speed.size, step))
+    if shown[-1] != m.speed.size - 1:
+        shown.append(m.speed.size - 1)  # the top speed is always a row
+    title = "Largest mount force against speed, per order"
+    if step > 1:
+        title += (
+            f" (one row per {step} speeds, and the top speed; all {m.speed.size} with "
+            "--format csv or json)"
+        )
     largest = m.largest_force
     parts.append(
         NumberTable(
-            "Largest mount force against speed, per order",
+            title,
             [
                 Column("speed", "rpm", key=True),
                 *(Column(f"order {order_value(k)}", "N") for k in m.orders),
             ],
             [
                 [_fmt(float(m.speed[s]) * RPM, 5), *(_fmt(float(v)) for v in largest[s])]
-                for s in range(0, m.speed.size, step)
+                for s in shown
             ],
         )
     )
