@@ -143,7 +143,7 @@ def test_mounts_table_says_which_speeds_it_shows_and_ends_at_the_top_speed():
         env={"COLUMNS": "200"},
     )
     assert result.exit_code == 0, result.output
-    assert "one row per 8 speeds, and the top speed; all 200 with --format csv or json" in (
+    assert "\nrows: one per 8 speeds and the top speed; all 200 with --format csv or json\n" in (
         result.output
     )
     table = result.output.split("Largest mount force against speed", 1)[1].split("└", 1)[0]

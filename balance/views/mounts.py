@@ -258,16 +258,18 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
     shown = list(range(0, m.speed.size, step))
     if shown[-1] != m.speed.size - 1:
         shown.append(m.speed.size - 1)  # the top speed is always a row
-    title = "Largest mount force against speed, per order"
-    if step > 1:
-        title += (
-            f" (one row per {step} speeds, and the top speed; all {m.speed.size} with "
-            "--format csv or json)"
-        )
+    notes = (
+        [
+            f"rows: one per {step} speeds and the top speed; all {m.speed.size} with "
+            "--format csv or json"
+        ]
+        if step > 1
+        else []
+    )
     largest = m.largest_force
     parts.append(
         NumberTable(
-            title,
+            "Largest mount force against speed, per order",
             [
                 Column("speed", "rpm", key=True),
                 *(Column(f"order {order_value(k)}", "N") for k in m.orders),
@@ -276,6 +278,7 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
                 [_fmt(float(m.speed[s]) * RPM, 5), *(_fmt(float(v)) for v in largest[s])]
                 for s in shown
             ],
+            notes=notes,
         )
     )
     found = crossing_entries(m)
