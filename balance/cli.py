@@ -391,7 +391,10 @@ def _proposal_table(
     engine = result.engine
     parts: list[Any] = [
         Text(str(engine.name), style="bold"),
-        Text(f"{engine.n_cylinders} cylinders at {speed_rpm(engine.speed):.0f} rpm"),
+        Text(
+            f"{engine.n_cylinders} cylinder{'s' if engine.n_cylinders != 1 else ''} at "
+            f"{speed_rpm(engine.speed):.0f} rpm"
+        ),
     ]
     parts += render_proposal(result)
     if factor_study is not None:

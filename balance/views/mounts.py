@@ -255,6 +255,17 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
         _modes_table(m),
     ]
     step = max(1, m.speed.size // 25)
+    shown = list(range(0, m.speed.size, step))
+    if shown[-1] != m.speed.size - 1:
+        shown.append(m.speed.size - 1)  # the top speed is always a row
+    notes = (
+        [
+            f"rows: one per {step} speeds and the top speed; all {m.speed.size} with "
+            "--format csv or json"
+        ]
+        if step > 1
+        else []
+    )
     largest = m.largest_force
     parts.append(
         NumberTable(
@@ -265,8 +276,9 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
             ],
             [
                 [_fmt(float(m.speed[s]) * RPM, 5), *(_fmt(float(v)) for v in largest[s])]
-                for s in range(0, m.speed.size, step)
+                for s in shown
             ],
+            notes=notes,
         )
     )
     found = crossing_entries(m)

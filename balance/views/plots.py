@@ -74,6 +74,7 @@ __all__ = [
     "PHASOR_COLUMNS",
     "PLOT_KINDS",
     "STYLE",
+    "applicable_kinds",
     "figure_bytes",
     "phasor_panels",
     "plot_balance",
@@ -1415,6 +1416,20 @@ def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
     return buffer.getvalue()
 
 
+def applicable_kinds(result: Result) -> list[str]:
+    """The kinds of :data:`PLOT_KINDS` that have something to draw for ``result``, in order:
+    ``balance`` with a proposal, ``mounts`` with mounts, the :data:`BEARING_KINDS` with
+    bearing loads and the :data:`GAS_KINDS` with gas forces; the others always."""
+    return [
+        k
+        for k in PLOT_KINDS
+        if (k != "balance" or synthesis.has_proposal(result))
+        and (k != "mounts" or result.mounts is not None)
+        and (k not in BEARING_KINDS or result.bearings is not None)
+        and (k not in GAS_KINDS or result.torque is not None)
+    ]
+
+
 def save_plots(
     result: Result,
     directory: str | os.PathLike[str],
@@ -1436,9 +1451,7 @@ def save_plots(
     directory : path
         Where to write; created if missing.
     kinds : iterable of str, optional
-        Kinds of :data:`PLOT_KINDS`; default all that apply: ``balance`` with a proposal,
-        ``mounts`` with mounts, the :data:`BEARING_KINDS` with bearing loads and the
-        :data:`GAS_KINDS` with gas forces.
+        Kinds of :data:`PLOT_KINDS`; default all that apply (:func:`applicable_kinds`).
     fmt : {'png', 'svg', 'pdf'}
         File format.
     prefix : str
@@ -1462,14 +1475,7 @@ def save_plots(
     if fmt not in FORMATS:
         raise InputError(f"format {fmt!r}: expected one of {', '.join(FORMATS)}")
     if kinds is None:
-        chosen = [
-            k
-            for k in PLOT_KINDS
-            if (k != "balance" or synthesis.has_proposal(result))
-            and (k != "mounts" or result.mounts is not None)
-            and (k not in BEARING_KINDS or result.bearings is not None)
-            and (k not in GAS_KINDS or result.torque is not None)
-        ]
+        chosen = applicable_kinds(result)
     else:
         chosen = list(kinds)
         unknown = [k for k in chosen if k not in PLOT_KINDS]

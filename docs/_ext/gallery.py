@@ -1,10 +1,12 @@
 """Sphinx extension: the figure gallery of a few built-in layouts, drawn at build time.
 
-When the builder starts (``builder-inited``) every figure kind of :mod:`balance.views.plots` is
-drawn for each layout of :data:`LAYOUTS` (the :class:`~balance.core.result.Result` of
-:func:`balance.core.analysis.compute`, with their balancing proposals) into
-``_generated/gallery/<layout>-<kind>.png`` under the documentation source, and the MyST
-page ``_generated/gallery.md`` that shows them is written; ``gallery.md`` includes it.
+When the builder starts (``builder-inited``) every figure kind of :mod:`balance.views.plots`
+that applies (:func:`balance.views.plots.applicable_kinds`) is drawn for each layout of
+:data:`LAYOUTS` (the :class:`~balance.core.result.Result` of
+:func:`balance.core.analysis.compute` with the request given there: balancing proposals,
+bearing loads, gas forces, mounts) into ``_generated/gallery/<layout>-<kind>.png`` under
+the documentation source, and the MyST page ``_generated/gallery.md`` that shows them is
+written; ``gallery.md`` includes it.  Between them the layouts show every kind.
 
 The output is deterministic: the same package gives the same bytes, and a file is only
 rewritten when its content changes, so that Sphinx does not rebuild pages for nothing.
@@ -23,8 +25,16 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-#: Built-in layouts shown in the gallery, in order.
-LAYOUTS = ("inline-4", "inline-3", "v8-crossplane")
+#: Built-in layouts shown in the gallery, in order, each with the settings of its
+#: :class:`~balance.core.result.Request` (orders 1 to 8) and, optionally, the kinds shown
+#: (default: every kind that applies).  A kind is drawn only where it has something to show.
+LAYOUTS: tuple[tuple[str, dict[str, bool], tuple[str, ...] | None], ...] = (
+    ("inline-4", {"bearings": True}, None),
+    ("inline-3", {"bearings": True}, None),
+    ("v8-crossplane", {"bearings": True}, None),
+    ("inline-4-gas", {}, ("torque", "forces")),
+    ("inline-4-mounts", {"mounts": True}, ("mounts",)),
+)
 
 #: Where the gallery goes, relative to the documentation source directory.
 GENERATED = "_generated"
@@ -43,6 +53,19 @@ CAPTIONS = {
     "roll": "Roll torque on the block over a revolution, and its amplitude per order.",
     "balance": "Force, moment and roll before and after the proposed counterweights and "
     "balance shafts.",
+    "torque": "With gas forces: the torque of each cylinder and the engine torque over the "
+    "working cycle, with the mean.",
+    "forces": "With gas forces: the forces on cylinder 1's crank train over the cycle "
+    "(piston force P split into gas and inertia, side force N, rod force S, tangential T, "
+    "radial K).",
+    "mounts": "On its mounts: the largest mount force of each order against speed, with the "
+    "speeds where an order meets a rigid-body mode.",
+    "pin_load": "Crank-pin load in the crank-fixed frame (up: outwards along the throw), "
+    "one diagram per different pin.",
+    "main_loads": "Main-bearing loads in the engine frame, without and with the proposed "
+    "counterweights.",
+    "internal_moment": "The crankshaft's largest internal bending moment at each main, "
+    "without and with the proposed counterweights.",
 }
 
 
@@ -105,14 +128,14 @@ def generate(srcdir: str | os.PathLike[str]) -> list[Path]:
     import balance
     from balance.core.analysis import compute
     from balance.core.result import Request
-    from balance.views.plots import PLOT_KINDS, figure_bytes, proposal_summary
+    from balance.views.plots import PLOT_KINDS, applicable_kinds, figure_bytes, proposal_summary
 
     root = Path(srcdir) / GENERATED
     written = []
     sections = []
-    for name in LAYOUTS:
-        result = compute(balance.load_layout(name), Request())
-        kinds = [k for k in PLOT_KINDS if k != "balance" or result.balanced is not None]
+    for name, settings, shown in LAYOUTS:
+        result = compute(balance.load_layout(name), Request.of(range(1, 9), **settings))
+        kinds = [k for k in applicable_kinds(result) if shown is None or k in shown]
         for kind in kinds:
             path = root / "gallery" / f"{name}-{kind}.png"
             if _write_if_changed(path, figure_bytes(PLOT_KINDS[kind](result), "png")):
