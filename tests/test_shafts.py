@@ -179,6 +179,26 @@ def test_one_shaft_cannot_cancel_roll_near_the_crank_axis():
     assert abs(sampled[0] - balanced.roll[0]) <= 1e-9 * _roll_unit(layout)
 
 
+def test_a_shaft_placed_beyond_the_crank_trains_reach_is_noted():
+    """radial-9's first-order roll (200.7 N m) needs its -1 shaft 804.6 mm above the crank
+    axis, more than twice crank radius + conrod length (65 + 250 mm): cancelled on paper, so
+    the note says so; the inline-4's pair (heights -15.8 and -156.2 mm) gets no such note."""
+    layout = load_layout("radial-9")
+    balanced = _balanced(layout, cancel_roll=True)
+    first = next(s for s in balanced.proposal.shafts if s.speed_ratio == -1)
+    assert first.y == pytest.approx(0.8046, abs=1e-4) and first.x == 0.0
+    note = balanced.proposal.notes[0]
+    assert note.startswith("order 1: shaft placed to cancel the roll: -1 at x = 0 mm")
+    assert "the shaft at -1 is 804.6 mm from the crank axis, beyond the crank train's reach" in (
+        note
+    )
+    assert "(crank radius + conrod length = 315 mm)" in note
+    sampled = _sampled_roll(layout, balanced.proposal)
+    assert abs(sampled[0]) <= 1e-9 * _roll_unit(layout)  # the roll is cancelled all the same
+    inline = _balanced(load_layout("inline-4"), cancel_roll=True)
+    assert not any("reach" in n for n in inline.proposal.notes)
+
+
 def test_shafts_carrying_pure_couples_cannot_move_the_roll():
     """A boxer twin's shafts carry couples only (no net force): no torque about the crank
     axis wherever they sit, so the engine's roll stays and the notes say why."""

@@ -409,6 +409,9 @@ def propose(
         if engine_roll is None:
             raise AnalysisError("cancelling roll needs the engine's roll phasors")
         shafts, placed = place_for_roll(shafts, engine_roll, w2, clearance)
+        reach = float(np.max(layout.crank_radius + layout.conrod_length))
+        for k, text in _beyond_reach_notes(shafts, reach).items():
+            placed[k] = f"{placed[k]}; {text}" if k in placed else f"order {k}: {text}"
     raised = (
         _roll_increase_notes(
             shafts, engine_roll, w2, clearance, cancel_roll, with_gas=layout.gas is not None
@@ -766,6 +769,25 @@ def _placed(group: tuple[BalanceShaft, ...], engine: complex, before: complex) -
         f"to cancel the roll: {where} (roll {abs(before):.4g} N m with the shafts at their "
         f"starting positions, {abs(engine):.4g} N m from the engine alone"
     )
+
+
+def _beyond_reach_notes(shafts: Sequence[BalanceShaft], reach: float) -> dict[int, str]:
+    """A note for every order whose roll placement puts a shaft farther from the crank axis
+    than the crank train reaches (crank radius + conrod length [m]): the roll is cancelled on
+    paper, but a crankcase seldom has room there."""
+    out: dict[int, str] = {}
+    for s in shafts:
+        distance = abs(complex(s.y, s.x))
+        if "cancel-roll" in (s.x_from, s.y_from) and distance > reach:
+            k = abs(s.speed_ratio)
+            text = (
+                f"the shaft at {s.speed_ratio:+d} is {distance * 1e3:.4g} mm from the crank "
+                f"axis, beyond the crank train's reach (crank radius + conrod length = "
+                f"{reach * 1e3:.4g} mm): check that the crankcase has room for it, or give "
+                "the shafts' positions in the layout (balance: shafts:)"
+            )
+            out[k] = f"{out[k]}; {text}" if k in out else text
+    return out
 
 
 def _roll_increase_notes(
