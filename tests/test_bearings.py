@@ -434,7 +434,8 @@ def test_mean_converges_geometrically():
 
 def test_gas_mean_tangential_pin_force_times_r_is_mean_torque_per_cylinder():
     """Inline-4 with gas: the mean over the cycle of each pin's tangential force x r equals
-    the mean engine torque of core.torque divided by the number of cylinders."""
+    the mean engine torque of core.torque divided by the number of cylinders; at every angle
+    the pin's tangential and radial force are core.torque's."""
     engine = load_layout("inline-4-gas")
     torque = compute_torque(engine, np.arange(1, 9))
     theta = np.radians(torque.crank_angle)
@@ -445,12 +446,23 @@ def test_gas_mean_tangential_pin_force_times_r_is_mean_torque_per_cylinder():
     tangential = np.real(rods * np.conj(direction))
     mean_torque = (tangential * engine.crank_radius[:, None]).mean(axis=1)
     np.testing.assert_allclose(mean_torque, torque.mean / 4, rtol=1e-9)
-    # and at every angle the torque equals core.torque's (rod inertia adds Delta I terms)
-    lumped = dataclasses.replace(engine, conrod_inertia_correction=np.zeros(4))
-    rods0 = bb.big_end_forces(lumped, theta, gas)
-    t0 = np.real(rods0 * np.conj(direction)) * engine.crank_radius[:, None]
+    # and at every angle the pin's tangential and radial forces are core.torque's T and K
+    # (both with the rod's inertia beyond its two-mass model, Delta I != 0), K less the
+    # centrifugal force of the rod's big-end share
+    assert np.all(engine.conrod_inertia_correction != 0.0)
     np.testing.assert_allclose(
-        t0, torque.cylinder_torque, rtol=0, atol=1e-9 * np.max(np.abs(torque.cylinder_torque))
+        tangential * engine.crank_radius[:, None],
+        torque.cylinder_torque,
+        rtol=0,
+        atol=1e-9 * np.max(np.abs(torque.cylinder_torque)),
+    )
+    big_end = (engine.rotating_mass - bb.crank_unbalance_share(engine)) * engine.speed**2
+    radial = -np.real(rods * np.exp(-1j * (theta[None, :] + engine.throw[:, None])))
+    np.testing.assert_allclose(
+        radial + (big_end * engine.crank_radius)[:, None],
+        torque.radial_force,
+        rtol=0,
+        atol=1e-9 * np.max(np.abs(torque.radial_force)),
     )
 
 

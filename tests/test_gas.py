@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -97,6 +98,26 @@ gas: {model: {compression_ratio: 10, peak_pressure: 60 bar}}
     layout = layout_from_text(text)
     assert layout.gas is not None
     assert list(layout.gas.firing_tdc) == [0.0, 540.0]
+
+
+def test_tdc_angles_with_offsets_fire_at_the_actual_top_dead_centre():
+    """A given ``tdc`` is the nominal TDC (it defines the throw); with an offset the cylinder
+    fires where rod and crank are in line, arcsin(e / (l + r)) later (earlier for a negative
+    offset), in the revolution that ``tdc`` names."""
+    text = """name: twin
+speed: 3000 rpm
+geometry: {stroke: 86 mm, conrod_length: 143 mm, bore: 86 mm}
+masses: {reciprocating: 0.6 kg, rotating: 0.4 kg}
+cylinders:
+  - {tdc: 0 deg, z: 0 mm, offset: 5 mm}
+  - {tdc: 540 deg, z: 90 mm, offset: -5 mm}
+gas: {model: {compression_ratio: 10, peak_pressure: 60 bar}}
+"""
+    layout = layout_from_text(text)
+    assert layout.gas is not None
+    lag = math.degrees(math.asin(0.005 / (0.143 + 0.043)))
+    np.testing.assert_allclose(layout.gas.firing_tdc, [lag, 540.0 - lag], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.cos(layout.throw), [1.0, -1.0], rtol=0, atol=1e-12)
 
 
 def test_firing_order_that_does_not_fit_a_cycle(tmp_path):

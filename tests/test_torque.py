@@ -9,12 +9,13 @@ from functools import cache
 
 import numpy as np
 import pytest
+from articulated_sim import Cylinder, Mechanism, dead_centres
 from helpers import engine, image_compare
 
 import balance
 from balance.core import sampled as timedomain
 from balance.core.analysis import compute, compute_phasors
-from balance.core.gas import GasInput
+from balance.core.gas import GasInput, cylinder_volume
 from balance.core.kinematics import piston_position
 from balance.core.result import Request
 from balance.core.torque import compute_torque
@@ -160,46 +161,175 @@ def test_inertia_only_roll_equals_the_core_roll(name):
     assert abs(result.mean) <= 1e-9 * scale
 
 
+def _assert_forces_equal_newton_euler(layout, result, every: int = 1) -> None:
+    """Engine torque (two rod splits), side thrust, rod force and each throw's tangential and
+    radial force against the Newton-Euler solution of the rigid rods, to 1e-9 of the
+    largest value, on every ``every``-th angle of the cycle grid."""
+    pick = slice(None, None, every)
+    theta = np.radians(result.crank_angle[pick])
+    gas = result.gas_force[:, pick].T
+    scale = float(np.max(np.abs(result.engine_torque)))
+    for share, cg in ((1.0 / 3.0, 0.3), (0.4, 0.25)):
+        torque = timedomain.crank_torque_newton_euler(
+            layout, theta, gas_force=gas, small_end_share=share, cg_fraction=cg
+        )
+        assert np.max(np.abs(torque - result.engine_torque[pick])) <= 1e-9 * scale
+    # the rod force is the one between a massless rod of inertia Delta I and the whole
+    # reciprocating mass: small-end share 0
+    rigid = timedomain.crank_train_newton_euler(layout, theta, gas, small_end_share=0.0)
+    for got, want in ((rigid.wall, result.side_thrust), (rigid.rod_force, result.rod_force)):
+        assert np.max(np.abs(got.T - want[:, pick])) <= 1e-9 * np.max(np.abs(want))
+    # tangential and radial force: summed over the rods on one crank pin (a link rod's is
+    # what it passes through its master rod); the rod's big-end share turns with the pin
+    rigid = timedomain.crank_train_newton_euler(layout, theta, gas, 1.0 / 3.0, 0.3)
+    masters = np.arange(layout.n_cylinders) if layout.links is None else layout.links.masters
+    for m in masters.tolist():
+        on_pin = [m] if layout.links is None else [m, *np.flatnonzero(layout.links.master == m)]
+        outwards = np.exp(1j * (theta + layout.throw[m]))
+        force = rigid.pin_force[:, m] * np.conj(outwards)
+        small = layout.reciprocating_mass[m] / 3.0
+        big_end = (small / 0.3 - small) * layout.crank_radius[m] * layout.speed**2
+        for got, name in (
+            (force.imag, "tangential_force"),
+            (-force.real + big_end, "radial_force"),
+        ):
+            want = getattr(result, name)[on_pin][:, pick].sum(axis=0)
+            assert np.max(np.abs(got - want)) <= 1e-9 * np.max(np.abs(want)), (m, name)
+
+
 @pytest.mark.parametrize("name", ["inline-4-gas", "v8-crossplane-gas"])
 def test_roll_and_torque_against_newton_euler_with_gas(name):
-    """Newton-Euler of piston and rigid rod with the gas force on the piston and the head:
-    block torque equals the roll (with the conrod inertia correction); with two-mass rods
-    (no correction) the torque on the crank equals the engine torque; to 1e-9."""
+    """Newton-Euler of piston and rigid rod (its real inertia, Delta I != 0) with the gas
+    force on piston and head: the block torque equals the roll; the torque on the crank the
+    engine torque, for two splits of the rod; N, S, T and K per cylinder; to 1e-9."""
     layout = balance.load_layout(name)
+    assert np.all(layout.conrod_inertia_correction != 0.0)
     result = compute_torque(layout, ORDERS)
     theta = np.radians(result.crank_angle)
     roll = timedomain.roll_newton_euler(layout, theta, gas_force=result.gas_force.T)
     scale = float(np.max(np.abs(result.roll_torque)))
     assert np.max(np.abs(roll - result.roll_torque)) <= 1e-9 * scale
-    plain = dataclasses.replace(layout, conrod_inertia_correction=np.zeros(layout.n_cylinders))
-    plain_result = compute_torque(plain, ORDERS)
-    torque = timedomain.crank_torque_newton_euler(
-        plain, theta, gas_force=plain_result.gas_force.T, small_end_share=0.4, cg_fraction=0.25
+    _assert_forces_equal_newton_euler(layout, result, every=4)
+
+
+def test_rod_inertia_is_in_the_engine_torque():
+    """The rod's inertia beyond its two-mass model adds -Delta I w^2 gamma' gamma'' per
+    cylinder: nothing to the mean, to the inline-4-gas's second-order torque swing about
+    n Delta I w^2 lambda^2 / 2 (gamma' gamma'' ~ -lambda^2 sin(2 beta) / 2, within 2 %), which the
+    two-mass torque would miss."""
+    layout = gas_layout()
+    two_mass = dataclasses.replace(layout, conrod_inertia_correction=np.zeros(layout.n_cylinders))
+    exact, lumped = compute_torque(layout, ORDERS), compute_torque(two_mass, ORDERS)
+    assert exact.mean == pytest.approx(lumped.mean, rel=1e-12)
+    lam = float(layout.crank_radius[0] / layout.conrod_length[0])
+    estimate = 4 * abs(layout.conrod_inertia_correction[0]) * layout.speed**2 * lam**2 / 2
+    difference = exact.engine_torque - lumped.engine_torque
+    assert 0.98 * estimate < np.max(np.abs(difference)) < 1.02 * estimate
+
+
+def _offset_layout(offset: str, **extra):
+    """An inline-4 with offset bores, rods with their own inertia and the K20 trace."""
+    trace = builtin_layout_path("inline-4-gas").parent / "traces" / "petrol-na-full-load.csv"
+    return engine(
+        [0, 180, 180, 0],
+        firing_order=[1, 3, 4, 2],
+        geometry={"stroke": 0.086, "conrod_length": 0.143, "offset": offset},
+        masses={
+            "piston_group": "0.42 kg",
+            "conrod": "0.50 kg",
+            "conrod_cg_to_big_end": "37 mm",
+            "conrod_inertia": "1.6e-3 kg m^2",
+        },
+        gas={"pressure_trace": str(trace), "crankcase_pressure": "1 bar", "bore": "86 mm"},
+        **extra,
     )
-    scale = float(np.max(np.abs(plain_result.engine_torque)))
-    assert np.max(np.abs(torque - plain_result.engine_torque)) <= 1e-9 * scale
 
 
 def test_offset_engine_torque_is_exact_against_newton_euler():
-    layout = _with_trace(
-        engine(
-            [0, 180, 180, 0],
-            firing_order=[1, 3, 4, 2],
-            geometry={"stroke": 0.086, "conrod_length": 0.143, "offset": 0.004},
-        )
-    )
+    """Offset 4 mm and the rods' own inertia: engine torque, N, S, T, K against Newton-Euler
+    to 1e-9; and without Delta I the tangential force is the textbook
+    T = P sin(beta + psi) / cos(psi) (Kolchin and Demidov 1984), offset included."""
+    layout = _offset_layout("4 mm")
+    assert np.all(layout.conrod_inertia_correction != 0.0)
     result = compute_torque(layout, ORDERS)
-    theta = np.radians(result.crank_angle)
-    torque = timedomain.crank_torque_newton_euler(layout, theta, gas_force=result.gas_force.T)
-    scale = float(np.max(np.abs(result.engine_torque)))
-    assert np.max(np.abs(torque - result.engine_torque)) <= 1e-9 * scale
-    # and T = P sin(beta + psi)/cos(psi) (the textbook form, Kolchin and Demidov 1984)
-    # equals -P s'/r with offset
-    beta = np.radians(np.mod(result.crank_angle, 360.0))
+    _assert_forces_equal_newton_euler(layout, result, every=4)
+    lumped = compute_torque(
+        dataclasses.replace(layout, conrod_inertia_correction=np.zeros(4)), ORDERS
+    )
+    beta = np.radians(np.mod(lumped.crank_angle, 360.0))
     r, rod, e = 0.043, 0.143, 0.004
     psi = np.arcsin((r * np.sin(beta) - e) / rod)
-    seed = result.piston_force[0] * np.sin(beta + psi) / np.cos(psi)
-    np.testing.assert_allclose(result.tangential_force[0], seed, atol=1e-9 * np.abs(seed).max())
+    seed = lumped.piston_force[0] * np.sin(beta + psi) / np.cos(psi)
+    np.testing.assert_allclose(lumped.tangential_force[0], seed, atol=1e-9 * np.abs(seed).max())
+    np.testing.assert_allclose(lumped.side_thrust[0], lumped.piston_force[0] * np.tan(psi),
+                               atol=1e-9 * np.abs(seed).max())  # fmt: skip
+
+
+def _actual_tdc(layout) -> np.ndarray:
+    """Each cylinder's actual TDC crank angle [rad] by the independent simulation of
+    ``tests/articulated_sim.py`` (dense sampling and Newton on the piston's distance)."""
+    cylinders = [
+        Cylinder(float(layout.throw[i]), float(layout.bank[i]), 0.0, 0.4, 0.5, 0.04, 1e-3,
+                 float(layout.conrod_length[i]), float(layout.offset[i]))
+        for i in range(layout.n_cylinders)
+    ]  # fmt: skip
+    _, tdc = dead_centres(Mechanism(float(layout.crank_radius[0]), 3000.0, cylinders))
+    return tdc
+
+
+def test_an_offset_cylinder_fires_at_its_actual_top_dead_centre(tmp_path):
+    """A desaxe single (offset putting its actual TDC 3.75 deg after the nominal one, on the
+    0.25 deg grid) with a trace symmetric about its firing TDC: the trace's peak falls where
+    the piston is farthest from the crank axis, and the firing TDC is the independent
+    simulation's TDC; the parametric model's volume is smallest at cycle angle 0."""
+    r, rod = 0.043, 0.143
+    offset = (rod + r) * math.sin(math.radians(3.75))
+    alpha = np.arange(-360.0, 360.0, 0.5)
+    trace = tmp_path / "symmetric.csv"
+    pressure = 1e5 + 60e5 * np.exp(-((alpha / 30.0) ** 2))
+    trace.write_text(
+        "".join(f"{a!r},{q!r}\n" for a, q in zip(alpha.tolist(), pressure.tolist(), strict=True))
+    )
+    layout = engine(
+        [0],
+        firing_order=[1],
+        geometry={"stroke": 2 * r, "conrod_length": rod, "offset": offset},
+        gas={"pressure_trace": str(trace), "crankcase_pressure": "1 bar", "bore": "86 mm"},
+    )
+    (tdc,) = np.degrees(_actual_tdc(layout))
+    (fired,) = layout.gas.firing_tdc
+    assert abs(fired - tdc) < 1e-9 and abs(fired - 3.75) < 1e-9
+    result = compute_torque(layout, ORDERS)
+    peak = int(np.argmax(result.pressure[0]))
+    s = piston_position(np.radians(result.crank_angle), r, rod, offset)
+    assert peak == int(np.argmax(s)) and result.crank_angle[peak] == 3.75
+    assert result.pressure[0, peak] == pytest.approx(61e5, rel=1e-12)
+    volume = cylinder_volume(np.array([-0.01, 0.0, 0.01]), 0.086, r, rod, offset, 10.0)
+    clearance = math.sqrt((rod + r) ** 2 - offset**2) - math.sqrt((rod - r) ** 2 - offset**2)
+    clearance *= math.pi / 4 * 0.086**2 / 9.0
+    assert volume[1] < volume[0] and volume[1] < volume[2]
+    assert volume[1] == pytest.approx(clearance, rel=1e-12)
+
+
+def test_energy_mean_torque_equals_indicated_work_with_offset():
+    """Offset 4 mm: mean torque x 4 pi = closed integral of p dV of the trace with each
+    cylinder's volume counted from its actual TDC (the independent simulation's), to
+    2e-5 (measured 1.0e-5; counted from the nominal TDC it would be 5.1 % off)."""
+    layout = _offset_layout("4 mm")
+    result = compute_torque(layout, ORDERS)
+    angle, pressure = _trace()
+    area = math.pi / 4 * 0.086**2
+    top = _actual_tdc(layout) + layout.throw - layout.bank  # beta of the actual TDC
+    np.testing.assert_allclose(
+        np.radians(result.firing_tdc) % (2 * np.pi), _actual_tdc(layout), atol=1e-9
+    )
+    work = 0.0
+    for i in range(layout.n_cylinders):
+        volume = -area * piston_position(np.radians(angle) + top[i], 0.043, 0.143, 0.004)
+        work += float(
+            np.sum(0.5 * (pressure + np.roll(pressure, -1)) * (np.roll(volume, -1) - volume))
+        )
+    assert abs(result.mean * 4 * math.pi - work) / work < 2e-5
 
 
 def test_flywheel_inertia_and_speed_fluctuation_are_inverse():

@@ -11,6 +11,9 @@ The parametric model
 Cylinder volume :math:`V(\alpha) = V_c + A\,(s_{max} - s(\alpha))` with :math:`s` the piston
 pin's distance from the crank axis (offset included), :math:`s_{max} = \sqrt{(l+r)^2-e^2}`,
 swept volume :math:`V_s = A(s_{max}-s_{min})` and clearance :math:`V_c = V_s/(\varepsilon-1)`.
+The cycle angle :math:`\alpha` is counted from the cylinder's actual top dead centre (its
+piston farthest out, :func:`firing_tdc`), offset or link rod included; the model's strokes
+are 180 deg of crank angle each.
 
 * intake stroke (four-stroke only, :math:`-360 \le \alpha < -180`): :math:`p = p_{in}`;
 * compression from bottom dead centre, polytropic: :math:`p = p_{in}(V_{BDC}/V)^{n_1}`;
@@ -143,21 +146,23 @@ def firing_tdc(
     cycle: str,
     firing_order: tuple[int, ...] | None,
     tdc_given: list[float | None] | None,
-    actual_tdc: FloatArray | None = None,
+    tdc_lag: FloatArray | None = None,
 ) -> FloatArray | str:
     r"""Crank angle of each cylinder's firing TDC [deg], or a message saying what is missing.
 
-    A cylinder is at TDC when :math:`\theta = \psi_i - \varphi_i` (mod 360).  A two-stroke
-    fires at every TDC.  A four-stroke fires at one of two TDCs 360 deg apart: the first
-    cylinder of ``firing_order`` at its TDC in [0, 360), each next one at its first TDC after
-    the one before; without a firing order, each cylinder's ``tdc`` angle (mod 720) when
-    every cylinder gives one.
-
-    ``actual_tdc`` [deg] (NaN where not given) replaces :math:`\psi_i - \varphi_i` for
-    cylinders whose piston is farthest out at another crank angle: a link piston
-    (:mod:`balance.core.links`), whose cycle starts at its actual top dead centre.  A
-    ``tdc`` given for such a cylinder names its nominal TDC (its throw), and its firing TDC
-    is the actual TDC nearest to it.
+    A cylinder's cycle starts at its actual top dead centre, where its piston pin is farthest
+    from the crank axis (where the cylinder volume is smallest, and where a measured trace's
+    crank angle is counted from): :math:`\theta = \psi_i - \varphi_i + \beta_{TDC,i}`
+    (mod 360), with :math:`\beta_{TDC,i}` (``tdc_lag``, in (-180, 180]) how far it lies after
+    the nominal TDC :math:`\theta + \varphi_i - \psi_i = 0` of CONTRACT §1:
+    :math:`\arcsin(e/(l + r))` for an offset plain cylinder, the link piston's own for a link
+    cylinder (:func:`balance.core.links.dead_centre_lag`), 0 without offset or link.  A
+    two-stroke fires at every TDC.  A four-stroke fires at one of two TDCs 360 deg apart: the
+    first cylinder of ``firing_order`` at its TDC in [0, 360), each next one at its first TDC
+    after the one before; without a firing order, each cylinder's ``tdc`` angle (mod 720)
+    when every cylinder gives one.  A ``tdc`` given in the layout is the nominal TDC (it
+    defines the throw, ``throw = bank - tdc``, CONTRACT §3); the cylinder then fires at
+    ``tdc`` + :math:`\beta_{TDC}`.
 
     Returns
     -------
@@ -167,11 +172,10 @@ def firing_tdc(
     base = np.mod(np.asarray(bank_deg) - np.asarray(throw_deg), 360.0)
     base = np.where(np.isclose(base, 360.0, rtol=0, atol=1e-9), 0.0, base)
     shift = np.zeros(base.shape)
-    if actual_tdc is not None:
-        actual = np.asarray(actual_tdc, dtype=np.float64)
-        given = ~np.isnan(actual)
-        shift = np.where(given, np.mod(actual - base + 180.0, 360.0) - 180.0, 0.0)
-        base = np.where(given, np.mod(actual, 360.0), base)
+    if tdc_lag is not None:
+        shift = np.mod(np.asarray(tdc_lag, dtype=np.float64) + 180.0, 360.0) - 180.0
+        base = np.mod(base + shift, 360.0)
+        base = np.where(np.isclose(base, 360.0, rtol=0, atol=1e-9), 0.0, base)
     if cycle == "two-stroke":
         return np.asarray(base, dtype=np.float64)
     n = base.size
@@ -241,6 +245,9 @@ def cylinder_volume(
 
     :math:`V = V_s/(\varepsilon - 1) + A(s_{max} - s)`, :math:`V_s = A(s_{max} - s_{min})`;
     with ``travel`` (a link piston) :math:`s`, :math:`s_{max}` and :math:`s_{min}` are its.
+    The cycle angle is counted from the actual top dead centre: a plain cylinder's crank
+    angle from its nominal TDC direction is :math:`\beta = \alpha + \arcsin(e/(l + r))`, so
+    that the volume is smallest at :math:`\alpha = 0` with an offset too.
     """
     area = math.pi / 4.0 * bore**2
     if travel is not None:
@@ -249,9 +256,8 @@ def cylinder_volume(
         return np.asarray(swept / (ratio - 1.0) + area * (travel.top - position))
     s_max = math.sqrt((length + radius) ** 2 - offset**2)
     s_min = math.sqrt((length - radius) ** 2 - offset**2)
-    s, _, _ = normalised_slider(
-        np.radians(alpha_deg), rod_ratio(radius, length), offset_ratio(offset, radius)
-    )
+    beta = np.radians(alpha_deg) + math.asin(offset / (length + radius))
+    s, _, _ = normalised_slider(beta, rod_ratio(radius, length), offset_ratio(offset, radius))
     swept = area * (s_max - s_min)
     return np.asarray(swept / (ratio - 1.0) + area * (s_max - radius * s))
 

@@ -91,14 +91,17 @@ __all__ = [
     "LinkCoefficients",
     "LinkGeometry",
     "LinkMotion",
+    "LinkRodForces",
     "articulated_big_end_forces",
     "articulated_free_phasors",
+    "dead_centre_lag",
     "dead_centres",
     "engine_dead_centres",
     "link_coefficients",
     "link_geometry",
     "link_motion",
     "link_reach",
+    "link_rod_forces",
     "pin_masses",
     "piston_travels",
 ]
@@ -512,6 +515,21 @@ def dead_centres(
     """
     phi = np.asarray(throw, dtype=np.float64)
     psi = np.asarray(bank, dtype=np.float64)
+    beta_top, stroke = _top_and_stroke(crank_radius, conrod_length, offset, bank, links)
+    tdc = np.mod(beta_top + psi - phi, 2.0 * np.pi)
+    tdc = np.where(tdc >= 2.0 * np.pi, 0.0, tdc)
+    return np.asarray(stroke, dtype=np.float64), np.asarray(tdc, dtype=np.float64)
+
+
+def _top_and_stroke(
+    crank_radius: ArrayLike,
+    conrod_length: ArrayLike,
+    offset: ArrayLike,
+    bank: ArrayLike,
+    links: Links | None,
+) -> tuple[FloatArray, FloatArray]:
+    r""":math:`\beta_{TDC}` [rad] (a link cylinder's in :math:`[0, 2\pi)`) and the stroke [m]
+    of every cylinder (:func:`dead_centres`)."""
     r = np.asarray(crank_radius, dtype=np.float64)
     length = np.asarray(conrod_length, dtype=np.float64)
     e = np.asarray(offset, dtype=np.float64)
@@ -521,16 +539,46 @@ def dead_centres(
             e == 0.0, 2.0 * r, np.sqrt((length + r) ** 2 - e**2) - np.sqrt((length - r) ** 2 - e**2)
         )
     if links is not None and np.any(links.master >= 0):
-        geometry = link_geometry(r, length, e, psi, links)
+        geometry = link_geometry(r, length, e, bank, links)
         top, s_top, s_bottom = link_dead_centres(geometry)
         j = geometry.cylinder
         beta_top = np.array(beta_top, dtype=np.float64)
         stroke = np.array(stroke, dtype=np.float64)
         beta_top[j] = top
         stroke[j] = r[j] * (s_top - s_bottom)
-    tdc = np.mod(beta_top + psi - phi, 2.0 * np.pi)
-    tdc = np.where(tdc >= 2.0 * np.pi, 0.0, tdc)
-    return np.asarray(stroke, dtype=np.float64), np.asarray(tdc, dtype=np.float64)
+    return np.asarray(beta_top, dtype=np.float64), np.asarray(stroke, dtype=np.float64)
+
+
+def dead_centre_lag(
+    crank_radius: ArrayLike,
+    conrod_length: ArrayLike,
+    offset: ArrayLike,
+    bank: ArrayLike,
+    links: Links | None = None,
+) -> FloatArray:
+    r"""How far each piston's actual top dead centre lies after its nominal one [rad].
+
+    The crank angle :math:`\beta_{TDC}` from the cylinder's nominal TDC direction
+    (:math:`\theta + \varphi - \psi = 0`, CONTRACT §1) at which the piston pin is farthest
+    from the crank axis, in :math:`(-\pi, \pi]`: :math:`\arcsin(e/(l + r))` for a plain crank
+    slider (exactly 0 without offset), :func:`link_dead_centres` for a link piston.
+
+    Parameters
+    ----------
+    crank_radius, conrod_length, offset : array_like
+        Per cylinder [m] (a link cylinder's ``conrod_length`` is its link rod's).
+    bank : array_like
+        Per cylinder [rad].
+    links : Links, optional
+        The articulated rods.
+
+    Returns
+    -------
+    ndarray
+        :math:`\beta_{TDC}` per cylinder [rad].
+    """
+    top, _ = _top_and_stroke(crank_radius, conrod_length, offset, bank, links)
+    return np.asarray(np.where(top > np.pi, top - 2.0 * np.pi, top), dtype=np.float64)
 
 
 def engine_dead_centres(engine: Engine) -> tuple[FloatArray, FloatArray]:
@@ -861,6 +909,90 @@ def articulated_free_phasors(
 # --------------------------------------------------------------------------- big-end forces
 
 
+@dataclass(frozen=True)
+class LinkRodForces:
+    r"""Forces of the link rods over crank angles (rows: the link cylinders in order), SI.
+
+    Attributes
+    ----------
+    cylinder, master : ndarray of int
+        Index of each link cylinder and of its master.
+    motion : LinkMotion
+        The link cylinders' motion at the crank angles.
+    wall : ndarray
+        Force of the wall on each link piston across its bore (+X of its frame) [N].
+    on_link : ndarray of complex
+        :math:`F_L`, the force the master rod puts on the link rod at the link pin [N]
+        (engine frame, :math:`y + \mathrm{i}x`).
+    master_wall : ndarray
+        :math:`\Delta N`, what the link rod's push on the master rod adds to the wall force
+        on the master piston (+X of the master's frame) [N].
+    on_pin : ndarray of complex
+        The link cylinder's share of the force on the crank pin,
+        :math:`\mathrm{i}\,\Delta N e^{\mathrm{i}\psi_m} - F_L` [N] (engine frame): what the
+        link rod passes through the master rod to the pin.
+    """
+
+    cylinder: NDArray[np.intp]
+    master: NDArray[np.intp]
+    motion: LinkMotion
+    wall: FloatArray
+    on_link: ComplexArray
+    master_wall: FloatArray
+    on_pin: ComplexArray
+
+
+def link_rod_forces(
+    engine: Engine, theta: ArrayLike, gas_force: ArrayLike | None = None
+) -> LinkRodForces:
+    r"""What each link rod does at its piston, at its link pin and, through the master rod,
+    at the crank pin (the notes of :func:`articulated_big_end_forces`).
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with link rods.
+    theta : array_like
+        Crank angles [rad], shape (angles,).
+    gas_force : array_like, optional
+        Gas force on each piston towards the crank [N], shape (cylinders, angles).
+
+    Returns
+    -------
+    LinkRodForces
+    """
+    th = np.asarray(theta, dtype=np.float64)[None, :]
+    geometry = _engine_geometry(engine)
+    j = geometry.cylinder
+    m_idx = geometry.master
+    r = engine.crank_radius
+    w2 = float(speed_squared(engine.speed))
+    beta = th + (engine.throw[j] - engine.bank[j])[:, None]
+    motion = link_motion(beta, *geometry.columns())
+    psi_j = engine.bank[j][:, None]
+    rj = r[j][:, None]
+    q = engine.reciprocating_mass[j][:, None] * w2 * rj * motion.d2s
+    if gas_force is not None:
+        q = q + np.asarray(gas_force, dtype=np.float64)[j]
+    length = engine.conrod_length[j][:, None]
+    d_x = -length * motion.sin_rod
+    d_y = length * motion.cos_rod
+    wall = -(engine.conrod_inertia_correction[j][:, None] * w2 * motion.d2rod + d_x * q) / d_y
+    on_piston = (q - 1j * wall) * np.exp(1j * psi_j)
+    pin_acc = w2 * rj * motion.d2pin * np.exp(1j * psi_j)  # engine frame
+    link_force = pin_masses(engine)[j][:, None] * pin_acc + on_piston
+    # link pin relative to the crank pin, engine frame
+    crank = rj * np.exp(1j * (th + engine.throw[j][:, None]))
+    pin_pos = rj * motion.pin * np.exp(1j * psi_j)
+    moment = np.imag(np.conj(pin_pos - crank) * link_force)
+    # the master rod's d_Y (its length times cos gamma), at each link's angles
+    length_m = engine.conrod_length[m_idx][:, None]
+    d_y_master = length_m * motion.cos_master
+    delta_wall = moment / d_y_master
+    on_pin = 1j * delta_wall * np.exp(1j * engine.bank[m_idx][:, None]) - link_force
+    return LinkRodForces(j, m_idx, motion, wall, link_force, delta_wall, on_pin)
+
+
 def articulated_big_end_forces(
     engine: Engine,
     theta: ArrayLike,
@@ -901,43 +1033,15 @@ def articulated_big_end_forces(
     :math:`M = \sum_j \operatorname{Im}(\overline{(L_j - C)}F_{L,j})` (in the direction of
     rotation), changes the master piston's wall force by :math:`\Delta N = M/d_Y` (master
     frame), and the force on the pin becomes the plain master's plus
-    :math:`i\,\Delta N e^{i\psi_m} - \sum_j F_{L,j}`.
+    :math:`i\,\Delta N e^{i\psi_m} - \sum_j F_{L,j}` (:func:`link_rod_forces`).
     """
     assert engine.links is not None
-    th = np.asarray(theta, dtype=np.float64)[None, :]
-    geometry = _engine_geometry(engine)
-    j = geometry.cylinder
-    m_idx = geometry.master
     out = np.array(forces, dtype=np.complex128, copy=True)
-    if j.size == 0:
+    if engine.links.link_indices.size == 0:
         return out
-    r = engine.crank_radius
-    w2 = float(speed_squared(engine.speed))
-    beta = th + (engine.throw[j] - engine.bank[j])[:, None]
-    motion = link_motion(beta, *geometry.columns())
-    psi_j = engine.bank[j][:, None]
-    rj = r[j][:, None]
-    q = engine.reciprocating_mass[j][:, None] * w2 * rj * motion.d2s
-    if gas_force is not None:
-        q = q + np.asarray(gas_force, dtype=np.float64)[j]
-    length = engine.conrod_length[j][:, None]
-    d_x = -length * motion.sin_rod
-    d_y = length * motion.cos_rod
-    wall = -(engine.conrod_inertia_correction[j][:, None] * w2 * motion.d2rod + d_x * q) / d_y
-    on_piston = (q - 1j * wall) * np.exp(1j * psi_j)
-    pin_acc = w2 * rj * motion.d2pin * np.exp(1j * psi_j)  # engine frame
-    link_force = pin_masses(engine)[j][:, None] * pin_acc + on_piston
-    # link pin relative to the crank pin, engine frame
-    crank = rj * np.exp(1j * (th + engine.throw[j][:, None]))
-    pin_pos = rj * motion.pin * np.exp(1j * psi_j)
-    moment = np.imag(np.conj(pin_pos - crank) * link_force)
-    # the master rod's d_Y (its length times cos gamma), at each link's angles
-    length_m = engine.conrod_length[m_idx][:, None]
-    d_y_master = length_m * motion.cos_master
-    delta_wall = moment / d_y_master
-    correction = 1j * delta_wall * np.exp(1j * engine.bank[m_idx][:, None]) - link_force
-    np.add.at(out, m_idx, correction)
-    out[j] = 0.0
+    links = link_rod_forces(engine, theta, gas_force)
+    np.add.at(out, links.master, links.on_pin)
+    out[links.cylinder] = 0.0
     return out
 
 

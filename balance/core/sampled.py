@@ -38,11 +38,13 @@ from balance.core.speed import speed_squared
 
 __all__ = [
     "ArticulatedSolution",
+    "CrankTrainForces",
     "articulated_kinematics",
     "articulated_newton_euler",
     "block_force_newton_euler",
     "crank_angles",
     "crank_torque_newton_euler",
+    "crank_train_newton_euler",
     "link_pin_force_samples",
     "link_piston_acceleration",
     "link_piston_acceleration_at",
@@ -187,8 +189,8 @@ def roll_newton_euler(
     :math:`m_p a_P + (0, G)` above) and :math:`(0, G)` on the head at :math:`x = e`, whose
     moment is :math:`-eG`.
     """
-    wall, _, _, s, e, gas = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
-    torque = -s * wall - e * gas
+    cylinders = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
+    torque = -cylinders.s * cylinders.wall - cylinders.offset * cylinders.gas
     if layout.has_links:
         solution = articulated_newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
         plain = _plain_mask(layout)
@@ -221,7 +223,8 @@ def crank_torque_newton_euler(
     :math:`F_{RP} = m_p a_P + (0, G) - (N, 0)`; its moment in the direction of rotation is
     :math:`C_Y F_X - C_X F_Y`.
     """
-    _, pin_force, C, _, _, _ = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
+    cylinders = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
+    C, pin_force = cylinders.crank, cylinders.on_pin
     torque = C.imag * pin_force.real - C.real * pin_force.imag
     if layout.has_links:
         solution = articulated_newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
@@ -232,14 +235,90 @@ def crank_torque_newton_euler(
     return np.asarray(torque.sum(axis=1), dtype=np.float64)
 
 
+@dataclass(frozen=True)
+class CrankTrainForces:
+    r"""Forces of the Newton–Euler solution per cylinder, shape (angles, cylinders).
+
+    Attributes
+    ----------
+    wall : ndarray
+        Force of the wall on each piston across its bore, along +X of its frame (towards
+        where the pin goes after TDC) [N].
+    rod_force : ndarray
+        Each rod's force at its piston pin along the rod, compression positive [N].
+    pin_force : ndarray of complex
+        Force of each rod on its crank pin [N], engine frame :math:`y + \mathrm{i}x`: a
+        master's is its master rod's, carrying its link rods, and a link cylinder's is 0.
+    """
+
+    wall: FloatArray
+    rod_force: FloatArray
+    pin_force: ComplexArray
+
+
+def crank_train_newton_euler(
+    layout: Engine,
+    theta: ArrayLike,
+    gas_force: ArrayLike | None = None,
+    small_end_share: float = 1.0 / 3.0,
+    cg_fraction: float = 0.3,
+) -> CrankTrainForces:
+    r"""Wall force, rod force and force on the crank pin of every cylinder, from the same
+    Newton–Euler solution as :func:`roll_newton_euler` (parameters as there).
+
+    Notes
+    -----
+    The rod's force on the crank pin includes the inertia of the rod's own mass (its big-end
+    share turns with the pin: :math:`m_\mathrm{big}\omega^2 r` outwards); the rod force is
+    the axial part of the force between rod and piston, so it depends on the rod's
+    small-end share unless ``small_end_share`` is 0 (the rod is then a massless body of
+    inertia :math:`\Delta I`, the whole reciprocating mass at the piston pin).
+    """
+    th = np.asarray(theta, dtype=np.float64)
+    cylinders = _newton_euler(layout, th, small_end_share, cg_fraction, gas_force)
+    turn = np.exp(1j * layout.bank)
+
+    def engine_frame(v: ComplexArray) -> ComplexArray:  # X + iY of a cylinder -> y + ix
+        return np.asarray(1j * np.conj(v) * turn)
+
+    wall = np.array(cylinders.wall, dtype=np.float64)
+    along = cylinders.rod / np.abs(cylinders.rod)
+    rod_force = np.real(-cylinders.on_piston * np.conj(along))
+    pin_force = engine_frame(cylinders.on_pin)
+    if layout.has_links:
+        solution = articulated_newton_euler(layout, th, small_end_share, cg_fraction, gas_force)
+        grouped = ~_plain_mask(layout)
+        wall[:, grouped] = solution.wall.T[:, grouped]
+        rod_force[:, grouped] = solution.rod_force.T[:, grouped]
+        pin_force[:, grouped] = 0.0
+        pin_force[:, solution.masters] = solution.pin_force.T
+    return CrankTrainForces(wall, rod_force, pin_force)
+
+
+@dataclass(frozen=True)
+class _PlainSolution:
+    """The Newton–Euler solution of plain cylinders, shape (angles, cylinders); vectors in
+    each cylinder's frame as X + iY."""
+
+    wall: FloatArray  # N, the wall's force on the piston along +X
+    on_pin: ComplexArray  # force of the rod on the crank pin
+    crank: ComplexArray  # crank pin C
+    s: FloatArray
+    offset: FloatArray
+    gas: FloatArray
+    on_piston: ComplexArray  # force of the rod on the piston pin
+    rod: ComplexArray  # C - P
+
+
 def _newton_euler(
     layout: Engine,
     theta: ArrayLike,
     small_end_share: float,
     cg_fraction: float,
     gas_force: ArrayLike | None,
-) -> tuple[FloatArray, ComplexArray, ComplexArray, FloatArray, FloatArray, FloatArray]:
-    """Wall force N, force of the rod on the crank pin, pin position, s, e and G per cylinder."""
+) -> _PlainSolution:
+    """Wall force N, the rod's forces on crank pin and piston pin, pin position, s, e and G
+    per cylinder."""
     th = np.asarray(theta, dtype=np.float64)[:, None]
     beta = th + layout.throw - layout.bank
     r = layout.crank_radius
@@ -274,7 +353,7 @@ def _newton_euler(
     N = (i_g * alpha - _cross(d, Q) - _cross(C - G, m_c * a_G)) / d.imag
     on_pin = -(m_c * a_G + Q - N)
     offset = np.broadcast_to(e, N.shape)
-    return N, on_pin, C, s, offset, gas
+    return _PlainSolution(N, on_pin, C, s, offset, gas, Q - N, d)
 
 
 def proposal_force_samples(
@@ -542,6 +621,9 @@ class ArticulatedSolution:
         Torque about the crank axis the block receives from the groups [N m].
     crank_torque : ndarray
         Torque the master rods put on the crankshaft [N m].
+    rod_force : ndarray
+        Each rod's force at its piston pin along the rod, compression positive [N], shape
+        (cylinders, angles), 0 for the other cylinders.
     """
 
     masters: NDArray[np.intp]
@@ -551,6 +633,7 @@ class ArticulatedSolution:
     block_moment: ComplexArray
     roll: FloatArray
     crank_torque: FloatArray
+    rod_force: FloatArray
 
 
 @dataclass(frozen=True)
@@ -662,6 +745,7 @@ def articulated_newton_euler(
     crank_share = np.asarray(layout.rotating_mass - _pin_shares(layout, every=True))
     groups = articulated_kinematics(layout, th)
     wall = np.zeros((layout.n_cylinders, n_t))
+    rod_force = np.zeros((layout.n_cylinders, n_t))
     pin_force = np.zeros((len(groups), n_t), dtype=np.complex128)
     block = np.zeros(n_t, dtype=np.complex128)
     block_moment = np.zeros(n_t, dtype=np.complex128)
@@ -748,6 +832,9 @@ def articulated_newton_euler(
         f_c = x[:, 3] + 1j * x[:, 4]
         pin_force[gi] = -f_c
         wall[m] = x[:, 2]
+        # the rod pushes its piston with F; along the rod (piston to big end) the piston
+        # pushes back with -F: compression is Re(F e^{-i angle})
+        rod_force[m] = np.real((x[:, 0] + 1j * x[:, 1]) * np.exp(-1j * rod.angle))
         arm_m = layout.z[m] - layout.reference_z
         # mass left at the crank pin: the master's rotating mass less its rod's big-end
         # share, and each link cylinder's crank share
@@ -757,6 +844,8 @@ def articulated_newton_euler(
         for i, j in enumerate(js.tolist()):
             base = 5 + 5 * i
             wall[j] = x[:, base + 4]
+            f_d = x[:, base + 2] + 1j * x[:, base + 3]
+            rod_force[j] = np.real(f_d * np.exp(-1j * link_rods.angle[i]))
             n_j = 1j * np.exp(1j * layout.bank[j])
             b_j = np.exp(1j * layout.bank[j])
             left = left + layout.rotating_mass[j] - m_pin[j]
@@ -776,6 +865,7 @@ def articulated_newton_euler(
         block_moment=block_moment,
         roll=roll,
         crank_torque=crank_torque,
+        rod_force=rod_force,
     )
 
 

@@ -2,24 +2,39 @@ r"""Gas and inertia forces on the crank train, engine torque, roll with half ord
 
 Computed over one working cycle (720 deg four-stroke, 360 deg two-stroke) at constant crank
 speed, for a layout with a ``gas:`` section.  Per cylinder, with :math:`\beta` the crank
-angle from its TDC direction, :math:`\psi` the conrod angle
-(:math:`\sin\psi = (r\sin\beta - e)/l`) and :math:`s` the piston pin's distance from the
-crank axis:
+angle from its nominal TDC direction, :math:`\psi` the conrod angle
+(:math:`\sin\psi = (r\sin\beta - e)/l`), :math:`s` the piston pin's distance from the crank
+axis and :math:`\Delta I = I_G - m\,a(l - a)` the rod's inertia beyond its two-mass model
+(``conrod_inertia_correction``):
 
 .. math::
 
     P_g &= (p - p_0)A, \qquad P_j = m_\mathrm{rec}\,\omega^2 s''(\beta), \qquad
     P = P_g + P_j \\
-    N &= P\tan\psi, \quad S = P/\cos\psi, \quad
-    T = P\,\frac{\sin(\beta+\psi)}{\cos\psi} = -P\,\frac{s'(\beta)}{r}, \quad
-    K = P\,\frac{\cos(\beta+\psi)}{\cos\psi} \\
-    M &= T\,r = -P\,s'(\beta)
+    N &= P\tan\psi - \frac{\Delta I\,\omega^2\psi''}{l\cos\psi}, \quad
+    S = P\cos\psi + N\sin\psi, \\
+    T &= P\sin\beta + N\cos\beta = -P\,\frac{s'(\beta)}{r}
+        - \frac{\Delta I\,\omega^2\psi'\psi''}{r}, \quad
+    K = P\cos\beta - N\sin\beta, \quad M = T\,r
 
 :math:`P` is positive towards the crank (pushing the rod), :math:`T` in the direction of
 rotation, :math:`K` towards the crank axis, :math:`N` (the piston on the wall) towards
-:math:`-X` (away from the side the pin moves to after TDC).  :math:`M = -P s'` is the virtual
-work of the pin force, exact with an offset.  The engine torque is the sum over cylinders,
-each at its own firing phase; the block receives the roll torque
+:math:`-X` (away from the side the pin moves to after TDC), :math:`S` the rod's compression
+at the piston pin.  The rod, its two-mass model plus a massless body of inertia
+:math:`\Delta I`, passes the force :math:`(N, -P)` from the piston pin to the crank pin; the
+couple that turns :math:`\Delta I` at :math:`\omega^2\psi''` is a force across the bore,
+:math:`-\Delta I\omega^2\psi''/(l\cos\psi)`, at the piston pin and its opposite at the crank
+pin, so the force is not along the rod.  With :math:`\Delta I = 0` these are the textbook
+:math:`N = P\tan\psi`, :math:`S = P/\cos\psi`,
+:math:`T = P\sin(\beta+\psi)/\cos\psi`, :math:`K = P\cos(\beta+\psi)/\cos\psi`.
+:math:`M` is also the virtual work of the pin force and the rod's spin energy, exact with an
+offset; :math:`\Delta I` adds nothing to its mean.  A link cylinder's :math:`M` and
+:math:`T = M/r` add the rate of its link pin's kinetic energy, and its :math:`K` is the
+radial part of what its link rod passes through the master rod to the crank pin
+(:func:`balance.core.links.link_rod_forces`); a master's :math:`N` is the whole wall force,
+its link rods' push included, and its :math:`T`, :math:`K` its own rod's.  The engine torque
+is the sum over cylinders, each at its own firing phase (its actual TDC,
+:func:`balance.core.gas.firing_tdc`); the block receives the roll torque
 
 .. math::
 
@@ -173,21 +188,27 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         ds, d2s, sin_psi, cos_psi, dg, d2g, pin_power, pin_roll = _with_links(
             layout, beta, ds, d2s, sin_psi, cos_psi, dg, d2g
         )
-    psi = np.arcsin(sin_psi)
     gas_force = (pressure - gas.crankcase_pressure) * gas.piston_area
     inertia_force = layout.reciprocating_mass[:, None] * w2 * r * d2s
     piston = gas_force + inertia_force
-    side = piston * sin_psi / cos_psi
-    rod = piston / cos_psi
-    tangential = -piston * ds
+    delta_i = layout.conrod_inertia_correction[:, None]
+    # the couple that turns the rod's inertia beyond its two-mass model: a force across the
+    # bore at the piston pin (and the opposite one at the rod's lower end)
+    couple_force = -delta_i * w2 * d2g / (length * cos_psi)
+    side = piston * sin_psi / cos_psi + couple_force
+    # virtual work: the pin force, the rod's spin energy and (link) the link pin's energy
+    tangential = -piston * ds - delta_i * w2 * dg * d2g / r
     if layout.has_links:  # a link pin's kinetic energy changes: the crank supplies it
         tangential = tangential - w2 * r * pin_power
-    radial = piston * np.cos(beta + psi) / cos_psi
+    # the rod's force on the crank pin, (N, -P) across and along the bore
+    radial = piston * np.cos(beta) - side * np.sin(beta)
+    if layout.has_links:  # link rows: their share of the pin force; masters: every wall force
+        side, radial = _link_rows(layout, theta, gas_force, side, radial)
+    rod = piston * cos_psi + side * sin_psi
     cylinder_torque = tangential * r
     engine = cylinder_torque.sum(axis=0)
     inertia_roll = w2 * (
-        layout.reciprocating_mass[:, None] * r**2 * d2s * (ds + eps)
-        + layout.conrod_inertia_correction[:, None] * d2g * (1.0 + dg)
+        layout.reciprocating_mass[:, None] * r**2 * d2s * (ds + eps) + delta_i * d2g * (1.0 + dg)
     )
     if layout.has_links:
         inertia_roll = inertia_roll + w2 * r**2 * pin_roll
@@ -238,6 +259,34 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         flywheel_inertia=float(inertia),
         cycle_deg=cycle_deg,
     )
+
+
+def _link_rows(
+    layout: Engine,
+    theta_deg: FloatArray,
+    gas_force: FloatArray,
+    side: FloatArray,
+    radial: FloatArray,
+) -> tuple[FloatArray, FloatArray]:
+    r"""Side thrust and radial force with link rods.
+
+    A link cylinder's radial force is the radial part of its share of the force on the crank
+    pin, what its link rod passes through the master rod
+    (:attr:`balance.core.links.LinkRodForces.on_pin`); a master piston's side thrust gains
+    what its link rods' push on the master rod adds to its wall force, so that it is the
+    whole force between piston and wall.
+    """
+    from balance.core.links import link_rod_forces
+
+    theta = np.radians(theta_deg)
+    forces = link_rod_forces(layout, theta, gas_force)
+    j = forces.cylinder
+    side = np.array(side, copy=True)
+    radial = np.array(radial, copy=True)
+    outwards = np.exp(1j * (theta[None, :] + layout.throw[j][:, None]))
+    radial[j] = -np.real(forces.on_pin * np.conj(outwards))
+    np.add.at(side, forces.master, forces.master_wall)
+    return side, radial
 
 
 def _with_links(

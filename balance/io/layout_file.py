@@ -24,7 +24,7 @@ from pydantic import BaseModel, ValidationError
 from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine, Links, ShaftPosition
 from balance.core.errors import InputError, LayoutError, LayoutErrors, Location, raise_all
 from balance.core.gas import GasInput, GasModel, cycle_degrees, firing_tdc
-from balance.core.links import dead_centres, link_geometry, link_reach
+from balance.core.links import dead_centre_lag, dead_centres, link_geometry, link_reach
 from balance.core.masses import MassParts, two_mass_split
 from balance.core.speed import rad_per_s_to_rpm
 from balance.io.bearings_section import check_mains
@@ -650,25 +650,17 @@ def _gas(
         angle, pressure = read_pressure_trace(trace, cycle_deg)
         source = str(trace)
     tdc_given = [c.tdc for c in cylinders] if prefix is not None else None
-    actual = None
-    if links is not None:
-        # a link piston's cycle starts at its actual top dead centre (balance.core.links)
-        _, top = dead_centres(
-            arrays["throw"],
-            arrays["bank"],
-            arrays["crank_radius"],
-            arrays["conrod_length"],
-            arrays["offset"],
-            links,
-        )
-        actual = np.where(links.master >= 0, np.degrees(top), np.nan)
+    # every cylinder's cycle starts at its actual top dead centre (offset, link rod)
+    lag = dead_centre_lag(
+        arrays["crank_radius"], arrays["conrod_length"], arrays["offset"], arrays["bank"], links
+    )
     tdc = firing_tdc(
         np.degrees(arrays["throw"]),
         np.degrees(arrays["bank"]),
         spec.cycle,
         firing,
         tdc_given,
-        actual_tdc=actual,
+        tdc_lag=np.degrees(lag),
     )
     if isinstance(tdc, str):
         path: tuple[str | int, ...] = ("firing_order",) if firing else ("gas",)

@@ -547,20 +547,19 @@ def _torque_variables(t: TorqueResult) -> dict[str, xr.Variable]:
             per, t.piston_force, "N", "total force P along the bore on the piston pin, to the crank"
         ),
         "side_thrust": _var(
-            per, t.side_thrust, "N", "side thrust N = P tan psi of the piston on the wall"
-        ),
-        "rod_force": _var(per, t.rod_force, "N", "rod force S = P / cos psi (compression +)"),
-        "tangential_force": _var(
             per,
-            t.tangential_force,
+            t.side_thrust,
             "N",
-            "tangential force T = P sin(beta + psi) / cos psi on the crank pin (with rotation +)",
+            "side thrust N of the piston on the wall (P tan psi and the rod's inertia couple)",
+        ),
+        "rod_force": _var(
+            per, t.rod_force, "N", "rod force S along the rod at the piston pin (compression +)"
+        ),
+        "tangential_force": _var(
+            per, t.tangential_force, "N", "tangential force T on the crank pin (with rotation +)"
         ),
         "radial_force": _var(
-            per,
-            t.radial_force,
-            "N",
-            "radial force K = P cos(beta + psi) / cos psi on the crank pin (to the axis +)",
+            per, t.radial_force, "N", "radial force K on the crank pin (to the axis +)"
         ),
         "cylinder_torque": _var(per, t.cylinder_torque, "N m", "torque T r of one cylinder"),
         "engine_torque": _var(
