@@ -209,6 +209,12 @@ def _also(which: str, before: str = ", ") -> str:
     return f"{before}{which}" if which else ""
 
 
+def _within(values: FloatArray, low: float, high: float | FloatArray) -> bool:
+    """Whether every value lies in ``[low, high]`` (NaN counts as within, as in
+    :func:`_beyond`): the common case, decided without forming the excess factors."""
+    return not bool(np.any((values < low) | (values > high)))
+
+
 def _beyond(values: FloatArray, low: float, high: float | FloatArray) -> FloatArray:
     """How far each value is outside ``[low, high]``, as a factor (1 inside; NaN: 1)."""
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -239,6 +245,8 @@ def _speed(rpm: float) -> PlausibilityWarning | None:
 def _mean_piston_speed(stroke: FloatArray, rpm: float) -> PlausibilityWarning | None:
     r"""Mean piston speed :math:`c_m = 2 s n` [m/s], ``n`` in revolutions per second."""
     mean_speed = 2.0 * stroke * rpm / 60.0
+    if _within(mean_speed, 0.0, MAX_MEAN_PISTON_SPEED):
+        return None
     excess = _beyond(mean_speed, 0.0, MAX_MEAN_PISTON_SPEED)
     if not np.any(excess > 1):
         return None
@@ -256,6 +264,8 @@ def _mean_piston_speed(stroke: FloatArray, rpm: float) -> PlausibilityWarning | 
 
 def _stroke(stroke: FloatArray) -> PlausibilityWarning | None:
     low, high = STROKE_RANGE
+    if _within(stroke, low, high):
+        return None
     excess = _beyond(stroke, low, high)
     if not np.any(excess > 1):
         return None
@@ -273,6 +283,8 @@ def _stroke(stroke: FloatArray) -> PlausibilityWarning | None:
 def _rod_ratio(radius: FloatArray, length: FloatArray) -> PlausibilityWarning | None:
     ratio = radius / length
     low, high = ROD_RATIO_RANGE
+    if _within(ratio, low, high):
+        return None
     excess = _beyond(ratio, low, high)
     if not np.any(excess > 1):
         return None
@@ -302,6 +314,8 @@ def _reciprocating(engine: Engine) -> PlausibilityWarning | None:
     mass = np.asarray(engine.reciprocating_mass, dtype=np.float64)
     density = mass / bore**3
     low, high = RECIPROCATING_DENSITY_RANGE
+    if _within(density, low, high):
+        return None
     excess = _beyond(density, low, high)
     if not np.any(excess > 1):
         return None
@@ -325,6 +339,8 @@ def _conrod_inertia(engine: Engine) -> PlausibilityWarning | None:
     mass = np.asarray(parts.conrod, dtype=np.float64)
     length = np.asarray(engine.conrod_length, dtype=np.float64)
     bound = mass * length**2
+    if _within(inertia, 0.0, bound):
+        return None
     excess = _beyond(inertia, 0.0, bound)  # NaN (no inertia given): within
     if not np.any(excess > 1):
         return None
