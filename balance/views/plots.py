@@ -1095,6 +1095,8 @@ def _order_bars(
     width: float = 0.8,
 ) -> None:
     """Grouped bars per order, each non-zero bar labelled with its value."""
+    from matplotlib.container import BarContainer
+
     n = len(series)
     positions = np.arange(len(orders), dtype=np.float64)
     bar_width = width / n
@@ -1106,9 +1108,15 @@ def _order_bars(
         bars = axes.bar(
             positions + offset, heights, bar_width * 0.92, color=colour, label=label, zorder=3
         )
+        # labels on the bars that are not zero (an empty label is a text to lay out too)
+        labelled = BarContainer(
+            [bar for bar, s in zip(bars, shown, strict=True) if s],
+            datavalues=heights[shown],
+            orientation="vertical",
+        )
         axes.bar_label(
-            bars,
-            labels=[_format(float(h)) if s else "" for h, s in zip(heights, shown, strict=True)],
+            labelled,
+            labels=[_format(float(h)) for h in heights[shown]],
             fontsize=7.5,
             padding=2,
             rotation=90 if n > 1 else 0,
@@ -1529,9 +1537,24 @@ def _metadata(fmt: str) -> dict[str, Any]:
     return {}
 
 
+def _agg_canvas(fig: Figure) -> None:
+    """Give a figure made without pyplot (whose canvas cannot draw) an Agg canvas, the
+    documented way to draw a figure without pyplot.  The layout engine then measures text
+    with the canvas's renderer, which a PNG is written with: the text metrics measured for
+    the layout are not measured again (matplotlib caches them per renderer)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    if type(fig.canvas) is FigureCanvasBase:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        FigureCanvasAgg(fig)
+
+
 def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
     """A figure as the bytes of a ``png``, ``svg`` or ``pdf`` file (under :data:`STYLE`)."""
     import io
+
+    import matplotlib as mpl
 
     if fmt not in FORMATS:
         raise InputError(f"format {fmt!r}: expected one of {', '.join(FORMATS)}")
@@ -1544,9 +1567,12 @@ def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
         # With a layout engine, savefig draws the figure twice: once (without output) to
         # lay it out, once to write it.  Lay it out here instead (the engine measures the
         # text with an Agg renderer at the figure's dpi, as savefig does for a PNG), then
-        # write it in one draw with the engine off, and give the figure its engine back.
+        # write it in one draw without an engine, and give the figure its engine back.
+        # (None, not "none": savefig lays out a figure whose engine is "none" too.)
+        _agg_canvas(fig)
         engine.execute(fig)
-        fig.set_layout_engine("none")
+        with mpl.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+            fig.set_layout_engine(None)  # no rc setting turns None into an engine here
         try:
             fig.savefig(buffer, format=fmt, metadata=_metadata(fmt))
         finally:
