@@ -95,3 +95,25 @@ def fresh_process(tmp_path_factory: pytest.TempPathFactory) -> FreshProcess:
         check=False,
     )
     return FreshProcess(done, directory / "r.html", directory)
+
+
+class SectionsReport(NamedTuple):
+    """What :func:`sections_report` ran: the command's result and the page it wrote."""
+
+    result: typer.testing.Result
+    html: str
+
+
+@pytest.fixture(scope="session")
+def sections_report(tmp_path_factory: pytest.TempPathFactory) -> SectionsReport:
+    """``balance report inline-4-mounts --bearings``: one report with both optional
+    sections, the engine on its mounts (the layout's ``mounts:``) and the bearing loads,
+    for the tests of each (test_mounts_analysis.py, test_bearings_cli.py): a report draws
+    its seven figures whatever sections it has, so one report instead of two."""
+    from balance.cli import app
+
+    path = tmp_path_factory.mktemp("sections") / "r.html"
+    result = typer.testing.CliRunner().invoke(
+        app, ["report", "inline-4-mounts", "--bearings", "-o", str(path)]
+    )
+    return SectionsReport(result, path.read_text(encoding="utf-8") if path.exists() else "")

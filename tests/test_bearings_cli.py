@@ -193,7 +193,9 @@ def test_per_throw_counterweights_unload_the_centre_main_of_an_inline_4():
     assert np.max(per.moment_max_with_proposal) < np.max(two.moment_max_with_proposal)
 
 
-def test_plots_and_report(tmp_path):
+def test_plots_and_report(tmp_path, sections_report):
+    """The bearing kinds drawn by 'balance plot' (inline-4), and the report's bearings
+    section (conftest.sections_report: the inline-4 on its mounts, with --bearings)."""
     result = run(
         "plot",
         "inline-4",
@@ -211,10 +213,8 @@ def test_plots_and_report(tmp_path):
     assert result.exit_code == 0, result.stderr
     for kind in ("pin_load", "main_loads", "internal_moment"):
         assert (tmp_path / f"inline-4-{kind}.svg").stat().st_size > 1000
-    report = tmp_path / "r.html"
-    result = run("report", "inline-4", "--bearings", "-o", str(report))
+    result, html = sections_report
     assert result.exit_code == 0, result.stderr
-    html = report.read_text()
     assert 'id="bearings"' in html and "Crank-pin loads" in html
     assert 'id="figure-pin_load"' in html
 
