@@ -347,25 +347,55 @@ def _content(fig) -> list[Any]:
     return out
 
 
+def _assert_same_figure(got, expected, rel: float) -> None:
+    """Two figures that show the same: titles and texts alike, arrows, lines and bars equal
+    to ``rel`` of the largest value of each (NaN where the other has NaN)."""
+    a, b = _content(got), _content(expected)
+    assert len(a) == len(b)
+    for x, y in zip(a, b, strict=True):
+        if isinstance(x, bytes):  # a line's data
+            x, y = np.frombuffer(x), np.frombuffer(y)
+        elif isinstance(x, tuple) and x[1] is not None:  # a text with where it points
+            assert x[0] == y[0]
+            x, y = np.asarray(x[1], dtype=float), np.asarray(y[1], dtype=float)
+        if isinstance(x, np.ndarray | list) and not isinstance(x, str):
+            x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+            scale = float(np.nanmax(np.abs(y), initial=0.0))
+            np.testing.assert_allclose(x, y, rtol=0, atol=rel * scale)
+        else:
+            assert x == y
+
+
 @pytest.mark.parametrize("options", [{"moments": False}, {"roll": False}, {"model": "time"}])
 def test_every_kind_draws_what_was_computed(options):
     """Without moments or roll the figures say so instead of failing; balance needs both.
-    Drawing every kind leaves matplotlib's global settings as they were.
+    Drawing leaves matplotlib's global settings as they were.
 
     Without the moments (the roll), the kinds that read them (READS) are drawn, and the
     others are built and shown to be the figures of the result with them: drawing them
-    again would draw the same figures.  With the time model every kind is drawn: the views
-    read the phasors and no model, so that is every kind of the V8 drawn as PNG."""
+    again would draw the same figures.  With the time model every kind is built and shown
+    to be the exact model's figure to rounding (the views read the phasors, never the
+    model), and the kinds that only say what the result lacks (gas, mounts, bearing
+    loads) are drawn; every kind with something to draw is drawn as PNG by the image tests
+    (test_torque.py for torque and forces), mounts by test_mounts_analysis.py and the
+    bearing kinds as SVG by test_bearings_cli.py."""
     import matplotlib as mpl
 
     before = dict(mpl.rcParams)
+    full = analysed("v8-crossplane")
     result = computed(balance.load_layout("v8-crossplane"), **options)
     missing = set().union(*(READS[k] for k in READS if options.get(k) is False))
     for kind, function in plots.PLOT_KINDS.items():
         if kind == "balance" and not synthesis.has_proposal(result):
             continue
+        if "model" in options:
+            fig = function(result)
+            _assert_same_figure(fig, function(full), rel=1e-9)
+            if kind in plots.GAS_KINDS + plots.BEARING_KINDS + ("mounts",):
+                assert plots.figure_bytes(fig, "png").startswith(b"\x89PNG")
+            continue
         if missing and kind not in missing:
-            assert _content(function(result)) == _content(function(analysed("v8-crossplane")))
+            assert _content(function(result)) == _content(function(full))
             continue
         assert plots.figure_bytes(function(result), "png").startswith(b"\x89PNG")
     assert dict(mpl.rcParams) == before
