@@ -487,8 +487,12 @@ def test_save_plots_writes_whole_files(tmp_path, fmt):
 
 
 def test_save_plots_choices(tmp_path, monkeypatch):
-    # which kinds are written, not how (test_save_plots_writes_whole_files draws them)
+    # which kinds are written, not how (test_save_plots_writes_whole_files draws them): no
+    # figure is built or drawn, but plot_balance runs (it refuses a result without a proposal)
     monkeypatch.setattr(plots, "figure_bytes", lambda fig, fmt="png": b"")
+    for kind in plots.PLOT_KINDS:
+        if kind != "balance":
+            monkeypatch.setitem(plots.PLOT_KINDS, kind, lambda result, **options: None)
     written = plots.save_plots(analysed("inline-3"), tmp_path / "all", prefix="i3-")
     # by default, the kinds of what was computed (no mounts, bearing loads or gas here)
     default = [
