@@ -3,6 +3,10 @@
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
+from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pytest
@@ -39,3 +43,80 @@ typer.testing._get_command = _built_once(typer.testing._get_command)
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20261122)
+
+
+class FreshProcess(NamedTuple):
+    """What :func:`fresh_process` ran: the finished process and the files it wrote."""
+
+    done: subprocess.CompletedProcess[str]
+    report: Path  # ``balance report inline-3``
+    directory: Path  # ``balance plot inline-3 -k locus -k roll``
+
+
+#: Run in a fresh interpreter: import balance and its views, build every plot kind (those
+#: the report does not draw here, the report's by the report), run ``balance report`` and
+#: ``balance plot``; after each step, assert that no pyplot (and no xarray) was imported.
+#: The commands are given as arguments: the number of the report's, then the report's and
+#: the plot's.
+FRESH_PROCESS_CODE = """\
+import sys, balance, balance.views.plots, balance.views.report, balance.views.signals
+from balance.core.analysis import compute
+from balance.core.result import Request
+from balance.cli import main
+from balance.views.plots import PLOT_KINDS
+assert 'matplotlib' not in sys.modules, 'matplotlib imported at import time'
+result = compute(balance.load_layout('inline-3'), Request())
+in_report = {'crank_star', 'phasors', 'crank_angle', 'locus', 'spectrum', 'roll', 'balance'}
+figures = [f(result) for kind, f in PLOT_KINDS.items() if kind not in in_report]
+assert 'matplotlib.pyplot' not in sys.modules, 'pyplot imported'
+assert 'xarray' not in sys.modules, 'xarray imported'
+split = 2 + int(sys.argv[1])
+for args in (sys.argv[2:split], sys.argv[split:]):  # the report (SVG), the plot (PNG, Agg)
+    sys.argv = ['balance', *args]
+    try:
+        main()
+    except SystemExit as stop:
+        assert not stop.code, (args, stop.code)
+    assert 'matplotlib.pyplot' not in sys.modules, ('pyplot imported', args)
+    assert 'xarray' not in sys.modules, ('xarray imported', args)
+"""
+
+
+@pytest.fixture(scope="session")
+def fresh_process(tmp_path_factory: pytest.TempPathFactory) -> FreshProcess:
+    """One fresh Python process for the checks that need one (one start of Python and
+    matplotlib, one report): ``test_plots.py`` checks what it imported, and
+    ``test_report.py`` that the report it wrote is byte for byte the report drawn in this
+    process (a report does not depend on the process: hash seed, time, object ids)."""
+    directory = tmp_path_factory.mktemp("fresh-process")
+    report = ["report", "inline-3", "-o", str(directory / "r.html")]
+    plot = ["plot", "inline-3", "-k", "locus", "-k", "roll", "-o", str(directory)]
+    done = subprocess.run(
+        [sys.executable, "-c", FRESH_PROCESS_CODE, str(len(report)), *report, *plot],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    return FreshProcess(done, directory / "r.html", directory)
+
+
+class SectionsReport(NamedTuple):
+    """What :func:`sections_report` ran: the command's result and the page it wrote."""
+
+    result: typer.testing.Result
+    html: str
+
+
+@pytest.fixture(scope="session")
+def sections_report(tmp_path_factory: pytest.TempPathFactory) -> SectionsReport:
+    """``balance report inline-4-mounts --bearings``: one report with both optional
+    sections, the engine on its mounts (the layout's ``mounts:``) and the bearing loads,
+    for the tests of each (test_mounts_analysis.py, test_bearings_cli.py): a report draws
+    its seven figures whatever sections it has, so one report instead of two."""
+    from balance.cli import app
+
+    path = tmp_path_factory.mktemp("sections") / "r.html"
+    result = typer.testing.CliRunner().invoke(
+        app, ["report", "inline-4-mounts", "--bearings", "-o", str(path)]
+    )
+    return SectionsReport(result, path.read_text(encoding="utf-8") if path.exists() else "")

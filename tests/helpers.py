@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
-from typing import Any
+import functools
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
 from balance.api import Layout
 from balance.io.layout_file import layout_from_dict
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 def _with_unit(value: float | str, unit: str) -> str:
@@ -50,6 +55,30 @@ def engine(
     return layout_from_dict(data)
 
 
-#: Image comparison against tests/baseline (pytest-mpl is a test dependency and ``--mpl`` is in
-#: the pytest options, so a missing plugin is an error, not a silent skip).
-image_compare = pytest.mark.mpl_image_compare(baseline_dir="baseline", tolerance=2, style="default")
+_compared = pytest.mark.mpl_image_compare(baseline_dir="baseline", tolerance=2, style="default")
+
+
+def image_compare(test: Callable[..., Figure]) -> Callable[..., Figure]:
+    """Image comparison against tests/baseline (pytest-mpl is a test dependency and ``--mpl``
+    is in the pytest options, so a missing plugin is an error, not a silent skip).
+
+    The figure is laid out before pytest-mpl saves it, as ``balance.views.plots.figure_bytes``
+    does: savefig would lay out a figure with a layout engine in a draw of its own (without
+    output) before the draw that writes it.  The pixels are the same, byte for byte.
+    """
+
+    @functools.wraps(test)
+    def laid_out(*args: Any, **kwargs: Any) -> Figure:
+        from matplotlib.backend_bases import FigureCanvasBase
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        fig = test(*args, **kwargs)
+        engine = fig.get_layout_engine()
+        if engine is not None:
+            if type(fig.canvas) is FigureCanvasBase:
+                FigureCanvasAgg(fig)  # the renderer the PNG is written with
+            engine.execute(fig)
+            fig.set_layout_engine(None)  # pytest-mpl's style sets no autolayout
+        return fig
+
+    return _compared(laid_out)

@@ -193,7 +193,9 @@ def test_per_throw_counterweights_unload_the_centre_main_of_an_inline_4():
     assert np.max(per.moment_max_with_proposal) < np.max(two.moment_max_with_proposal)
 
 
-def test_plots_and_report(tmp_path):
+def test_plots_and_report(tmp_path, sections_report):
+    """The bearing kinds drawn by 'balance plot' (inline-4), and the report's bearings
+    section (conftest.sections_report: the inline-4 on its mounts, with --bearings)."""
     result = run(
         "plot",
         "inline-4",
@@ -211,10 +213,8 @@ def test_plots_and_report(tmp_path):
     assert result.exit_code == 0, result.stderr
     for kind in ("pin_load", "main_loads", "internal_moment"):
         assert (tmp_path / f"inline-4-{kind}.svg").stat().st_size > 1000
-    report = tmp_path / "r.html"
-    result = run("report", "inline-4", "--bearings", "-o", str(report))
+    result, html = sections_report
     assert result.exit_code == 0, result.stderr
-    html = report.read_text()
     assert 'id="bearings"' in html and "Crank-pin loads" in html
     assert 'id="figure-pin_load"' in html
 
@@ -230,7 +230,10 @@ def test_default_plots_leave_out_bearing_kinds_without_loads(tmp_path, monkeypat
         texts = [t.get_text() for ax in fig.axes for t in ax.texts]
         assert any("--bearings" in t for t in texts)
     # which kinds are written, not how: every default kind is drawn as SVG in each report
+    # (no figure is built or drawn here)
     monkeypatch.setattr(plots, "figure_bytes", lambda fig, fmt="png": b"")
+    for kind in PLOT_KINDS:
+        monkeypatch.setitem(PLOT_KINDS, kind, lambda result, **options: None)
     written = plots.save_plots(result, tmp_path, fmt="svg")
     assert written and not any(kind in p.name for p in written for kind in BEARING_KINDS)
 

@@ -287,7 +287,10 @@ def test_compare_column_of_the_largest_mount_force():
     assert "mount F" not in r.stdout
 
 
-def test_dataset_netcdf_figure_and_report(tmp_path):
+def test_dataset_netcdf_figure_and_report(tmp_path, sections_report):
+    """The Dataset, its netCDF file, the mounts figure, and the report's mounts section
+    (conftest.sections_report: the report of the inline-4 on its mounts, which also has
+    the bearing loads; the section is the same code for any layout with mounts)."""
     from balance.views.dataset import build_dataset
 
     ds = build_dataset(compute(load_layout("inline-4-mounts"), Request(mounts=True)))
@@ -310,10 +313,8 @@ def test_dataset_netcdf_figure_and_report(tmp_path):
     r = run("plot", "inline-4-mounts", "-k", "mounts", "-o", str(tmp_path))
     assert r.exit_code == 0, r.stderr
     assert (tmp_path / "inline-4-mounts-mounts.png").exists()
-    html = tmp_path / "r.html"
-    r = run("report", "single-mounts", "-o", str(html))
+    r, text = sections_report
     assert r.exit_code == 0, r.stderr
-    text = html.read_text()
     assert 'id="mounts"' in text and "torque-roll axis" in text
 
 

@@ -30,14 +30,51 @@ VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "met
 FIGURE_KINDS = ("crank_star", "spectrum", "locus", "phasors", "crank_angle", "roll", "balance")
 
 
-@cache
-def analysed(name: str, proposal: bool = True):
+#: Text that would break the page if it were not escaped: a name and a source path (in the
+#: tables and in the title of every figure) and a note of the proposal.
+HOSTILE_NAME = '<script>alert("x")</script> & <b>bold</b> --> "q"'
+HOSTILE_PATH = '"><script>1</script>'
+HOSTILE_NOTE = "<img src=http://example.com/x.png>"
+
+#: The reports drawn for these tests, with their figures, once each (``report``): layout
+#: and whether with its proposal.  The inline-4's is drawn without its proposal and under
+#: the hostile name and source path: one report for the checks of a whole page, of escaping
+#: and of a report without a proposal (the inline-4 with its proposal, no counterweight and
+#: two second-order shafts, is rendered with the hostile note, without figures, in
+#: test_every_text_is_escaped).  The inline-3's has a proposal with counterweights and
+#: shafts and draws every figure kind.  The V8's report is the inline-3's with other
+#: numbers (the same sections, tables and figure kinds; its proposal has no shaft): its
+#: tables are checked without figures (test_tables_hold_the_result_numbers), and its
+#: figures are drawn as PNG by the image tests of test_plots.py.
+REPORTED = {"inline-4": False, "inline-3": True}
+
+
+def computed(name: str, proposal: bool = True):
+    return _computed(name, proposal)
+
+
+@cache  # on positional arguments only: computed("x") and computed("x", proposal=True) are one
+def _computed(name: str, proposal: bool):
     return compute(balance.load_layout(name), Request(proposal=proposal))
 
 
+def hostile(result):
+    """A result under the hostile name and source path."""
+    from dataclasses import replace
+
+    return replace(result, engine=replace(result.engine, name=HOSTILE_NAME, path=HOSTILE_PATH))
+
+
+def reported(name: str):
+    """The result the report of ``name`` is drawn from (see REPORTED)."""
+    result = computed(name, REPORTED[name])
+    return hostile(result) if name == "inline-4" else result
+
+
 @cache
-def report(name: str, proposal: bool = True) -> str:
-    return render_report(analysed(name, proposal))
+def report(name: str) -> str:
+    """The report of a layout of REPORTED, drawn once for all the tests of this module."""
+    return render_report(reported(name))
 
 
 class Document(HTMLParser):
@@ -82,27 +119,32 @@ def parse(text: str) -> Document:
     return document
 
 
-@pytest.mark.parametrize("name", ["inline-4", "inline-3", "v8-crossplane"])
-def test_report_parses_and_has_every_section(name):
-    text = report(name)
-    assert text.startswith("<!DOCTYPE html>")
-    document = parse(text)
+def assert_whole_page(document: Document) -> None:
+    """Tags nest and close, ids are unique, every section is there in order."""
     assert document.errors == []
     assert document.stack == []
     ids = [a["id"] for _, a in document.elements if a.get("id")]
     assert len(ids) == len(set(ids)), "ids must be unique in the page"
     sections = [a.get("id") for tag, a in document.elements if tag == "section"]
     assert sections == [ident for ident, _ in SECTIONS]
+
+
+@pytest.mark.parametrize("name", list(REPORTED))
+def test_report_parses_and_has_every_section(name):
+    text = report(name)
+    assert text.startswith("<!DOCTYPE html>")
+    document = parse(text)
+    assert_whole_page(document)
     body = " ".join(document.text)
     for _, heading in SECTIONS:
         assert heading in body
-    result = analysed(name)
+    result = reported(name)
     assert result.engine.name in body
     assert accuracy_statement(result) in body
     assert f"model {result.phasors.model}" in body
 
 
-@pytest.mark.parametrize("name", ["inline-4", "v8-crossplane"])
+@pytest.mark.parametrize("name", list(REPORTED))
 def test_report_is_self_contained(name):
     text = report(name)
     document = parse(text)
@@ -129,18 +171,21 @@ def test_every_figure_is_an_inline_svg():
 def test_tables_hold_the_result_numbers():
     from balance.views.table import format_number
 
-    result = analysed("v8-crossplane")
-    body = " ".join(parse(report("v8-crossplane")).text)
+    result = computed("v8-crossplane")
+    document = parse(render_report(result, figures=False))  # the tables (see REPORTED)
+    assert_whole_page(document)
+    body = " ".join(document.text)
     p = result.phasors
     peak = format_number(float(abs(p.moment_forward[0]) + abs(p.moment_backward[0])))
     assert peak in body
     assert result.balanced is not None
     assert format_number(result.balanced.proposal.counterweights[0].mass) in body
     assert "Counterweights" in body and "Residual with the proposal" in body
+    assert "None needed." in body  # the V8's proposal has no balance shaft
 
 
 def test_report_without_a_proposal():
-    text = report("inline-4", proposal=False)
+    text = report("inline-4")  # without its proposal (REPORTED)
     document = parse(text)
     body = " ".join(document.text)
     assert "No balancing proposal" in body
@@ -162,20 +207,28 @@ def test_report_without_moments_or_roll():
 
 
 def test_every_text_is_escaped():
+    """The hostile name and path in the tables and in every figure (the inline-4's report of
+    REPORTED), and the hostile note of a proposal (a report without figures: the notes are
+    in its tables only) are text, not markup."""
     from dataclasses import replace
 
-    result = analysed("inline-4")
-    assert result.balanced is not None
-    engine = replace(
-        result.engine,
-        name='<script>alert("x")</script> & <b>bold</b> --> "q"',
-        path='"><script>1</script>',
-    )
-    proposal = replace(result.balanced.proposal, notes=("<img src=http://example.com/x.png>",))
-    result = replace(result, engine=engine, balanced=replace(result.balanced, proposal=proposal))
-    text = render_report(result, figures=True)
+    text = report("inline-4")
     document = parse(text)
-    assert document.errors == []
+    assert_whole_page(document)
+    assert not any(tag in {"script", "img", "b"} for tag, _ in document.elements)
+    assert "&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt; &amp; &lt;b&gt;" in text
+    result = hostile(computed("inline-4"))  # with the proposal
+    assert result.balanced is not None
+    proposal = replace(result.balanced.proposal, notes=(HOSTILE_NOTE,))
+    result = replace(result, balanced=replace(result.balanced, proposal=proposal))
+    text = render_report(result, figures=False)
+    document = parse(text)
+    assert_whole_page(document)
+    body = " ".join(document.text)
+    for _, heading in SECTIONS:
+        assert heading in body
+    assert accuracy_statement(result) in body
+    assert "None needed." in body  # the inline-4's proposal has no counterweight
     assert not any(tag in {"script", "img", "b"} for tag, _ in document.elements)
     assert "&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt; &amp; &lt;b&gt;" in text
     assert "http://example.com" not in re.sub(r"&lt;img src=http://example.com", "", text)
@@ -187,13 +240,13 @@ def test_accuracy_statement_per_model():
     assert "2 terms" in series and "λ^3" in series
     textbook = accuracy_statement(compute(layout, Request(model="textbook", proposal=False)))
     assert "cos 2β" in textbook and "orders 4, 6" in textbook
-    assert "machine precision" in accuracy_statement(analysed("inline-4"))
+    assert "machine precision" in accuracy_statement(computed("inline-4"))
     time = accuracy_statement(compute(layout, Request(model="time", proposal=False)))
     assert "crank angles per revolution" in time
 
 
 def test_write_report_is_atomic_and_refuses_to_overwrite(tmp_path):
-    result = analysed("inline-4")
+    result = computed("inline-4")
     target = tmp_path / "review.html"
     assert write_report(result, target, figures=False) == target
     assert target.read_text(encoding="utf-8") == render_report(result, figures=False)
@@ -207,9 +260,12 @@ def test_write_report_is_atomic_and_refuses_to_overwrite(tmp_path):
         write_report(result, tmp_path / "missing" / "review.html")
 
 
-def test_report_is_deterministic():
-    result = analysed("inline-3")
-    assert render_report(result) == report("inline-3")
+def test_report_is_deterministic(fresh_process):
+    """The report a fresh process wrote (``balance report inline-3``, in conftest's
+    fresh_process, which test_plots.py checks for its imports) is byte for byte the one
+    drawn here: nothing in it depends on the process (hash seed, time, object ids)."""
+    assert fresh_process.done.returncode == 0, fresh_process.done.stderr
+    assert fresh_process.report.read_text(encoding="utf-8") == report("inline-3")
 
 
 @pytest.mark.skipif(
@@ -217,37 +273,57 @@ def test_report_is_deterministic():
     reason="needs Debian chromium at /usr/bin/chromium (apt-get install -y chromium); "
     "in CI a missing browser is a failure",
 )
-@pytest.mark.parametrize("name", ["inline-3", "v8-crossplane"])
-def test_report_renders_in_a_headless_browser(name, tmp_path):
+def test_report_renders_in_a_headless_browser(tmp_path):
+    """The reports of REPORTED in one start of the browser, a page each: the inline-3's,
+    and the inline-4's, whose hostile name and path run no script (no dialog opens)."""
     from playwright import sync_api  # a test dependency: only a missing browser skips
 
-    path = tmp_path / f"{name}.html"  # the report of the tests above (what write_report writes)
-    path.write_text(report(name), encoding="utf-8")
-    console: list[str] = []
-    failed: list[str] = []
-    requests: list[str] = []
+    names = list(REPORTED)
+    figures = {"inline-3": len(FIGURE_KINDS), "inline-4": len(FIGURE_KINDS) - 1}  # no proposal
+    pages = {}
     with sync_api.sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
         try:
-            page = browser.new_page(viewport={"width": 1280, "height": 1000})
-            page.on("console", lambda m: console.append(f"{m.type}: {m.text}"))
-            page.on("pageerror", lambda e: console.append(f"pageerror: {e}"))
-            page.on("requestfailed", lambda r: failed.append(r.url))
-            page.on("request", lambda r: requests.append(r.url))
-            page.goto(path.resolve().as_uri(), wait_until="load")
-            boxes = page.eval_on_selector_all(
-                "svg",
-                "els => els.map(e => { const r = e.getBoundingClientRect();"
-                " return [r.width, r.height]; })",
-            )
-            headings = page.eval_on_selector_all("section > h2", "els => els.length")
-            page.screenshot(path=str(tmp_path / f"{name}.png"), full_page=True)
+            for name in names:
+                path = tmp_path / f"{name}.html"  # the report of the tests above
+                path.write_text(report(name), encoding="utf-8")
+                pages[name] = _render_page(browser, path, tmp_path / f"{name}.png")
         finally:
             browser.close()
-    assert [m for m in console if m.startswith(("error", "pageerror"))] == []
-    assert failed == []
-    assert requests == [path.resolve().as_uri()]  # the page itself and nothing else
-    assert len(boxes) == len(FIGURE_KINDS)
-    assert all(width > 100 and height > 100 for width, height in boxes), boxes
-    assert headings == len(SECTIONS)
-    assert (tmp_path / f"{name}.png").stat().st_size > 10_000
+    for name in names:
+        path = tmp_path / f"{name}.html"
+        console, failed, requests, boxes, headings = pages[name]
+        assert [m for m in console if m.startswith(("error", "pageerror", "dialog"))] == [], name
+        assert failed == [], name
+        assert requests == [path.resolve().as_uri()], name  # the page itself and nothing else
+        assert len(boxes) == figures[name], name
+        assert all(width > 100 and height > 100 for width, height in boxes), (name, boxes)
+        assert headings == len(SECTIONS), name
+        assert (tmp_path / f"{name}.png").stat().st_size > 10_000, name
+
+
+def _render_page(browser, path: Path, screenshot: Path):
+    """Open a report in a new page of the browser: its console messages (and any dialog
+    a script opened), failed and made requests, the size of each SVG, the number of section
+    headings; and a screenshot."""
+    console: list[str] = []
+    failed: list[str] = []
+    requests: list[str] = []
+    page = browser.new_page(viewport={"width": 1280, "height": 1000})
+    try:
+        page.on("console", lambda m: console.append(f"{m.type}: {m.text}"))
+        page.on("pageerror", lambda e: console.append(f"pageerror: {e}"))
+        page.on("dialog", lambda d: (console.append(f"dialog: {d.message}"), d.dismiss()))
+        page.on("requestfailed", lambda r: failed.append(r.url))
+        page.on("request", lambda r: requests.append(r.url))
+        page.goto(path.resolve().as_uri(), wait_until="load")
+        boxes = page.eval_on_selector_all(
+            "svg",
+            "els => els.map(e => { const r = e.getBoundingClientRect();"
+            " return [r.width, r.height]; })",
+        )
+        headings = page.eval_on_selector_all("section > h2", "els => els.length")
+        page.screenshot(path=str(screenshot), full_page=True)
+    finally:
+        page.close()
+    return console, failed, requests, boxes, headings

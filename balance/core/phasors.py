@@ -42,6 +42,7 @@ FloatArray = NDArray[np.float64]
 #: ``CANCELLATION_FACTOR * n_terms * eps * sum(|terms|)``.
 CANCELLATION_FACTOR = 64.0
 _EPS = float(np.finfo(np.float64).eps)
+_TINY = float(np.finfo(np.float64).tiny)  # the smallest normal number
 #: Largest array (elements) summed over its cylinders in one call (see
 #: :func:`sum_over_cylinders`); larger ones are summed one cylinder at a time.
 _SMALL = 1 << 16
@@ -63,7 +64,7 @@ def cancel_to_zero(total: ComplexArray, term_scale: ArrayLike, n_terms: int) -> 
     -------
     ndarray of complex
         ``total`` with every entry whose magnitude is at most
-        :math:`64\, n\, \epsilon \sum_i |t_i|` replaced by 0.
+        :math:`64\, n\, \epsilon (\sum_i |t_i| + t_{min})` replaced by 0.
 
     Notes
     -----
@@ -71,8 +72,17 @@ def cancel_to_zero(total: ComplexArray, term_scale: ArrayLike, n_terms: int) -> 
     :math:`n\epsilon S`; the factor 64 covers the rounding of the terms themselves (sines,
     cosines of multiples of the throw angles).  Anything below this cannot be told from
     zero in double precision, so reporting it as, say, 3e-13 N would be noise.
+
+    Below the smallest normal number :math:`t_{min}` (2.2e-308) rounding is absolute, not
+    relative: the subnormal numbers are evenly spaced :math:`\epsilon\, t_{min}` (4.9e-324)
+    apart, so a result there is off by up to half that whatever its size (Goldberg, "What
+    every computer scientist should know about floating-point arithmetic", *ACM Computing
+    Surveys* 23(1), 1991, §2.2.4, "Denormalized numbers").  Hence
+    :math:`\epsilon (S + t_{min})`: a moment about a ``reference_z`` of 2e-311 m has terms
+    of 1e-313 N m (per unit of ω²), whose sum keeps one subnormal unit of rounding that
+    :math:`\epsilon S` alone (1e-326, below that unit) would call a couple.
     """
-    threshold = CANCELLATION_FACTOR * max(n_terms, 1) * _EPS * np.asarray(term_scale)
+    threshold = CANCELLATION_FACTOR * max(n_terms, 1) * _EPS * (np.asarray(term_scale) + _TINY)
     out = np.array(total, dtype=np.complex128, copy=True)
     out[np.abs(out) <= threshold] = 0.0
     return out

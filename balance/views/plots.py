@@ -171,15 +171,17 @@ def _new_figure(
     polar: bool = False,
     kind: str,
 ) -> tuple[Figure, list[Axes], bool]:
-    """Axes to draw on: new ones in a new figure, or the ones given (checked)."""
+    """Axes to draw on: new ones in a new figure, or the ones given (checked).
+
+    ``polar``: axes given must be polar (the phasor kinds); the figure made here has plain
+    axes, on which the phasor kinds draw the same polar frame (:func:`_phasor_frame`).
+    """
     from matplotlib.figure import Figure
 
     if ax is None:
         fig = Figure(figsize=figsize, layout="constrained")
         ncols = ncols if ncols is not None else math.ceil(n_axes / nrows)
-        grid = fig.subplots(
-            nrows, ncols, squeeze=False, subplot_kw={"projection": "polar"} if polar else None
-        )
+        grid = fig.subplots(nrows, ncols, squeeze=False)
         return fig, list(np.ravel(grid))[:n_axes], True
     axes = list(np.ravel(np.asarray(ax, dtype=object)))
     if len(axes) != n_axes:
@@ -193,15 +195,30 @@ def _new_figure(
     return root, axes, False
 
 
-def _finish(fig: Figure, owned: bool, title: str | None, default_title: str) -> Figure:
-    """Set the figure title (wrapped to the figure's width) on a figure of our own."""
+def _title_text(figure_width: float, text: str) -> str:
+    """A figure title wrapped to the figure's width [in] (at most about 10 px per character
+    at 12 pt and 100 dpi)."""
     import textwrap
 
+    return textwrap.fill(text, max(30, int(figure_width * 100.0 / 10.0)))
+
+
+def _finish(
+    fig: Figure,
+    owned: bool,
+    title: str | None,
+    default_title: str,
+    *,
+    y: float | None = None,
+) -> Figure:
+    """Set the figure title (wrapped to the figure's width) on a figure of our own; ``y``
+    places its top (figure fraction; by default matplotlib's)."""
     if title is not None or owned:
-        text = default_title if title is None else title
-        # at most about 10 px per character at 12 pt and 100 dpi
-        width = max(30, int(fig.get_figwidth() * 100.0 / 10.0))
-        fig.suptitle(textwrap.fill(text, width))
+        text = _title_text(fig.get_figwidth(), default_title if title is None else title)
+        if y is None:
+            fig.suptitle(text)
+        else:
+            fig.suptitle(text, y=y)
     return fig
 
 
@@ -482,6 +499,10 @@ def plot_phasors(
     :data:`PHASOR_COLUMNS` to a row.  ``scale="common"`` draws all orders of a quantity on
     one linear scale, two panels.
 
+    The polar frame of each panel (circle, rings with their values, spokes every 45 deg,
+    angle labels) is drawn as lines and text (:func:`_phasor_frame`): on the plain axes of
+    the figure this function makes, and on the polar axes given as ``ax``, alike.
+
     Parameters
     ----------
     result : Result
@@ -509,82 +530,50 @@ def plot_phasors(
         raise ValueError(f"plot_phasors: scale must be 'per-order' or 'common', got {scale!r}")
     if scale == "common":
         return _phasors_common(result, ax, source, orders, normalised, title)
-    from matplotlib.lines import Line2D
 
     panels = phasor_panels(result, source=source, orders=orders)
-    counts = [max(len(drawn), 1) for _, drawn in panels]
-    ncols = min(PHASOR_COLUMNS, max(counts))
-    # a quantity without a phasor to draw takes a low row with its note
-    rows = [
-        math.ceil(n / ncols) if drawn else 0.3 for n, (_, drawn) in zip(counts, panels, strict=True)
-    ]
+    groups = []
+    for quantity, ks_shown in panels:
+        ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+        divisor, unit, _ = _scale(result, quantity, normalised)
+        name = "force" if quantity == "force" else "moment Σ Δz·F"
+        groups.append((ks, fwd / divisor, bwd / divisor, _axis_label(name, unit), ks_shown))
+    default_title = f"{_layout_name(result)}: phasors at θ\u00a0=\u00a00, {_source_label(source)}"
     with _styled():
         if ax is None:
-            from matplotlib.figure import Figure
-
-            fig = Figure(figsize=(2.75 * ncols + 1.9, 0.9 + 3.05 * sum(rows)), layout="constrained")
-            subfigures = fig.subfigures(len(panels), 1, height_ratios=rows, squeeze=False)
-            axes_list = []
-            for sub, n, (_, drawn) in zip(np.ravel(subfigures), counts, panels, strict=True):
-                if not drawn:  # a row for the note alone
-                    axes_list.append([sub.subplots()])
-                    continue
-                grid = np.ravel(
-                    sub.subplots(
-                        math.ceil(n / ncols),
-                        ncols,
-                        squeeze=False,
-                        subplot_kw={"projection": "polar"},
-                    )
-                )
-                for extra in grid[n:]:  # the rest of the last row stays empty
-                    extra.remove()
-                axes_list.append(list(grid[:n]))
+            fig, axes_list, title_y = _phasor_figure(
+                [(label, len(ks_shown)) for _, _, _, label, ks_shown in groups],
+                default_title if title is None else title,
+            )
             owned = True
         else:
+            counts = [max(len(ks_shown), 1) for _, ks_shown in panels]
             fig, given, owned = _new_figure(ax, sum(counts), (1.0, 1.0), polar=True, kind="phasors")
             axes_list, start = [], 0
             for n in counts:
                 axes_list.append(given[start : start + n])
                 start += n
-            subfigures = None
-        for group, (quantity, ks_shown) in enumerate(panels):
-            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
-            divisor, unit, _ = _scale(result, quantity, normalised)
-            fwd, bwd = fwd / divisor, bwd / divisor
-            name = "force" if quantity == "force" else "moment Σ Δz·F"
-            label = (
-                f"{name} [{unit}]" if not unit.startswith("per ") else f"{name} / {unit[4:]} [1]"
-            )
-            if subfigures is not None and ks_shown:
-                np.ravel(subfigures)[group].suptitle(
-                    f"{label}: each order on its own scale", fontsize=11
-                )
-            axes_group = axes_list[group]
+            title_y = None
+        for axes_group, (ks, fwd, bwd, label, ks_shown) in zip(axes_list, groups, strict=True):
             if not ks_shown:
-                polar: Any = axes_group[0]
-                polar.set_axis_off()
+                note_axes = axes_group[0]
+                note_axes.set_axis_off()
                 note = "not computed" if np.isnan(fwd).all() else "all zero"
-                polar.text(
+                note_axes.text(
                     0.5,
                     0.5,
                     f"{note}: {label}",
-                    transform=polar.transAxes,
+                    transform=note_axes.transAxes,
                     ha="center",
                     va="center",
                     color="0.4",
                 )
                 continue
             shown = {k: (fwd[i], bwd[i]) for i, k in enumerate(ks) if int(k) in ks_shown}
-            for polar, k in zip(axes_group, ks_shown, strict=True):
+            for axes, k in zip(axes_group, ks_shown, strict=True):
                 pf, pb = shown[k]
-                _polar_frame(polar)
                 largest = max(abs(pf), abs(pb))
-                polar.set_rmax(1.12 * largest)
-                polar.set_rmin(0.0)
-                polar.set_rticks([largest / 2.0, largest])
-                polar.set_yticklabels([_format(largest / 2.0), _format(largest)], fontsize=7)
-                polar.set_rlabel_position(135.0)
+                _phasor_frame(axes, 1.12 * largest, [largest / 2.0, largest])
                 colour = _order_colour(k)
                 significant = _significant(np.array([abs(pf), abs(pb)]))
                 for phasor, arrow, visible in (
@@ -592,56 +581,205 @@ def plot_phasors(
                     (pb, BACKWARD_ARROW, significant[1]),
                 ):
                     if visible:
-                        polar.annotate(
-                            "",
-                            xy=(float(np.angle(phasor)), float(abs(phasor))),
-                            xytext=(0.0, 0.0),
-                            arrowprops={"color": colour, "shrinkA": 0, "shrinkB": 0, **arrow},
-                        )
-                polar.set_title(
+                        _phasor_arrow(axes, phasor, colour, arrow)
+                axes.set_title(
                     f"order {k}\nforward {_format(abs(pf))}, backward {_format(abs(pb))}",
                     fontsize=9,
                     color=colour,
-                    pad=8,
+                    pad=8 if axes.name == "polar" else 5,
                 )
-        handles = [
-            Line2D(
-                [],
-                [],
-                color="black",
-                lw=3.4,
-                alpha=0.45,
-                label="forward (wide):\nturns with\nthe crank",
-            ),
-            Line2D(
-                [],
-                [],
-                color="black",
-                lw=1.5,
-                ls="--",
-                label="backward (dashed):\nturns against\nthe crank",
-            ),
-        ]
-        if owned:
-            fig.legend(handles=handles, loc="outside right center")
-        return _finish(
-            fig,
-            owned,
-            title,
-            f"{_layout_name(result)}: phasors at θ\u00a0=\u00a00, {_source_label(source)}",
-        )
+        return _finish(fig, owned, title, default_title, y=title_y)
 
 
-def _polar_frame(polar: Any) -> None:
-    """0 deg (+y) at the top, angles clockwise (the direction of rotation), light labels."""
-    polar.set_theta_zero_location("N")
-    polar.set_theta_direction(-1)
-    polar.set_thetagrids(
-        np.arange(0, 360, 45),
-        [f"{a}°" if a % 90 == 0 else "" for a in range(0, 360, 45)],
-        fontsize=7.5,
+def _direction_legend() -> list[Any]:
+    """Legend entries of the phasor arrows: forward wide, backward dashed."""
+    from matplotlib.lines import Line2D
+
+    return [
+        Line2D(
+            [],
+            [],
+            color="black",
+            lw=3.4,
+            alpha=0.45,
+            label="forward (wide):\nturns with\nthe crank",
+        ),
+        Line2D(
+            [],
+            [],
+            color="black",
+            lw=1.5,
+            ls="--",
+            label="backward (dashed):\nturns against\nthe crank",
+        ),
+    ]
+
+
+def _phasor_figure(
+    groups: Sequence[tuple[str, int]], title: str
+) -> tuple[Figure, list[list[Axes]], float]:
+    """The figure of the per-order phasor panels, laid out here, in inches: the size of
+    everything in it is known (two-line panel titles, angle labels of one size), so it needs
+    no layout engine (constrained layout measured every text of every panel twice, and
+    saving drew the figure twice for it).
+
+    ``groups``: for the force and the moment, the title of its group of panels and how many
+    panels it has (0: a low row for the note that says why).  Returns the figure, the axes
+    of each group and where the top of the figure title goes (figure fraction).
+    """
+    from matplotlib.figure import Figure
+
+    diameter, column, legend = 2.15, 2.8, 1.9  # a panel's circle, its column, the legend's
+    side, end = 0.3, 0.16  # room for the angle labels beside and above/below the circle,
+    # as _phasor_frame leaves it
+    panel_title, gap, group_title, note = 0.42, 0.1, 0.28, 0.55
+    margin, title_line = 0.1, 0.2  # around the figure title, one line of it (12 pt)
+    ncols = min(PHASOR_COLUMNS, max(max(n for _, n in groups), 1))
+    box_width, box_height = diameter + 2.0 * side, diameter + 2.0 * end
+    row = panel_title + box_height + gap
+    width = column * ncols + legend
+    top = 2.0 * margin + title_line * (_title_text(width, title).count("\n") + 1)
+    heights = [group_title + math.ceil(n / ncols) * row if n else note for _, n in groups]
+    height = top + sum(heights) + margin / 2.0
+    left = margin / 2.0
+    fig = Figure(figsize=(width, height))
+
+    def rect(x: float, y: float, w: float, h: float) -> tuple[float, float, float, float]:
+        """Figure fractions of a box ``w`` by ``h`` [in] whose top left is ``(x, y)`` [in]
+        from the figure's top left."""
+        return (x / width, 1.0 - (y + h) / height, w / width, h / height)
+
+    axes_groups: list[list[Axes]] = []
+    y = top
+    for (label, n), h in zip(groups, heights, strict=True):
+        if not n:
+            axes_groups.append([fig.add_axes(rect(left, y, column * ncols, h))])
+        else:
+            # over the panels; from the left edge when one column is narrower than it
+            fig.text(
+                (left + column * ncols / 2.0) / width if ncols > 1 else left / width,
+                1.0 - y / height,
+                f"{label}: each order on its own scale",
+                ha="center" if ncols > 1 else "left",
+                va="top",
+                fontsize=11,
+            )
+            panels = []
+            for i in range(n):
+                r, c = divmod(i, ncols)
+                x0 = left + c * column + (column - box_width) / 2.0
+                y0 = y + group_title + r * row + panel_title
+                panels.append(fig.add_axes(rect(x0, y0, box_width, box_height)))
+            axes_groups.append(panels)
+        y += h
+    fig.legend(
+        handles=_direction_legend(),
+        loc="center left",
+        bbox_to_anchor=((left + column * ncols) / width, 1.0 - (top + height) / 2.0 / height),
+        bbox_transform=fig.transFigure,
     )
-    polar.tick_params(axis="x", pad=-1)
+    return fig, axes_groups, 1.0 - margin / height
+
+
+def _plane_point(axes: Any, angle: Any, radius: Any) -> tuple[Any, Any]:
+    """Data coordinates of the point at ``angle`` [rad] from +y, clockwise, and ``radius``:
+    ``(angle, radius)`` on polar axes (set to zero at the top, clockwise), ``(x, y)`` =
+    ``radius (sin angle, cos angle)`` on plain axes."""
+    if axes.name == "polar":
+        return angle, radius
+    return radius * np.sin(angle), radius * np.cos(angle)
+
+
+def _phasor_arrow(axes: Any, phasor: complex, colour: str, arrow: dict[str, Any]) -> None:
+    """A phasor as an arrow from the centre (``phasor`` = y + i x: its angle from +y)."""
+    axes.annotate(
+        "",
+        xy=_plane_point(axes, float(np.angle(phasor)), float(abs(phasor))),
+        xytext=(0.0, 0.0),
+        arrowprops={"color": colour, "shrinkA": 0, "shrinkB": 0, **arrow},
+    )
+
+
+def _phasor_frame(
+    axes: Any,
+    radius: float,
+    rings: Sequence[float],
+    *,
+    labelled: int = 90,
+    fontsize: float = 7.5,
+    ring_fontsize: float = 7.0,
+) -> None:
+    """The polar frame of a phasor panel, drawn as lines and text on the axes (whose own
+    axis is switched off): 0 deg (+y) at the top, angles clockwise (the direction of
+    rotation); the outer circle at ``radius``, grid circles at ``rings`` with their values
+    along 135 deg, spokes every 45 deg, and the angle labelled every ``labelled`` deg.
+
+    On plain axes the data limits leave room for the angle labels inside the axes (the
+    title goes above them) and keep the scale equal; on polar axes the radius is the
+    axes' ``rmax``.  Drawn this way a panel costs a third of matplotlib's polar axes (no
+    tick machinery, no polar transform of the frame), with the same look.
+    """
+    import matplotlib as mpl
+
+    axes.set_axis_off()
+    if axes.name == "polar":
+        axes.set_theta_zero_location("N")
+        axes.set_theta_direction(-1)
+        axes.set_rlim(0.0, radius)
+    else:
+        # the circle as large as the axes' box [in] allows with room for the angle labels
+        # beside it and above and below it (the box shrinks to fit, if it has to)
+        side, end = 0.3, 0.16
+        bbox = axes.get_position()
+        w, h = bbox.width * axes.figure.get_figwidth(), bbox.height * axes.figure.get_figheight()
+        diameter = min(w - 2.0 * side, h - 2.0 * end)
+        if diameter <= 0.0:
+            diameter = 0.7 * min(w, h)
+        per_inch = 2.0 * radius / diameter
+        axes.set_xlim(-(diameter / 2.0 + side) * per_inch, (diameter / 2.0 + side) * per_inch)
+        axes.set_ylim(-(diameter / 2.0 + end) * per_inch, (diameter / 2.0 + end) * per_inch)
+        axes.set_aspect("equal", adjustable="box")
+    grid = {
+        "color": mpl.rcParams["grid.color"],
+        "alpha": mpl.rcParams["grid.alpha"],
+        "lw": mpl.rcParams["grid.linewidth"],
+        "zorder": 1,
+    }
+    around = np.linspace(0.0, 2.0 * np.pi, 181)
+    for ring in rings:
+        axes.plot(*_plane_point(axes, around, np.full(around.shape, ring)), **grid)
+    spokes = np.radians(np.arange(0.0, 360.0, 45.0))
+    angle = np.repeat(spokes, 3)
+    along = np.tile([0.0, radius, np.nan], spokes.size)
+    axes.plot(*_plane_point(axes, angle, along), **grid)
+    axes.plot(
+        *_plane_point(axes, around, np.full(around.shape, radius)),
+        color=mpl.rcParams["axes.edgecolor"],
+        lw=mpl.rcParams["axes.linewidth"],
+        zorder=1.5,
+    )
+    for degrees in range(0, 360, labelled):
+        a = math.radians(degrees)
+        axes.annotate(
+            f"{degrees}°",
+            xy=_plane_point(axes, a, radius),
+            xytext=(3.0 * math.sin(a), 3.0 * math.cos(a)),
+            textcoords="offset points",
+            ha=_ha(a),
+            va=_va(a),
+            fontsize=fontsize,
+        )
+    a = math.radians(135.0)
+    for ring in rings:
+        axes.annotate(
+            _format(ring),
+            xy=_plane_point(axes, a, ring),
+            xytext=(6.0, 0.0),
+            textcoords="offset points",
+            ha="left",
+            va="center",
+            fontsize=ring_fontsize,
+        )
 
 
 def _phasors_common(
@@ -655,6 +793,7 @@ def _phasors_common(
     """:func:`plot_phasors` with ``scale="common"``: every order of a quantity on one
     linear scale, force and moment side by side."""
     from matplotlib.lines import Line2D
+    from matplotlib.ticker import MaxNLocator
 
     with _styled():
         fig, axes_list, owned = _new_figure(ax, 2, (10.0, 5.4), polar=True, kind="phasors")
@@ -664,22 +803,18 @@ def _phasors_common(
             divisor, unit, _ = _scale(result, quantity, normalised)
             fwd, bwd = fwd / divisor, bwd / divisor
             keep = _pick_orders(ks, orders)
-            polar: Any = axes  # PolarAxes
-            polar.set_theta_zero_location("N")
-            polar.set_theta_direction(-1)
             name = "force" if quantity == "force" else "moment Σ Δz·F"
-            axes.set_title(
-                f"{name} [{unit}]" if not unit.startswith("per ") else f"{name} / {unit[4:]} [1]",
-                pad=14,
-            )
+            axes.set_title(_axis_label(name, unit), pad=14 if axes.name == "polar" else 8)
             if np.isnan(fwd).all():
+                axes.set_axis_off()
                 _empty_note(axes, "not computed")
                 continue
             size = np.concatenate([np.abs(fwd[keep]), np.abs(bwd[keep])])
             shown = _significant(size)
             largest = float(np.nanmax(size, initial=0.0))
-            polar.set_rmax(1.12 * largest if largest > 0 else 1.0)
-            polar.set_rmin(0.0)
+            reach = largest if largest > 0 else 1.0
+            rings = [r for r in MaxNLocator(nbins=4).tick_values(0.0, reach) if 0.0 < r <= reach]
+            _phasor_frame(axes, 1.12 * reach, rings, labelled=45, fontsize=8.5, ring_fontsize=8)
             if not shown.any():
                 _empty_note(axes, "all zero")
             n = int(keep.sum())
@@ -691,19 +826,10 @@ def _phasors_common(
                 ):
                     if not visible:
                         continue
-                    axes.annotate(
-                        "",
-                        xy=(float(np.angle(phasor)), float(abs(phasor))),
-                        xytext=(0.0, 0.0),
-                        arrowprops={"color": colour, "shrinkA": 0, "shrinkB": 0, **arrow},
-                    )
+                    _phasor_arrow(axes, phasor, colour, arrow)
                     legend_orders.setdefault(
                         int(k), Line2D([], [], color=colour, lw=2.0, label=f"order {int(k)}")
                     )
-            polar.set_thetagrids(
-                np.arange(0, 360, 45), [f"{a}°" for a in range(0, 360, 45)], fontsize=8.5
-            )
-            axes.tick_params(axis="y", labelsize=8)
         handles = [legend_orders[k] for k in sorted(legend_orders)]
         handles += [
             Line2D([], [], color="black", lw=3.4, alpha=0.45, label="forward (wide)"),
@@ -970,6 +1096,8 @@ def _order_bars(
     width: float = 0.8,
 ) -> None:
     """Grouped bars per order, each non-zero bar labelled with its value."""
+    from matplotlib.container import BarContainer
+
     n = len(series)
     positions = np.arange(len(orders), dtype=np.float64)
     bar_width = width / n
@@ -981,9 +1109,15 @@ def _order_bars(
         bars = axes.bar(
             positions + offset, heights, bar_width * 0.92, color=colour, label=label, zorder=3
         )
+        # labels on the bars that are not zero (an empty label is a text to lay out too)
+        labelled = BarContainer(
+            [bar for bar, s in zip(bars, shown, strict=True) if s],
+            datavalues=heights[shown],
+            orientation="vertical",
+        )
         axes.bar_label(
-            bars,
-            labels=[_format(float(h)) if s else "" for h, s in zip(heights, shown, strict=True)],
+            labelled,
+            labels=[_format(float(h)) for h in heights[shown]],
             fontsize=7.5,
             padding=2,
             rotation=90 if n > 1 else 0,
@@ -1404,15 +1538,46 @@ def _metadata(fmt: str) -> dict[str, Any]:
     return {}
 
 
+def _agg_canvas(fig: Figure) -> None:
+    """Give a figure made without pyplot (whose canvas cannot draw) an Agg canvas, the
+    documented way to draw a figure without pyplot.  The layout engine then measures text
+    with the canvas's renderer, which a PNG is written with: the text metrics measured for
+    the layout are not measured again (matplotlib caches them per renderer)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    if type(fig.canvas) is FigureCanvasBase:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        FigureCanvasAgg(fig)
+
+
 def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
     """A figure as the bytes of a ``png``, ``svg`` or ``pdf`` file (under :data:`STYLE`)."""
     import io
+
+    import matplotlib as mpl
 
     if fmt not in FORMATS:
         raise InputError(f"format {fmt!r}: expected one of {', '.join(FORMATS)}")
     buffer = io.BytesIO()
     with _styled():
-        fig.savefig(buffer, format=fmt, metadata=_metadata(fmt))
+        engine = fig.get_layout_engine()
+        if engine is None:
+            fig.savefig(buffer, format=fmt, metadata=_metadata(fmt))
+            return buffer.getvalue()
+        # With a layout engine, savefig draws the figure twice: once (without output) to
+        # lay it out, once to write it.  Lay it out here instead (the engine measures the
+        # text with an Agg renderer at the figure's dpi, as savefig does for a PNG), then
+        # write it in one draw without an engine, and give the figure its engine back.
+        # (None, not "none": savefig lays out a figure whose engine is "none" too.)
+        _agg_canvas(fig)
+        engine.execute(fig)
+        with mpl.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+            fig.set_layout_engine(None)  # no rc setting turns None into an engine here
+        try:
+            fig.savefig(buffer, format=fmt, metadata=_metadata(fmt))
+        finally:
+            fig.set_layout_engine(engine)
     return buffer.getvalue()
 
 
