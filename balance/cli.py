@@ -1046,9 +1046,7 @@ def tolerance_command(
         fig = tolerance_histogram(result)
         fmt = plot.suffix.lower().lstrip(".")
         metadata = figure_metadata(result, fmt)
-        write_atomic(
-            plot, lambda tmp: fig.savefig(tmp, format=fmt, metadata=metadata), force=force
-        )
+        write_atomic(plot, lambda tmp: fig.savefig(tmp, format=fmt, metadata=metadata), force=force)
         sys.stderr.write(f"balance: wrote {plot}\n")
 
 
@@ -1068,9 +1066,7 @@ def layouts_command() -> None:
     table.add_column("description", overflow="fold")  # words wrap; names and counts never
     for name in builtin_layout_names():
         layout = load_layout(name)
-        table.add_row(
-            Text(name), str(layout.n_cylinders), Text(layout.description or layout.name)
-        )
+        table.add_row(Text(name), str(layout.n_cylinders), Text(layout.description or layout.name))
     title = Text("Built-in layouts (use the name in place of a file)", style="table.title")
     _console().print(Group(title, table))
 

@@ -40,6 +40,15 @@ def _built_once(build):
 typer.testing._get_command = _built_once(typer.testing._get_command)
 
 
+@pytest.fixture(autouse=True)
+def _no_ambient_terminal_size(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Tests do not depend on the terminal they are run from: ``COLUMNS`` and ``LINES``
+    exported by a shell (or set by a test runner's worker) would change the width of every
+    table printed; a test that wants a width sets it itself (``env={"COLUMNS": "80"}``)."""
+    monkeypatch.delenv("COLUMNS", raising=False)
+    monkeypatch.delenv("LINES", raising=False)
+
+
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20261122)

@@ -42,13 +42,25 @@ def _big_layout(path: Path, n: int = 256) -> Path:
     return path
 
 
-def _run_and_signal(layout: Path, target: Path, sig: int) -> subprocess.Popen[bytes]:
+def _sigint_default() -> None:
+    """In the child before it starts: SIGINT at its default disposition.  A shell starts a
+    background job (``pytest &``) with SIGINT ignored, the ignored disposition survives
+    ``exec``, and Python, and balance after it, rightly leave it ignored: the run would then
+    finish its write whatever SIGINT the test sends (see
+    :func:`test_a_run_started_with_sigint_ignored_finishes_its_write`)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _run_and_signal(
+    layout: Path, target: Path, sig: int, *, sigint: Callable[[], None] | None = _sigint_default
+) -> subprocess.Popen[bytes]:
     """Start a netCDF write and send ``sig`` as soon as its temporary file appears."""
     command = [sys.executable, "-m", "balance", "analyse", str(layout), "-f", "netcdf"]
     proc = subprocess.Popen(
         [*command, *OPTIONS, "-o", str(target), "--force"],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
+        preexec_fn=sigint,
     )
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
@@ -76,12 +88,14 @@ def test_killed_netcdf_write_leaves_the_old_file_intact(tmp_path, sig):
     target = tmp_path / "out" / "result.nc"
     target.parent.mkdir()
     hits = 0
+    seen = []  # (old file kept, exit code) of each try, for the message
     for _ in range(10):
         target.write_bytes(OLD)
         proc = _run_and_signal(layout, target, sig)
         # the signal may land after the rename (the write was quicker than the poll):
         # then the target is the complete new file, never anything in between
         kept = target.read_bytes() == OLD
+        seen.append((kept, proc.returncode))
         assert kept or _is_complete_result(target)
         leftovers = sorted(p.name for p in target.parent.iterdir() if p != target)
         if sig != signal.SIGKILL:
@@ -96,7 +110,25 @@ def test_killed_netcdf_write_leaves_the_old_file_intact(tmp_path, sig):
         if kept and proc.returncode in (-sig, 128 + sig):
             hits += 1
             break
-    assert hits, "never caught the run while it was writing"
+    assert hits, f"never caught the run while it was writing: (kept, exit code) {seen}"
+
+
+def test_a_run_started_with_sigint_ignored_finishes_its_write(tmp_path):
+    """``balance ... &`` from a script: the shell starts it with SIGINT ignored, so that a
+    Ctrl-C meant for the foreground does not stop it.  balance keeps it ignored: a SIGINT
+    sent while it writes changes nothing, and the run ends with the complete new file."""
+
+    def ignore_sigint() -> None:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    layout = _big_layout(tmp_path / "big.yaml")
+    target = tmp_path / "out" / "result.nc"
+    target.parent.mkdir()
+    target.write_bytes(OLD)
+    proc = _run_and_signal(layout, target, signal.SIGINT, sigint=ignore_sigint)
+    assert proc.returncode == 0
+    assert _is_complete_result(target)
+    assert os.listdir(target.parent) == ["result.nc"]
 
 
 def test_terminated_zarr_sweep_keeps_the_old_store(tmp_path):

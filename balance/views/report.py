@@ -238,15 +238,12 @@ def accuracy_statement(result: Result) -> str:
     else:
         text = f"Model {model!r}."
     if engine.has_links:
-        text += (
-            " Link rods hang on master rods (CONTRACT §5): "
-            + (
-                "their pistons and link pins follow the exact link kinematics."
-                if model in ("exact", "time")
-                else "this model treats each link piston as a plain slider on the crank pin "
-                "and leaves out the link pins' motion (the idealised radial); its bound "
-                "includes what that leaves out."
-            )
+        text += " Link rods hang on master rods (CONTRACT §5): " + (
+            "their pistons and link pins follow the exact link kinematics."
+            if model in ("exact", "time")
+            else "this model treats each link piston as a plain slider on the crank pin "
+            "and leaves out the link pins' motion (the idealised radial); its bound "
+            "includes what that leaves out."
         )
     bound = float(phasors.error_bound)
     if math.isfinite(bound):
