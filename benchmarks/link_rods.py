@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import platform
 import statistics
 import sys
@@ -98,9 +99,10 @@ def section(times: dict[str, list[float]], rounds: int) -> str:
         "Measured with\n\n"
         f"```console\n$ python benchmarks/link_rods.py {rounds} --write-docs\n```\n\n"
         f"on {date.today().isoformat()}, Python {platform.python_version()}, numpy "
-        f"{np.__version__}, on the shared 2-core development machine while other jobs ran "
-        "(the rounds are interleaved so that the load falls on every engine alike; the "
-        "minima are the better figure of the code itself). `compute` at orders 1–8 with the "
+        f"{np.__version__}, on the shared 2-core development machine, load average "
+        f"{os.getloadavg()[0]:.2f} at the end of the run (the rounds are interleaved so that "
+        "any other load falls on every engine alike; the minima are the better figure of the "
+        "code itself). `compute` at orders 1–8 with the "
         "proposal and the cylinders' strokes and TDCs. Issue 14 asks for the link radial to "
         "cost at most 3 × the same radial with all rods on one pin.\n\n"
         + markdown(times, rounds)

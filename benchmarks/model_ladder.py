@@ -398,6 +398,16 @@ def main() -> None:
         static.mkdir(exist_ok=True)
         figure(rows, static / "model_ladder.png")
         page = ROOT / "docs" / "benchmarks.md"
+        # what follows the cold-start section (notes, the other benchmarks' sections) stays
+        old = page.read_text(encoding="utf-8") if page.exists() else ""
+        rest = (
+            old[old.index(COLD_START_END) + len(COLD_START_END) :]
+            if COLD_START_END in old
+            else "\n\n![error against time](_static/model_ladder.png)\n\n"
+            "The documented bounds are those of {mod}`balance.core.accuracy`; the tolerance "
+            "mode (`--tolerance`) picks the first model down the ladder textbook → series "
+            "(up to 12 terms) → exact whose bound meets the tolerance.\n"
+        )
         page.write_text(
             "# Benchmarks\n\n"
             "Measured with\n\n```console\n$ python benchmarks/model_ladder.py --write-docs\n```\n\n"
@@ -410,10 +420,7 @@ def main() -> None:
             + table
             + "\n"
             + cold_start_section(start)
-            + "\n\n![error against time](_static/model_ladder.png)\n\n"
-            "The documented bounds are those of {mod}`balance.core.accuracy`; the tolerance mode "
-            "(`--tolerance`) picks the first model down the ladder textbook → series "
-            "(up to 12 terms) → exact whose bound meets the tolerance.\n",
+            + rest,
             encoding="utf-8",
         )
 

@@ -1,0 +1,120 @@
+"""Instructions executed by the sweep engine and the ``analyse`` loop, for an A/B of two
+versions of balance on a machine whose speed changes from one second to the next.
+
+Timed rates on a shared virtual machine move by 20-30 % between runs of the same code;
+the count of instructions executed (valgrind's callgrind) does not depend on the other
+load.  Each workload is run twice under callgrind, once in full and once stopping before
+the part measured, and the difference is what the part costs::
+
+    python benchmarks/instructions.py PYTHON [PYTHON ...]
+
+where each ``PYTHON`` is an interpreter that imports the version of balance to measure
+(for instance ``/path/to/old-venv/bin/python`` and ``.venv/bin/python``).  It prints one
+Markdown row per interpreter.  Called with ``--run WORKLOAD N`` it is the workload itself
+(what callgrind runs).  Needs valgrind; a run takes a few minutes.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+#: The workloads: what is measured, and how many of it a full run does.
+WORKLOADS = {
+    "i4-sweep": "inline-4 speed grid, orders 1-2 (199 900 variants beyond the first 100)",
+    "v12-sweep": "V12 per-cylinder grid, orders 1-8 (24 960 variants beyond the first 40)",
+    "i4-analyse": "inline-4 analyse loop, orders 1-2 (40 variants)",
+    "v12-analyse": "V12 analyse loop, orders 1-8 (40 variants)",
+}
+
+
+def run(workload: str, full: bool) -> None:
+    """The workload: with ``full`` False it stops before the part measured."""
+    import numpy as np
+
+    import balance
+
+    if workload.endswith("-sweep"):
+        from balance.studies.sweep import sweep_arrays
+
+        if workload == "i4-sweep":
+            layout = balance.load_layout("inline-4")
+            vary = [
+                "speed=1000rpm:8000rpm:100",
+                "conrod_length=130mm:160mm:100",
+                "masses.reciprocating=0.4kg:0.6kg:20",
+            ]
+            orders = [1, 2]
+        else:
+            layout = balance.load_layout("v12-60")
+            vary = [
+                "conrod_length=130mm:160mm:40",
+                "cylinders[1].reciprocating=0.4kg:0.6kg:25",
+                "cylinders[2].throw=170deg:190deg:25",
+            ]
+            orders = list(range(1, 9))
+        sweep_arrays(layout, vary if full else vary[:1], orders)
+        return
+    from balance.api import analyse
+    from balance.studies.sweep import variant
+
+    layout = balance.load_layout("inline-4" if workload == "i4-analyse" else "v12-60")
+    orders = "1-2" if workload == "i4-analyse" else "1-8"
+    analyse(layout, orders)
+    for length in np.linspace(0.13, 0.16, 40) if full else []:
+        analyse(variant(layout, {"conrod_length": float(length)}), orders)
+
+
+def instructions(python: str, workload: str, full: bool) -> int:
+    """Instructions callgrind counts for one run of the workload."""
+    env = {**os.environ, "PYTHONHASHSEED": "0", "OPENBLAS_NUM_THREADS": "1"}
+    with tempfile.TemporaryDirectory() as tmp:
+        done = subprocess.run(
+            [
+                "valgrind",
+                "--tool=callgrind",
+                f"--callgrind-out-file={tmp}/out",
+                python,
+                os.path.abspath(__file__),
+                "--run",
+                workload,
+                "1" if full else "0",
+            ],
+            capture_output=True,
+            text=True,
+            env=env,
+            check=True,
+            cwd=tmp,  # not the checkout: each interpreter imports its own balance
+        )
+    match = re.search(r"Collected : (\d+)", done.stderr)
+    if match is None:
+        raise SystemExit(f"no instruction count from valgrind:\n{done.stderr}")
+    return int(match.group(1))
+
+
+def main() -> None:
+    if sys.argv[1:2] == ["--run"]:
+        run(sys.argv[2], sys.argv[3] == "1")
+        return
+    pythons = sys.argv[1:]
+    if not pythons:
+        raise SystemExit(__doc__)
+    print("| interpreter | " + " | ".join(WORKLOADS) + " |")
+    print("|---|" + "---:|" * len(WORKLOADS))
+    for python in pythons:
+        cells = []
+        for workload in WORKLOADS:
+            part = instructions(python, workload, True) - instructions(python, workload, False)
+            per = 40 if workload.endswith("-analyse") else 1
+            cells.append(f"{part / per / 1e6:.2f} × 10⁶" + (" per variant" if per > 1 else ""))
+        print(f"| `{python}` | " + " | ".join(cells) + " |")
+    for workload, what in WORKLOADS.items():
+        print(f"\n{workload}: {what}", end="")
+    print()
+
+
+if __name__ == "__main__":
+    main()
