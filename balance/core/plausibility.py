@@ -222,6 +222,20 @@ def _beyond(values: FloatArray, low: float, high: float | FloatArray) -> FloatAr
     return np.where(np.isfinite(factor) & (factor > 1), factor, 1.0)
 
 
+def _outside(
+    values: FloatArray, low: float, high: float | FloatArray
+) -> tuple[int, str, float] | None:
+    """The cylinder whose value lies farthest outside ``[low, high]``, which cylinders lie
+    outside (see :func:`_worst`) and by what factor; None when every value lies within."""
+    if _within(values, low, high):
+        return None
+    excess = _beyond(values, low, high)
+    if not np.any(excess > 1):
+        return None
+    i, which = _worst(excess)
+    return i, which, float(excess[i])
+
+
 def _field(values: FloatArray, i: int, engine_wide: str, key: str) -> str:
     """The engine-wide field when every cylinder has the same value, else the cylinder's."""
     if values.size <= 1 or np.all(values == values.flat[0]):
@@ -245,12 +259,10 @@ def _speed(rpm: float) -> PlausibilityWarning | None:
 def _mean_piston_speed(stroke: FloatArray, rpm: float) -> PlausibilityWarning | None:
     r"""Mean piston speed :math:`c_m = 2 s n` [m/s], ``n`` in revolutions per second."""
     mean_speed = 2.0 * stroke * rpm / 60.0
-    if _within(mean_speed, 0.0, MAX_MEAN_PISTON_SPEED):
+    found = _outside(mean_speed, 0.0, MAX_MEAN_PISTON_SPEED)
+    if found is None:
         return None
-    excess = _beyond(mean_speed, 0.0, MAX_MEAN_PISTON_SPEED)
-    if not np.any(excess > 1):
-        return None
-    i, which = _worst(excess)
+    i, which, excess = found
     return PlausibilityWarning(
         "mean_piston_speed",
         "speed",
@@ -258,44 +270,40 @@ def _mean_piston_speed(stroke: FloatArray, rpm: float) -> PlausibilityWarning | 
         f"{rpm:.6g} rpm{_also(which)}) is above {MAX_MEAN_PISTON_SPEED:g} m/s; engines run at "
         "8-15 m/s at rated power, racing engines near 25 m/s; check the speed, the stroke "
         "and their units",
-        float(excess[i]),
+        excess,
     )
 
 
 def _stroke(stroke: FloatArray) -> PlausibilityWarning | None:
     low, high = STROKE_RANGE
-    if _within(stroke, low, high):
+    found = _outside(stroke, low, high)
+    if found is None:
         return None
-    excess = _beyond(stroke, low, high)
-    if not np.any(excess > 1):
-        return None
-    i, which = _worst(excess)
+    i, which, excess = found
     return PlausibilityWarning(
         "stroke",
         _field(stroke, i, "geometry.stroke", "stroke"),
         f"stroke {_length(stroke[i])}{_also(which, ' (') + (')' if which else '')} "
         f"is outside {_length(low)} to {_length(high)}, the strokes of piston engines "
         "built; check its unit",
-        float(excess[i]),
+        excess,
     )
 
 
 def _rod_ratio(radius: FloatArray, length: FloatArray) -> PlausibilityWarning | None:
     ratio = radius / length
     low, high = ROD_RATIO_RANGE
-    if _within(ratio, low, high):
+    found = _outside(ratio, low, high)
+    if found is None:
         return None
-    excess = _beyond(ratio, low, high)
-    if not np.any(excess > 1):
-        return None
-    i, which = _worst(excess)
+    i, which, excess = found
     return PlausibilityWarning(
         "rod_ratio",
         _field(length, i, "geometry.conrod_length", "conrod_length"),
         f"rod ratio r/l = {ratio[i]:.3g} (crank radius {_length(radius[i])}, conrod_length "
         f"{_length(length[i])}{_also(which)}) is outside {low:g} to {high:g}; engines built lie "
         "within 0.11-0.33; check the stroke, the conrod length and their units",
-        float(excess[i]),
+        excess,
     )
 
 
@@ -314,12 +322,10 @@ def _reciprocating(engine: Engine) -> PlausibilityWarning | None:
     mass = np.asarray(engine.reciprocating_mass, dtype=np.float64)
     density = mass / bore**3
     low, high = RECIPROCATING_DENSITY_RANGE
-    if _within(density, low, high):
+    found = _outside(density, low, high)
+    if found is None:
         return None
-    excess = _beyond(density, low, high)
-    if not np.any(excess > 1):
-        return None
-    i, which = _worst(excess)
+    i, which, excess = found
     return PlausibilityWarning(
         "reciprocating_mass",
         _field(mass, i, "masses.reciprocating", "reciprocating"),
@@ -327,7 +333,7 @@ def _reciprocating(engine: Engine) -> PlausibilityWarning | None:
         f"{density[i] / 1e3:.3g} g per cm^3 of bore cubed, outside {low / 1e3:g} to "
         f"{high / 1e3:g} g/cm^3 (pistons alone weigh about 0.4-1.3 g/cm^3); check the "
         "units of the masses and of the bore (g or kg? mm or m?)",
-        float(excess[i]),
+        excess,
     )
 
 
@@ -339,12 +345,10 @@ def _conrod_inertia(engine: Engine) -> PlausibilityWarning | None:
     mass = np.asarray(parts.conrod, dtype=np.float64)
     length = np.asarray(engine.conrod_length, dtype=np.float64)
     bound = mass * length**2
-    if _within(inertia, 0.0, bound):
+    found = _outside(inertia, 0.0, bound)  # NaN (no inertia given): within
+    if found is None:
         return None
-    excess = _beyond(inertia, 0.0, bound)  # NaN (no inertia given): within
-    if not np.any(excess > 1):
-        return None
-    i, which = _worst(excess)
+    i, which, excess = found
     return PlausibilityWarning(
         "conrod_inertia",
         _field(inertia, i, "masses.conrod_inertia", "conrod_inertia"),
@@ -352,7 +356,7 @@ def _conrod_inertia(engine: Engine) -> PlausibilityWarning | None:
         f" is more than conrod mass x length^2 = {_mass(mass[i])} x ({_length(length[i])})^2"
         f" = {bound[i]:.4g} kg m^2, more than any rod of that mass and length can have; "
         "check its unit (kg m^2 or kg cm^2?)",
-        float(excess[i]),
+        excess,
     )
 
 
