@@ -287,19 +287,12 @@ def _volumes(
 
 def _model_table(
     spec: GasModel,
-    bore: float,
-    radius: float,
-    length: float,
-    offset: float,
     cycle_deg: float,
     heat: float,
-    travel: PistonTravel | None = None,
-    volumes: tuple[FloatArray, FloatArray, float, float] | None = None,
+    volumes: tuple[FloatArray, FloatArray, float, float],
 ) -> tuple[FloatArray, FloatArray]:
     """Pressure of the model on a fine grid of cycle angles, for a heat release [J]
-    (``volumes``: :func:`_volumes` of the same arguments, computed once for a search)."""
-    if volumes is None:
-        volumes = _volumes(spec, bore, radius, length, offset, cycle_deg, travel)
+    (``volumes``: the cylinder's :func:`_volumes`, computed once for a search)."""
     alpha, volume, v_bdc, v_start = volumes
     p = np.full(alpha.shape, spec.exhaust_pressure)
     closed = (alpha >= -180.0) & (alpha <= 180.0)
@@ -358,13 +351,11 @@ def model_pressure(
     cycle_deg = cycle_degrees(cycle)
     volumes = _volumes(spec, bore, radius, length, offset, cycle_deg, travel)
     if spec.heat_released is not None:
-        return _model_table(
-            spec, bore, radius, length, offset, cycle_deg, spec.heat_released, travel, volumes
-        )
+        return _model_table(spec, cycle_deg, spec.heat_released, volumes)
     target = float(spec.peak_pressure)  # type: ignore[arg-type]
 
     def table(heat: float) -> tuple[FloatArray, FloatArray]:
-        return _model_table(spec, bore, radius, length, offset, cycle_deg, heat, travel, volumes)
+        return _model_table(spec, cycle_deg, heat, volumes)
 
     def peak(heat: float) -> float:
         return float(table(heat)[1].max())
