@@ -38,7 +38,7 @@ Engines*, Mir 1984 (indicator diagram, gas force :math:`P_g = (p - p_0)F_p`).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -55,6 +55,7 @@ __all__ = [
     "firing_tdc",
     "model_pressure",
     "pressure_at",
+    "pressure_tables",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -376,6 +377,43 @@ def model_pressure(
     return table(0.5 * (low + high))
 
 
+def pressure_tables(
+    gas: GasInput,
+    radius: FloatArray,
+    length: FloatArray,
+    offset: FloatArray,
+    cycle: str,
+    travels: Sequence[PistonTravel | None] | None = None,
+) -> list[tuple[FloatArray, FloatArray]]:
+    """Each cylinder's pressure table: cycle angle from firing TDC [deg] and absolute
+    pressure [Pa].
+
+    The trace for every cylinder, or the model's table (:func:`model_pressure`) of the
+    cylinder's crank radius, conrod length and offset [m], computed once for each distinct
+    geometry; a link piston's (an entry of ``travels`` that is not None) is its own, once
+    for each distinct travel.
+    """
+    n = len(radius)
+    if gas.angle is not None and gas.pressure is not None:
+        return [(gas.angle, gas.pressure)] * n
+    assert gas.model is not None
+    tables: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
+    link_tables: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
+    out = []
+    for i in range(n):
+        key = (float(radius[i]), float(length[i]), float(offset[i]))
+        travel = travels[i] if travels is not None else None
+        if travel is not None:  # a link piston: its own volume curve
+            if travel.key not in link_tables:
+                link_tables[travel.key] = model_pressure(gas.model, gas.bore, *key, cycle, travel)
+            out.append(link_tables[travel.key])
+            continue
+        if key not in tables:
+            tables[key] = model_pressure(gas.model, gas.bore, *key, cycle)
+        out.append(tables[key])
+    return out
+
+
 def pressure_at(
     gas: GasInput,
     alpha_deg: FloatArray,
@@ -388,34 +426,11 @@ def pressure_at(
     """Absolute pressure [Pa] of each cylinder at cycle angles ``alpha_deg`` (cylinders, N).
 
     Linear interpolation, periodic over the cycle, in the trace or the model's table (a link
-    piston's own, from its entry of ``travels``).
+    piston's own, from its entry of ``travels``; :func:`pressure_tables`).
     """
     alpha = np.asarray(alpha_deg, dtype=np.float64)
     out = np.empty(alpha.shape)
-    tables: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
-    link_tables: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
-    for i in range(alpha.shape[0]):
-        travel = travels[i] if travels is not None else None
-        if gas.angle is not None and gas.pressure is not None:
-            angle, pressure = gas.angle, gas.pressure
-        elif travel is not None:
-            assert gas.model is not None
-            if travel.key not in link_tables:
-                link_tables[travel.key] = model_pressure(
-                    gas.model,
-                    gas.bore,
-                    float(radius[i]),
-                    float(length[i]),
-                    float(offset[i]),
-                    cycle,
-                    travel,
-                )
-            angle, pressure = link_tables[travel.key]
-        else:
-            assert gas.model is not None
-            key = (float(radius[i]), float(length[i]), float(offset[i]))
-            if key not in tables:
-                tables[key] = model_pressure(gas.model, gas.bore, *key, cycle)
-            angle, pressure = tables[key]
+    tables = pressure_tables(gas, radius, length, offset, cycle, travels)
+    for i, (angle, pressure) in enumerate(tables):
         out[i] = np.interp(alpha[i], angle, pressure, period=gas.cycle_deg)
     return out

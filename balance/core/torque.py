@@ -170,11 +170,9 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     lam = rod_ratio(r, length)
     eps = offset_ratio(e, r)
     w2 = float(speed_squared(layout.speed))
-    travels = None
-    if layout.has_links:
-        from balance.core.links import piston_travels
+    from balance.core.links import piston_travels
 
-        travels = piston_travels(layout)
+    travels = piston_travels(layout)  # None for every plain cylinder
     pressure = pressure_at(
         gas, alpha, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle, travels
     )
