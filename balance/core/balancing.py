@@ -42,7 +42,6 @@ from balance.core.speed import speed_squared
 
 __all__ = [
     "DEFAULT_ORDERS",
-    "POSITION_SOURCES",
     "SHAFT_CLEARANCE",
     "STRATEGIES",
     "BalanceShaft",
@@ -69,8 +68,6 @@ SHAFT_CLEARANCE = 2.0
 #: A roll is cancelled (or unchanged) when it differs from zero (or from the engine's own)
 #: by less than this share of the magnitudes that meet in it.
 _ROLL_TOL = 1e-9
-#: Where a coordinate of a shaft axis comes from (``BalanceShaft.x_from``, ``y_from``).
-POSITION_SOURCES = ("default", "layout", "cancel-roll")
 
 
 @dataclass(frozen=True)
