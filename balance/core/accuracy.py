@@ -290,12 +290,10 @@ def link_strip(geometry: LinkGeometry) -> NDArray[np.float64]:
 
 
 def _link_parts(engine: Engine) -> tuple[LinkGeometry, NDArray[np.float64], NDArray[np.intp]]:
-    from balance.core.links import link_geometry, pin_masses
+    from balance.core.links import engine_geometry, pin_masses
 
     assert engine.links is not None
-    geometry = link_geometry(
-        engine.crank_radius, engine.conrod_length, engine.offset, engine.bank, engine.links
-    )
+    geometry = engine_geometry(engine)
     j = geometry.cylinder
     ratio = pin_masses(engine)[j] / engine.reciprocating_mass[j]
     plain = np.flatnonzero(engine.links.master < 0)

@@ -37,12 +37,11 @@ from numpy.typing import NDArray
 
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
-from balance.core.phasors import CANCELLATION_FACTOR
+from balance.core.phasors import rounding_threshold
 from balance.core.speed import speed_squared
 
 __all__ = [
     "DEFAULT_ORDERS",
-    "POSITION_SOURCES",
     "SHAFT_CLEARANCE",
     "STRATEGIES",
     "BalanceShaft",
@@ -66,13 +65,9 @@ STRATEGIES = ("two-plane", "per-throw")
 #: Shaft axes that the proposal places keep this many mean crank radii from the crank axis
 #: and from each other (the default axes sit 2 r below the crank).
 SHAFT_CLEARANCE = 2.0
-_EPS = float(np.finfo(np.float64).eps)
-_TINY = float(np.finfo(np.float64).tiny)  # the smallest normal number
 #: A roll is cancelled (or unchanged) when it differs from zero (or from the engine's own)
 #: by less than this share of the magnitudes that meet in it.
 _ROLL_TOL = 1e-9
-#: Where a coordinate of a shaft axis comes from (``BalanceShaft.x_from``, ``y_from``).
-POSITION_SOURCES = ("default", "layout", "cancel-roll")
 
 
 @dataclass(frozen=True)
@@ -221,8 +216,7 @@ def counterweight_targets(
 def _zero_below(value: complex, scale: float, n_terms: int) -> complex:
     """0 for a sum within the rounding of its terms (:func:`balance.core.phasors.cancel_to_zero`:
     relative to ``scale``, absolute below the smallest normal number)."""
-    threshold = CANCELLATION_FACTOR * max(n_terms, 1) * _EPS * (scale + _TINY)
-    return 0j if abs(value) <= threshold else value
+    return 0j if abs(value) <= rounding_threshold(scale, n_terms) else value
 
 
 def _planes_for(

@@ -56,7 +56,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core.balancing import Proposal, throw_groups
 from balance.core.engine import Engine
-from balance.core.gas import PistonTravel, model_pressure
+from balance.core.gas import pressure_tables
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 from balance.core.speed import speed_squared
 
@@ -367,41 +367,19 @@ def _column(values: FloatArray) -> FloatArray:
 
 
 def _pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
-    """Each cylinder's pressure table: cycle angle [deg] and absolute pressure [Pa]."""
-    gas = engine.gas
-    assert gas is not None
-    if gas.angle is not None and gas.pressure is not None:
-        return [(gas.angle, gas.pressure)] * engine.n_cylinders
-    assert gas.model is not None
-    cache: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
-    tables = []
-    travels = _travels(engine)
-    link_cache: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
-    for i, (r, length, e) in enumerate(
-        zip(engine.crank_radius, engine.conrod_length, engine.offset, strict=True)
-    ):
-        key = (float(r), float(length), float(e))
-        travel = travels[i]
-        if travel is not None:  # a link piston: its own volume curve
-            if travel.key not in link_cache:
-                link_cache[travel.key] = model_pressure(
-                    gas.model, gas.bore, *key, engine.cycle, travel
-                )
-            tables.append(link_cache[travel.key])
-            continue
-        if key not in cache:
-            cache[key] = model_pressure(gas.model, gas.bore, *key, engine.cycle)
-        tables.append(cache[key])
-    return tables
-
-
-def _travels(engine: Engine) -> list[PistonTravel | None]:
-    """Each cylinder's piston travel if it is a link piston (None for plain sliders)."""
-    if not engine.has_links:
-        return [None] * engine.n_cylinders
+    """Each cylinder's pressure table: cycle angle [deg] and absolute pressure [Pa]
+    (:func:`balance.core.gas.pressure_tables`)."""
     from balance.core.links import piston_travels
 
-    return piston_travels(engine)
+    assert engine.gas is not None
+    return pressure_tables(
+        engine.gas,
+        engine.crank_radius,
+        engine.conrod_length,
+        engine.offset,
+        engine.cycle,
+        piston_travels(engine),
+    )
 
 
 def gas_forces(

@@ -118,12 +118,12 @@ class Links:
     @property
     def link_indices(self) -> NDArray[np.intp]:
         """Indices of the link cylinders, ascending."""
-        return np.flatnonzero(self.master >= 0).astype(np.intp)
+        return np.flatnonzero(self.linked).astype(np.intp)
 
     @property
     def masters(self) -> NDArray[np.intp]:
         """Indices of the cylinders that carry at least one link rod, ascending."""
-        return np.unique(self.master[self.master >= 0]).astype(np.intp)
+        return np.unique(self.master[self.linked]).astype(np.intp)
 
     def reordered(self, idx: NDArray[np.intp]) -> Links:
         """The links of renumbered cylinders (``idx[new] = old``): every master reference
@@ -243,7 +243,7 @@ class Engine:
     @property
     def has_links(self) -> bool:
         """Whether some cylinder's rod hangs on another cylinder's rod (:class:`Links`)."""
-        return self.links is not None and bool(np.any(self.links.master >= 0))
+        return self.links is not None and bool(np.any(self.links.linked))
 
     @property
     def displacement(self) -> float:

@@ -38,7 +38,7 @@ Engines*, Mir 1984 (indicator diagram, gas force :math:`P_g = (p - p_0)F_p`).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -55,6 +55,7 @@ __all__ = [
     "firing_tdc",
     "model_pressure",
     "pressure_at",
+    "pressure_tables",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -287,19 +288,12 @@ def _volumes(
 
 def _model_table(
     spec: GasModel,
-    bore: float,
-    radius: float,
-    length: float,
-    offset: float,
     cycle_deg: float,
     heat: float,
-    travel: PistonTravel | None = None,
-    volumes: tuple[FloatArray, FloatArray, float, float] | None = None,
+    volumes: tuple[FloatArray, FloatArray, float, float],
 ) -> tuple[FloatArray, FloatArray]:
     """Pressure of the model on a fine grid of cycle angles, for a heat release [J]
-    (``volumes``: :func:`_volumes` of the same arguments, computed once for a search)."""
-    if volumes is None:
-        volumes = _volumes(spec, bore, radius, length, offset, cycle_deg, travel)
+    (``volumes``: the cylinder's :func:`_volumes`, computed once for a search)."""
     alpha, volume, v_bdc, v_start = volumes
     p = np.full(alpha.shape, spec.exhaust_pressure)
     closed = (alpha >= -180.0) & (alpha <= 180.0)
@@ -358,13 +352,11 @@ def model_pressure(
     cycle_deg = cycle_degrees(cycle)
     volumes = _volumes(spec, bore, radius, length, offset, cycle_deg, travel)
     if spec.heat_released is not None:
-        return _model_table(
-            spec, bore, radius, length, offset, cycle_deg, spec.heat_released, travel, volumes
-        )
+        return _model_table(spec, cycle_deg, spec.heat_released, volumes)
     target = float(spec.peak_pressure)  # type: ignore[arg-type]
 
     def table(heat: float) -> tuple[FloatArray, FloatArray]:
-        return _model_table(spec, bore, radius, length, offset, cycle_deg, heat, travel, volumes)
+        return _model_table(spec, cycle_deg, heat, volumes)
 
     def peak(heat: float) -> float:
         return float(table(heat)[1].max())
@@ -385,6 +377,43 @@ def model_pressure(
     return table(0.5 * (low + high))
 
 
+def pressure_tables(
+    gas: GasInput,
+    radius: FloatArray,
+    length: FloatArray,
+    offset: FloatArray,
+    cycle: str,
+    travels: Sequence[PistonTravel | None] | None = None,
+) -> list[tuple[FloatArray, FloatArray]]:
+    """Each cylinder's pressure table: cycle angle from firing TDC [deg] and absolute
+    pressure [Pa].
+
+    The trace for every cylinder, or the model's table (:func:`model_pressure`) of the
+    cylinder's crank radius, conrod length and offset [m], computed once for each distinct
+    geometry; a link piston's (an entry of ``travels`` that is not None) is its own, once
+    for each distinct travel.
+    """
+    n = len(radius)
+    if gas.angle is not None and gas.pressure is not None:
+        return [(gas.angle, gas.pressure)] * n
+    assert gas.model is not None
+    tables: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
+    link_tables: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
+    out = []
+    for i in range(n):
+        key = (float(radius[i]), float(length[i]), float(offset[i]))
+        travel = travels[i] if travels is not None else None
+        if travel is not None:  # a link piston: its own volume curve
+            if travel.key not in link_tables:
+                link_tables[travel.key] = model_pressure(gas.model, gas.bore, *key, cycle, travel)
+            out.append(link_tables[travel.key])
+            continue
+        if key not in tables:
+            tables[key] = model_pressure(gas.model, gas.bore, *key, cycle)
+        out.append(tables[key])
+    return out
+
+
 def pressure_at(
     gas: GasInput,
     alpha_deg: FloatArray,
@@ -397,34 +426,11 @@ def pressure_at(
     """Absolute pressure [Pa] of each cylinder at cycle angles ``alpha_deg`` (cylinders, N).
 
     Linear interpolation, periodic over the cycle, in the trace or the model's table (a link
-    piston's own, from its entry of ``travels``).
+    piston's own, from its entry of ``travels``; :func:`pressure_tables`).
     """
     alpha = np.asarray(alpha_deg, dtype=np.float64)
     out = np.empty(alpha.shape)
-    tables: dict[tuple[float, float, float], tuple[FloatArray, FloatArray]] = {}
-    link_tables: dict[tuple[float, ...], tuple[FloatArray, FloatArray]] = {}
-    for i in range(alpha.shape[0]):
-        travel = travels[i] if travels is not None else None
-        if gas.angle is not None and gas.pressure is not None:
-            angle, pressure = gas.angle, gas.pressure
-        elif travel is not None:
-            assert gas.model is not None
-            if travel.key not in link_tables:
-                link_tables[travel.key] = model_pressure(
-                    gas.model,
-                    gas.bore,
-                    float(radius[i]),
-                    float(length[i]),
-                    float(offset[i]),
-                    cycle,
-                    travel,
-                )
-            angle, pressure = link_tables[travel.key]
-        else:
-            assert gas.model is not None
-            key = (float(radius[i]), float(length[i]), float(offset[i]))
-            if key not in tables:
-                tables[key] = model_pressure(gas.model, gas.bore, *key, cycle)
-            angle, pressure = tables[key]
+    tables = pressure_tables(gas, radius, length, offset, cycle, travels)
+    for i, (angle, pressure) in enumerate(tables):
         out[i] = np.interp(alpha[i], angle, pressure, period=gas.cycle_deg)
     return out

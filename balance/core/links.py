@@ -97,12 +97,14 @@ __all__ = [
     "dead_centre_lag",
     "dead_centres",
     "engine_dead_centres",
+    "engine_geometry",
     "link_coefficients",
     "link_geometry",
     "link_motion",
     "link_reach",
     "link_rod_forces",
     "pin_masses",
+    "pin_roll",
     "piston_travels",
 ]
 
@@ -200,7 +202,9 @@ def link_geometry(
     )
 
 
-def _engine_geometry(engine: Engine) -> LinkGeometry:
+def engine_geometry(engine: Engine) -> LinkGeometry:
+    """The :class:`LinkGeometry` of an engine with link rods (:func:`link_geometry` of its
+    per-cylinder arrays)."""
     assert engine.links is not None
     return link_geometry(
         engine.crank_radius, engine.conrod_length, engine.offset, engine.bank, engine.links
@@ -368,7 +372,7 @@ def link_motion(
     )
 
 
-def _pin_roll(motion: LinkMotion) -> FloatArray:
+def pin_roll(motion: LinkMotion) -> FloatArray:
     r""":math:`\operatorname{Re}(\bar\Lambda'\Lambda'') - \operatorname{Im}(\bar\Lambda
     \Lambda'')`: the roll of a unit mass at the link pin per :math:`r^2\omega^2`."""
     m = motion
@@ -609,7 +613,7 @@ class LinkCoefficients:
     acceleration : ndarray of complex
         Of :math:`-s''/r`.
     roll_piston, roll_pin, roll_rod : ndarray of complex
-        Of :math:`(s''/r)(s'/r + \varepsilon_j)`, of :func:`_pin_roll` and of
+        Of :math:`(s''/r)(s'/r + \varepsilon_j)`, of :func:`pin_roll` and of
         :math:`\gamma_l''(1 + \gamma_l')`.
     pin_forward, pin_backward : ndarray of complex
         :math:`c_k` and :math:`c_{-k}` of :math:`q`.
@@ -678,7 +682,7 @@ def link_coefficients(
             [
                 -m.d2s,
                 m.d2s * (m.ds + eps),
-                _pin_roll(m),
+                pin_roll(m),
                 m.d2rod * (1.0 + m.drod),
                 q_re,
                 q_im,
@@ -962,7 +966,7 @@ def link_rod_forces(
     LinkRodForces
     """
     th = np.asarray(theta, dtype=np.float64)[None, :]
-    geometry = _engine_geometry(engine)
+    geometry = engine_geometry(engine)
     j = geometry.cylinder
     m_idx = geometry.master
     r = engine.crank_radius
@@ -1048,7 +1052,7 @@ def articulated_big_end_forces(
 def link_cylinder_motion(engine: Engine, theta: ArrayLike) -> tuple[NDArray[np.intp], LinkMotion]:
     """The link cylinders' indices and their :class:`LinkMotion` at crank angles ``theta``
     (shape (links, angles))."""
-    geometry = _engine_geometry(engine)
+    geometry = engine_geometry(engine)
     th = np.asarray(theta, dtype=np.float64)
     beta = th[None, :] + (engine.throw[geometry.cylinder] - engine.bank[geometry.cylinder])[:, None]
     return geometry.cylinder, link_motion(beta, *geometry.columns())
@@ -1063,7 +1067,7 @@ def piston_travels(engine: Engine) -> list[PistonTravel | None]:
     out: list[PistonTravel | None] = [None] * engine.n_cylinders
     if not engine.has_links:
         return out
-    geometry = _engine_geometry(engine)
+    geometry = engine_geometry(engine)
     top, s_top, s_bottom = link_dead_centres(geometry)
     cols = geometry.columns()
     for row, j in enumerate(geometry.cylinder.tolist()):

@@ -31,6 +31,7 @@ __all__ = [
     "reciprocating_phasors",
     "roll_phasors",
     "rotating_phasor",
+    "rounding_threshold",
     "sum_over_cylinders",
     "weighted_phasor_sum",
 ]
@@ -46,6 +47,46 @@ _TINY = float(np.finfo(np.float64).tiny)  # the smallest normal number
 #: Largest array (elements) summed over its cylinders in one call (see
 #: :func:`sum_over_cylinders`); larger ones are summed one cylinder at a time.
 _SMALL = 1 << 16
+
+
+def rounding_threshold(scale: ArrayLike, n_terms: int) -> FloatArray:
+    r"""The largest magnitude that a sum cannot tell from zero.
+
+    Parameters
+    ----------
+    scale : array_like
+        :math:`S = \sum_i |t_i|`, the sum of the magnitudes of the terms of each sum (or a
+        bound on it), in the sum's units.
+    n_terms : int
+        Number of terms in each sum.
+
+    Returns
+    -------
+    ndarray of float
+        :math:`64\, n\, \epsilon (S + t_{min})`, in the units of ``scale``: a sum whose
+        magnitude is at most this is exactly zero (:func:`cancel_to_zero`; the views and
+        studies use the same rule for the magnitudes they form).
+
+    Notes
+    -----
+    Rounding in a sum of n terms of size up to :math:`S` is bounded by about
+    :math:`n\epsilon S`; the factor 64 covers the rounding of the terms themselves (sines,
+    cosines of multiples of the throw angles).  Anything below this cannot be told from
+    zero in double precision, so reporting it as, say, 3e-13 N would be noise.
+
+    Below the smallest normal number :math:`t_{min}` (2.2e-308) rounding is absolute, not
+    relative: the subnormal numbers are evenly spaced :math:`\epsilon\, t_{min}` (4.9e-324)
+    apart, so a result there is off by up to half that whatever its size (Goldberg, "What
+    every computer scientist should know about floating-point arithmetic", *ACM Computing
+    Surveys* 23(1), 1991, §2.2.4, "Denormalized numbers").  Hence
+    :math:`\epsilon (S + t_{min})`: a moment about a ``reference_z`` of 2e-311 m has terms
+    of 1e-313 N m (per unit of ω²), whose sum keeps one subnormal unit of rounding that
+    :math:`\epsilon S` alone (1e-326, below that unit) would call a couple.
+    """
+    return np.asarray(
+        CANCELLATION_FACTOR * max(n_terms, 1) * _EPS * (np.asarray(scale) + _TINY),
+        dtype=np.float64,
+    )
 
 
 def cancel_to_zero(total: ComplexArray, term_scale: ArrayLike, n_terms: int) -> ComplexArray:
@@ -64,25 +105,9 @@ def cancel_to_zero(total: ComplexArray, term_scale: ArrayLike, n_terms: int) -> 
     -------
     ndarray of complex
         ``total`` with every entry whose magnitude is at most
-        :math:`64\, n\, \epsilon (\sum_i |t_i| + t_{min})` replaced by 0.
-
-    Notes
-    -----
-    Rounding in a sum of n terms of size up to :math:`S = \sum|t_i|` is bounded by about
-    :math:`n\epsilon S`; the factor 64 covers the rounding of the terms themselves (sines,
-    cosines of multiples of the throw angles).  Anything below this cannot be told from
-    zero in double precision, so reporting it as, say, 3e-13 N would be noise.
-
-    Below the smallest normal number :math:`t_{min}` (2.2e-308) rounding is absolute, not
-    relative: the subnormal numbers are evenly spaced :math:`\epsilon\, t_{min}` (4.9e-324)
-    apart, so a result there is off by up to half that whatever its size (Goldberg, "What
-    every computer scientist should know about floating-point arithmetic", *ACM Computing
-    Surveys* 23(1), 1991, §2.2.4, "Denormalized numbers").  Hence
-    :math:`\epsilon (S + t_{min})`: a moment about a ``reference_z`` of 2e-311 m has terms
-    of 1e-313 N m (per unit of ω²), whose sum keeps one subnormal unit of rounding that
-    :math:`\epsilon S` alone (1e-326, below that unit) would call a couple.
+        :func:`rounding_threshold` of ``term_scale`` and ``n_terms`` replaced by 0.
     """
-    threshold = CANCELLATION_FACTOR * max(n_terms, 1) * _EPS * (np.asarray(term_scale) + _TINY)
+    threshold = rounding_threshold(term_scale, n_terms)
     out = np.array(total, dtype=np.complex128, copy=True)
     out[np.abs(out) <= threshold] = 0.0
     return out

@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core.engine import Engine
+from balance.core.kinematics import rod_ratio
 from balance.core.speed import rad_per_s_to_rpm
 
 __all__ = [
@@ -291,7 +292,7 @@ def _stroke(stroke: FloatArray) -> PlausibilityWarning | None:
 
 
 def _rod_ratio(radius: FloatArray, length: FloatArray) -> PlausibilityWarning | None:
-    ratio = radius / length
+    ratio = rod_ratio(radius, length)
     low, high = ROD_RATIO_RANGE
     found = _outside(ratio, low, high)
     if found is None:

@@ -170,11 +170,9 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     lam = rod_ratio(r, length)
     eps = offset_ratio(e, r)
     w2 = float(speed_squared(layout.speed))
-    travels = None
-    if layout.has_links:
-        from balance.core.links import piston_travels
+    from balance.core.links import piston_travels
 
-        travels = piston_travels(layout)
+    travels = piston_travels(layout)  # None for every plain cylinder
     pressure = pressure_at(
         gas, alpha, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle, travels
     )
@@ -304,12 +302,9 @@ def _with_links(
     the link rod's angle and its derivatives, and for the link-pin mass :math:`m` (per
     :math:`m r^2\omega^2`) the rate of its kinetic energy
     :math:`\operatorname{Re}(\bar\Lambda'\Lambda'')` and its roll."""
-    from balance.core.links import link_geometry, link_motion, pin_masses
+    from balance.core.links import engine_geometry, link_motion, pin_masses, pin_roll
 
-    assert layout.links is not None
-    geometry = link_geometry(
-        layout.crank_radius, layout.conrod_length, layout.offset, layout.bank, layout.links
-    )
+    geometry = engine_geometry(layout)
     j = geometry.cylinder
     m = link_motion(beta[j], *geometry.columns())
     out = [np.array(a, copy=True) for a in (ds, d2s, sin_psi, cos_psi, dg, d2g)]
@@ -318,9 +313,6 @@ def _with_links(
     share = pin_masses(layout)[j][:, None]
     power = np.zeros(beta.shape)
     roll = np.zeros(beta.shape)
-    p, dp, d2p = m.pin, m.dpin, m.d2pin
-    power[j] = share * (dp.real * d2p.real + dp.imag * d2p.imag)
-    roll[j] = share * (
-        dp.real * d2p.real + dp.imag * d2p.imag - (p.real * d2p.imag - p.imag * d2p.real)
-    )
+    power[j] = share * (m.dpin_y * m.d2pin_y + m.dpin_x * m.d2pin_x)
+    roll[j] = share * pin_roll(m)
     return (*out, power, roll)

@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike, NDArray
 from balance.core.analysis import link_pin_first_order, piston_first_order, speed_squared
 from balance.core.balancing import balance_factor_study, optimal_balance_factor
 from balance.core.engine import Engine
-from balance.core.phasors import CANCELLATION_FACTOR
+from balance.core.phasors import rounding_threshold
 
 __all__ = ["factor_study_dataset"]
 
@@ -101,18 +101,18 @@ def _zero_below_rounding(
     analysis follows: a residual peak is a sum of the :math:`2n` forward and backward
     terms of the n cylinders, whose magnitudes add up to
     :math:`S = \sum_i m_{rec,i} r_i \omega^2 (|g_{1,i}| + f)` for the force (times
-    :math:`|z_i - z_{ref}|` for the moment); a peak at most :math:`64 \cdot 2n\,\epsilon S`
-    is 0 (an inline-4 prints 0, not 3.96e-12 N, at every factor).
+    :math:`|z_i - z_{ref}|` for the moment); a peak at most
+    :func:`balance.core.phasors.rounding_threshold` of :math:`S` and :math:`2n` terms is 0
+    (an inline-4 prints 0, not 3.96e-12 N, at every factor).
     """
     rec = np.asarray(layout.reciprocating_mass * layout.crank_radius) * float(
         speed_squared(layout.speed)
     )
     size = rec[None, :] * (np.abs(first_order)[None, :] + factors[:, None])
     lever = np.abs(np.asarray(layout.z) - layout.reference_z)
-    eps = float(np.finfo(np.float64).eps)
-    limit = CANCELLATION_FACTOR * 2 * layout.n_cylinders * eps
-    force_limit = limit * size.sum(axis=1)
-    moment_limit = limit * (size * lever[None, :]).sum(axis=1)
+    n_terms = 2 * layout.n_cylinders
+    force_limit = rounding_threshold(size.sum(axis=1), n_terms)
+    moment_limit = rounding_threshold((size * lever[None, :]).sum(axis=1), n_terms)
     out = dict(study)
     for name, bound in (
         ("vertical_peak", force_limit),

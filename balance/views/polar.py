@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core.phasors import CANCELLATION_FACTOR
+from balance.core.phasors import rounding_threshold
 from balance.core.speed import rad_per_s_to_rpm
 
 __all__ = [
@@ -80,9 +80,9 @@ def zero_below_rounding(values: ArrayLike, scale: float, n_terms: int) -> NDArra
 
     The rule of :func:`balance.core.phasors.cancel_to_zero`, which every phasor sum of the
     analysis follows: a sum of ``n_terms`` terms whose magnitudes add up to ``scale`` is
-    zero where it is at most :math:`64\, n\, \epsilon\, S`.  For the quantities that are
-    formed elsewhere (bearing loads, a balance-factor study), so that a load of
-    ``4.8e-12`` N next to loads of 10 kN prints as 0 like the phasors do.
+    zero where it is at most :func:`balance.core.phasors.rounding_threshold` of them.  For
+    the quantities that are formed elsewhere (bearing loads, a balance-factor study), so
+    that a load of ``4.8e-12`` N next to loads of 10 kN prints as 0 like the phasors do.
 
     Parameters
     ----------
@@ -94,7 +94,7 @@ def zero_below_rounding(values: ArrayLike, scale: float, n_terms: int) -> NDArra
         Number of terms of each sum.
     """
     out = np.array(values, dtype=np.float64, copy=True)
-    threshold = CANCELLATION_FACTOR * max(n_terms, 1) * float(np.finfo(np.float64).eps) * scale
+    threshold = float(rounding_threshold(scale, n_terms))
     if math.isfinite(threshold):
         out[np.abs(out) <= threshold] = 0.0
     return out
