@@ -443,17 +443,14 @@ def _compute_time(
         pin = layout.links.pin_radius if layout.links is not None else 0.0
         force_scale += float(np.sum(pin_masses(layout) * pin * omega2))
     values = _rotating(layout, moments)
-    f_fwd, f_bwd = timedomain.phasors_from_samples(
-        timedomain.reciprocating_force_samples(layout, theta), ks
-    )
+    force, moment = timedomain.reciprocating_samples(layout, theta)
+    f_fwd, f_bwd = timedomain.phasors_from_samples(force, ks)
     values["force_forward"] = phasors.cancel_to_zero(f_fwd, force_scale, n * 4)
     values["force_backward"] = phasors.cancel_to_zero(f_bwd, force_scale, n * 4)
     if moments:
         lever = layout.z - layout.reference_z
         moment_scale = float(np.sum(amp * np.abs(lever)))
-        m_fwd, m_bwd = timedomain.phasors_from_samples(
-            timedomain.reciprocating_force_samples(layout, theta, lever=True), ks
-        )
+        m_fwd, m_bwd = timedomain.phasors_from_samples(moment, ks)
         values["moment_forward"] = phasors.cancel_to_zero(m_fwd, moment_scale, n * 4)
         values["moment_backward"] = phasors.cancel_to_zero(m_bwd, moment_scale, n * 4)
     if roll:
