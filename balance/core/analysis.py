@@ -84,7 +84,6 @@ def compute_phasors(
     ks = _orders_array(orders)
     if model == "time":
         return _compute_time(layout, ks, samples, moments=moments, roll=roll)
-    r = layout.crank_radius
     unit = free_phasors_of(
         engine_cylinders(layout),
         layout.z - layout.reference_z,
@@ -96,16 +95,7 @@ def compute_phasors(
         links=layout.links if layout.has_links else None,
     )
     w2 = speed_squared(layout.speed)
-    if layout.has_links:
-        bound = accuracy.engine_error_bound(model, layout, terms=terms, max_order=int(ks.max()))
-    else:
-        bound = accuracy.error_bound(
-            model,
-            kinematics.rod_ratio(r, layout.conrod_length),
-            kinematics.offset_ratio(layout.offset, r),
-            terms=terms,
-            max_order=int(ks.max()),
-        )
+    bound = accuracy.engine_error_bound(model, layout, terms=terms, max_order=int(ks.max()))
     values = unit.scaled(w2)
     if unit.pin_forward is not None and unit.pin_backward is not None:
         values["link_pin_forward"] = unit.pin_forward * w2
@@ -464,8 +454,8 @@ def _compute_time(
             n * 8,
         )
     beta = theta[None, :]
+    bound = accuracy.engine_error_bound("time", layout, samples=samples, max_order=k_max)
     if layout.has_links:
-        bound = accuracy.engine_error_bound("time", layout, samples=samples, max_order=k_max)
         assert layout.links is not None
         j = layout.links.link_indices
         plain = layout.links.master < 0
@@ -483,7 +473,6 @@ def _compute_time(
         values["link_pin_backward"] = pin_bwd
     else:
         per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], eps[:, None])
-        bound = accuracy.error_bound("time", ratio, eps, samples=samples, max_order=k_max)
     coeffs = 2.0 * np.fft.rfft(per_cylinder, axis=-1)[:, ks] / samples
     return _assemble(
         layout,
@@ -673,15 +662,7 @@ def compute(engine: Engine, request: Request) -> Result:
         engine = engine.with_speed(request.speed)
     model, terms = request.model, request.terms
     if request.tolerance is not None:
-        r = engine.crank_radius
-        if engine.has_links:
-            model, terms, _ = accuracy.choose_model_for(request.tolerance, engine)
-        else:
-            model, terms, _ = accuracy.choose_model(
-                request.tolerance,
-                kinematics.rod_ratio(r, engine.conrod_length),
-                kinematics.offset_ratio(engine.offset, r),
-            )
+        model, terms, _ = accuracy.choose_model_for(request.tolerance, engine)
         request = replace(request, model=model, terms=terms)
     ks = np.asarray(request.orders, dtype=np.intp)
     phasors_ = compute_phasors(
