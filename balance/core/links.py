@@ -77,6 +77,7 @@ from numpy.typing import ArrayLike, NDArray
 from balance.core import phasors
 from balance.core.engine import Engine, Links
 from balance.core.kinematics import (
+    conrod_angle_derivatives,
     fourier_coefficients,
     offset_ratio,
     rod_ratio,
@@ -385,12 +386,9 @@ def _master_pin_force(
     b = np.asarray(beta_m, dtype=np.float64)
     lam_m = np.asarray(ratio_master, dtype=np.float64)
     eps_m = np.asarray(offset_master, dtype=np.float64)
-    sin_m, cos_m = np.sin(b), np.cos(b)
-    u = sin_m - eps_m
-    sin_g = lam_m * u
+    sin_g = lam_m * (np.sin(b) - eps_m)
     cos_g = np.sqrt(1.0 - sin_g**2)
-    dg = lam_m * cos_m / cos_g
-    d2g = -lam_m * sin_m / cos_g + lam_m**3 * u * cos_m**2 / cos_g**3
+    dg, d2g = conrod_angle_derivatives(b, lam_m, eps_m)
     return cos_g * dg**2 + sin_g * d2g, cos_g * d2g - sin_g * dg**2
 
 
