@@ -34,10 +34,9 @@ __all__ = [
     "compute",
     "compute_phasors",
     "engine_cylinders",
+    "first_order_parts",
     "free_phasors",
     "free_phasors_of",
-    "link_pin_first_order",
-    "piston_first_order",
     "speed_squared",
 ]
 
@@ -618,27 +617,30 @@ def _link_pin_first_order(layout: Engine, source: Phasors) -> ComplexArray:
     return np.asarray(2.0 * source.link_pin_forward[:, at] / carrier, dtype=np.complex128)
 
 
-def piston_first_order(layout: Engine) -> ComplexArray:
-    r""":math:`G_1` of each cylinder's :math:`-s''/r` (exact; a link piston's in
-    :math:`\beta_j`), for the balance-factor study."""
-    r = layout.crank_radius
-    ratio = kinematics.rod_ratio(r, layout.conrod_length)
-    eps = kinematics.offset_ratio(layout.offset, r)
-    if not layout.has_links:
-        return np.asarray(kinematics.acceleration_coefficients(ratio, eps, [1])[..., 0])
-    return np.asarray(
-        compute_phasors(layout, [1], moments=False, roll=False).acceleration_coefficients[:, 0]
-    )
+def first_order_parts(
+    layout: Engine,
+) -> tuple[ComplexArray, tuple[ComplexArray, ComplexArray] | None]:
+    r"""What the balance-factor study needs of each cylinder's first order, from one
+    analysis.
 
-
-def link_pin_first_order(layout: Engine) -> tuple[ComplexArray, ComplexArray] | None:
-    """Forward and backward first-order phasors of each cylinder's link pin moving relative
-    to its crank pin, at the engine's speed [N] (None without link rods)."""
+    Returns
+    -------
+    g1 : ndarray of complex
+        :math:`G_1` of each cylinder's :math:`-s''/r` (exact; a link piston's in
+        :math:`\beta_j`).
+    pins : tuple of ndarray of complex, or None
+        Forward and backward first-order phasors of each cylinder's link pin moving relative
+        to its crank pin, at the engine's speed [N] (None without link rods).
+    """
     if not layout.has_links:
-        return None
+        r = layout.crank_radius
+        ratio = kinematics.rod_ratio(r, layout.conrod_length)
+        eps = kinematics.offset_ratio(layout.offset, r)
+        return np.asarray(kinematics.acceleration_coefficients(ratio, eps, [1])[..., 0]), None
     p = compute_phasors(layout, [1], moments=False, roll=False)
     assert p.link_pin_forward is not None and p.link_pin_backward is not None
-    return p.link_pin_forward[:, 0], p.link_pin_backward[:, 0]
+    g1 = np.asarray(p.acceleration_coefficients[:, 0])
+    return g1, (p.link_pin_forward[:, 0], p.link_pin_backward[:, 0])
 
 
 def compute(engine: Engine, request: Request) -> Result:
