@@ -39,11 +39,14 @@ Link cylinders (:mod:`balance.core.links`)
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core import kinematics
 from balance.core.errors import AnalysisError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -113,6 +116,17 @@ def _worst(ratio: ArrayLike, offset_ratio: ArrayLike) -> tuple[float, float, flo
     return x, lam_eps, a
 
 
+def _rounding(x: float) -> float:
+    r"""The ``exact`` model's rounding estimate :math:`10^{-14}(1-x)^{-3/2}` [1]."""
+    return 1e-14 * (1 - x) ** -1.5
+
+
+def _aliasing(x: float, a: float, samples: int, max_order: int) -> float:
+    r"""The ``time`` model's aliasing estimate :math:`10\,(1-x)^{-3/2}\,
+    e^{-a(N-k_{max})}/(1-e^{-a})` [1] (see the module notes)."""
+    return 10.0 * (1 - x) ** -1.5 * math.exp(-a * (samples - max_order)) / (1 - math.exp(-a))
+
+
 def error_bound(
     model: str,
     ratio: ArrayLike,
@@ -124,7 +138,7 @@ def error_bound(
 ) -> float:
     """Error bound of the normalised acceleration coefficients for a model (see module)."""
     x, lam_eps, a = _worst(ratio, offset_ratio)
-    rounding = 1e-14 * (1 - x) ** -1.5
+    rounding = _rounding(x)
     if model == "textbook":
         return lam_eps + series_bound(1, x)
     if model == "series":
@@ -134,8 +148,7 @@ def error_bound(
     if model == "time":
         if samples <= 2 * max_order:
             return math.inf
-        alias = 10.0 * (1 - x) ** -1.5 * math.exp(-a * (samples - max_order)) / (1 - math.exp(-a))
-        return alias + rounding
+        return _aliasing(x, a, samples, max_order) + rounding
     raise AnalysisError(f"unknown model {model!r}")
 
 
@@ -157,23 +170,33 @@ def choose_model(
     AnalysisError
         If no model reaches the tolerance (it is below double precision for the geometry).
     """
+    bound = partial(error_bound, ratio=ratio, offset_ratio=offset_ratio)
+    return _cheapest(tolerance, bound, long_series=True)
+
+
+def _cheapest(
+    tolerance: float, bound_of: Callable[..., float], *, long_series: bool
+) -> tuple[str, int, float]:
+    """The ladder of :func:`choose_model`: textbook, series of 1 to
+    :data:`SERIES_CHEAPER_UP_TO` terms, exact, then (with ``long_series``) series of up to
+    :data:`MAX_SERIES_TERMS` terms; ``bound_of(model, terms=...)`` gives a model's bound."""
     if not (math.isfinite(tolerance) and tolerance > 0):
         raise AnalysisError(f"tolerance must be a positive number, got {tolerance!r}")
-    bound = error_bound("textbook", ratio, offset_ratio)
+    bound = bound_of("textbook")
     if bound <= tolerance:
         return "textbook", 0, bound
     for terms in range(1, SERIES_CHEAPER_UP_TO + 1):
-        bound = error_bound("series", ratio, offset_ratio, terms=terms)
+        bound = bound_of("series", terms=terms)
         if bound <= tolerance:
             return "series", terms, bound
-    bound = error_bound("exact", ratio, offset_ratio)
+    bound = bound_of("exact")
     if bound <= tolerance:
         return "exact", 0, bound
-    # below the exact model's rounding estimate, a long series may still get there
-    for terms in range(SERIES_CHEAPER_UP_TO + 1, MAX_SERIES_TERMS + 1):
-        series = error_bound("series", ratio, offset_ratio, terms=terms)
-        if series <= tolerance:
-            return "series", terms, series
+    if long_series:  # below the exact model's rounding estimate, a long series may get there
+        for terms in range(SERIES_CHEAPER_UP_TO + 1, MAX_SERIES_TERMS + 1):
+            series = bound_of("series", terms=terms)
+            if series <= tolerance:
+                return "series", terms, series
     raise AnalysisError(
         f"a tolerance of {tolerance:.3g} is below what double precision gives for this "
         f"geometry (best: {bound:.3g} with the exact model)"
@@ -302,9 +325,7 @@ def _link_parts(engine: Engine) -> tuple[LinkGeometry, NDArray[np.float64], NDAr
 
 def _plain_arrays(engine: Engine) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     r = engine.crank_radius
-    lam = np.asarray(r / engine.conrod_length, dtype=np.float64)
-    eps = np.asarray(engine.offset / r, dtype=np.float64)
-    return lam, eps
+    return kinematics.rod_ratio(r, engine.conrod_length), kinematics.offset_ratio(engine.offset, r)
 
 
 def engine_error_bound(
@@ -332,7 +353,7 @@ def engine_error_bound(
         link_reach(geometry), geometry.ratio_master * (1.0 + np.abs(geometry.offset_master))
     )
     x = float(np.max(reach))
-    rounding = 1e-14 * (1 - x) ** -1.5 if x < 1 else math.inf
+    rounding = _rounding(x) if x < 1 else math.inf
     if model in {"textbook", "series"}:
         idealised = [
             error_bound(model, lam[i], eps[i], terms=terms) for i in geometry.cylinder.tolist()
@@ -347,8 +368,7 @@ def engine_error_bound(
         a = float(np.min(link_strip(geometry)))
         if a <= 0 or x >= 1:
             return math.inf
-        alias = 10.0 * (1 - x) ** -1.5 * math.exp(-a * (samples - max_order)) / (1 - math.exp(-a))
-        bounds.append(alias + rounding)
+        bounds.append(_aliasing(x, a, samples, max_order) + rounding)
     else:
         raise AnalysisError(f"unknown model {model!r}")
     return float(max(bounds))
@@ -358,24 +378,7 @@ def choose_model_for(tolerance: float, engine: Engine) -> tuple[str, int, float]
     """:func:`choose_model` for an engine, link cylinders included.
 
     For an engine without link rods this is :func:`choose_model` of its rod and offset
-    ratios.
+    ratios; with link rods the ladder stops at the exact model (no long series).
     """
-    lam, eps = _plain_arrays(engine)
-    if not engine.has_links:
-        return choose_model(tolerance, lam, eps)
-    if not (math.isfinite(tolerance) and tolerance > 0):
-        raise AnalysisError(f"tolerance must be a positive number, got {tolerance!r}")
-    bound = engine_error_bound("textbook", engine)
-    if bound <= tolerance:
-        return "textbook", 0, bound
-    for terms in range(1, SERIES_CHEAPER_UP_TO + 1):
-        bound = engine_error_bound("series", engine, terms=terms)
-        if bound <= tolerance:
-            return "series", terms, bound
-    bound = engine_error_bound("exact", engine)
-    if bound <= tolerance:
-        return "exact", 0, bound
-    raise AnalysisError(
-        f"a tolerance of {tolerance:.3g} is below what double precision gives for this "
-        f"geometry (best: {bound:.3g} with the exact model)"
-    )
+    bound = partial(engine_error_bound, engine=engine)
+    return _cheapest(tolerance, bound, long_series=not engine.has_links)

@@ -34,10 +34,9 @@ __all__ = [
     "compute",
     "compute_phasors",
     "engine_cylinders",
+    "first_order_parts",
     "free_phasors",
     "free_phasors_of",
-    "link_pin_first_order",
-    "piston_first_order",
     "speed_squared",
 ]
 
@@ -84,7 +83,6 @@ def compute_phasors(
     ks = _orders_array(orders)
     if model == "time":
         return _compute_time(layout, ks, samples, moments=moments, roll=roll)
-    r = layout.crank_radius
     unit = free_phasors_of(
         engine_cylinders(layout),
         layout.z - layout.reference_z,
@@ -96,16 +94,7 @@ def compute_phasors(
         links=layout.links if layout.has_links else None,
     )
     w2 = speed_squared(layout.speed)
-    if layout.has_links:
-        bound = accuracy.engine_error_bound(model, layout, terms=terms, max_order=int(ks.max()))
-    else:
-        bound = accuracy.error_bound(
-            model,
-            kinematics.rod_ratio(r, layout.conrod_length),
-            kinematics.offset_ratio(layout.offset, r),
-            terms=terms,
-            max_order=int(ks.max()),
-        )
+    bound = accuracy.engine_error_bound(model, layout, terms=terms, max_order=int(ks.max()))
     values = unit.scaled(w2)
     if unit.pin_forward is not None and unit.pin_backward is not None:
         values["link_pin_forward"] = unit.pin_forward * w2
@@ -443,17 +432,14 @@ def _compute_time(
         pin = layout.links.pin_radius if layout.links is not None else 0.0
         force_scale += float(np.sum(pin_masses(layout) * pin * omega2))
     values = _rotating(layout, moments)
-    f_fwd, f_bwd = timedomain.phasors_from_samples(
-        timedomain.reciprocating_force_samples(layout, theta), ks
-    )
+    force, moment = timedomain.reciprocating_samples(layout, theta)
+    f_fwd, f_bwd = timedomain.phasors_from_samples(force, ks)
     values["force_forward"] = phasors.cancel_to_zero(f_fwd, force_scale, n * 4)
     values["force_backward"] = phasors.cancel_to_zero(f_bwd, force_scale, n * 4)
     if moments:
         lever = layout.z - layout.reference_z
         moment_scale = float(np.sum(amp * np.abs(lever)))
-        m_fwd, m_bwd = timedomain.phasors_from_samples(
-            timedomain.reciprocating_force_samples(layout, theta, lever=True), ks
-        )
+        m_fwd, m_bwd = timedomain.phasors_from_samples(moment, ks)
         values["moment_forward"] = phasors.cancel_to_zero(m_fwd, moment_scale, n * 4)
         values["moment_backward"] = phasors.cancel_to_zero(m_bwd, moment_scale, n * 4)
     if roll:
@@ -467,8 +453,8 @@ def _compute_time(
             n * 8,
         )
     beta = theta[None, :]
+    bound = accuracy.engine_error_bound("time", layout, samples=samples, max_order=k_max)
     if layout.has_links:
-        bound = accuracy.engine_error_bound("time", layout, samples=samples, max_order=k_max)
         assert layout.links is not None
         j = layout.links.link_indices
         plain = layout.links.master < 0
@@ -486,7 +472,6 @@ def _compute_time(
         values["link_pin_backward"] = pin_bwd
     else:
         per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], eps[:, None])
-        bound = accuracy.error_bound("time", ratio, eps, samples=samples, max_order=k_max)
     coeffs = 2.0 * np.fft.rfft(per_cylinder, axis=-1)[:, ks] / samples
     return _assemble(
         layout,
@@ -632,27 +617,30 @@ def _link_pin_first_order(layout: Engine, source: Phasors) -> ComplexArray:
     return np.asarray(2.0 * source.link_pin_forward[:, at] / carrier, dtype=np.complex128)
 
 
-def piston_first_order(layout: Engine) -> ComplexArray:
-    r""":math:`G_1` of each cylinder's :math:`-s''/r` (exact; a link piston's in
-    :math:`\beta_j`), for the balance-factor study."""
-    r = layout.crank_radius
-    ratio = kinematics.rod_ratio(r, layout.conrod_length)
-    eps = kinematics.offset_ratio(layout.offset, r)
-    if not layout.has_links:
-        return np.asarray(kinematics.acceleration_coefficients(ratio, eps, [1])[..., 0])
-    return np.asarray(
-        compute_phasors(layout, [1], moments=False, roll=False).acceleration_coefficients[:, 0]
-    )
+def first_order_parts(
+    layout: Engine,
+) -> tuple[ComplexArray, tuple[ComplexArray, ComplexArray] | None]:
+    r"""What the balance-factor study needs of each cylinder's first order, from one
+    analysis.
 
-
-def link_pin_first_order(layout: Engine) -> tuple[ComplexArray, ComplexArray] | None:
-    """Forward and backward first-order phasors of each cylinder's link pin moving relative
-    to its crank pin, at the engine's speed [N] (None without link rods)."""
+    Returns
+    -------
+    g1 : ndarray of complex
+        :math:`G_1` of each cylinder's :math:`-s''/r` (exact; a link piston's in
+        :math:`\beta_j`).
+    pins : tuple of ndarray of complex, or None
+        Forward and backward first-order phasors of each cylinder's link pin moving relative
+        to its crank pin, at the engine's speed [N] (None without link rods).
+    """
     if not layout.has_links:
-        return None
+        r = layout.crank_radius
+        ratio = kinematics.rod_ratio(r, layout.conrod_length)
+        eps = kinematics.offset_ratio(layout.offset, r)
+        return np.asarray(kinematics.acceleration_coefficients(ratio, eps, [1])[..., 0]), None
     p = compute_phasors(layout, [1], moments=False, roll=False)
     assert p.link_pin_forward is not None and p.link_pin_backward is not None
-    return p.link_pin_forward[:, 0], p.link_pin_backward[:, 0]
+    g1 = np.asarray(p.acceleration_coefficients[:, 0])
+    return g1, (p.link_pin_forward[:, 0], p.link_pin_backward[:, 0])
 
 
 def compute(engine: Engine, request: Request) -> Result:
@@ -676,15 +664,7 @@ def compute(engine: Engine, request: Request) -> Result:
         engine = engine.with_speed(request.speed)
     model, terms = request.model, request.terms
     if request.tolerance is not None:
-        r = engine.crank_radius
-        if engine.has_links:
-            model, terms, _ = accuracy.choose_model_for(request.tolerance, engine)
-        else:
-            model, terms, _ = accuracy.choose_model(
-                request.tolerance,
-                kinematics.rod_ratio(r, engine.conrod_length),
-                kinematics.offset_ratio(engine.offset, r),
-            )
+        model, terms, _ = accuracy.choose_model_for(request.tolerance, engine)
         request = replace(request, model=model, terms=terms)
     ks = np.asarray(request.orders, dtype=np.intp)
     phasors_ = compute_phasors(

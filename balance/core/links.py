@@ -77,6 +77,7 @@ from numpy.typing import ArrayLike, NDArray
 from balance.core import phasors
 from balance.core.engine import Engine, Links
 from balance.core.kinematics import (
+    conrod_angle_derivatives,
     fourier_coefficients,
     offset_ratio,
     rod_ratio,
@@ -389,12 +390,9 @@ def _master_pin_force(
     b = np.asarray(beta_m, dtype=np.float64)
     lam_m = np.asarray(ratio_master, dtype=np.float64)
     eps_m = np.asarray(offset_master, dtype=np.float64)
-    sin_m, cos_m = np.sin(b), np.cos(b)
-    u = sin_m - eps_m
-    sin_g = lam_m * u
+    sin_g = lam_m * (np.sin(b) - eps_m)
     cos_g = np.sqrt(1.0 - sin_g**2)
-    dg = lam_m * cos_m / cos_g
-    d2g = -lam_m * sin_m / cos_g + lam_m**3 * u * cos_m**2 / cos_g**3
+    dg, d2g = conrod_angle_derivatives(b, lam_m, eps_m)
     return cos_g * dg**2 + sin_g * d2g, cos_g * d2g - sin_g * dg**2
 
 
@@ -412,22 +410,16 @@ def link_reach(geometry: LinkGeometry) -> FloatArray:
     if geometry.size == 0:
         return np.zeros(0)
     beta = 2.0 * np.pi * np.arange(REACH_GRID) / REACH_GRID
-    lam_m, eps_m, kappa, delta, shift, lam, eps = geometry.columns()
-    beta_m = beta + shift
-    sin_m, cos_m = np.sin(beta_m), np.cos(beta_m)
-    u = sin_m - eps_m
-    sin_g = lam_m * u
-    if np.any(np.abs(sin_g) >= 1.0):
+    cols = geometry.columns()
+    lam, eps = cols[5], cols[6]
+    # the link rod's own terms are NaN where it does not reach (what this measures), and
+    # everything where the master rod cannot move: neither is read then
+    with np.errstate(invalid="ignore", divide="ignore"):
+        m = link_motion(beta, *cols)
+    if np.any(np.abs(m.sin_master) >= 1.0):
         return np.full(geometry.size, np.inf)
-    cos_g = np.sqrt(1.0 - sin_g * sin_g)
-    dg = lam_m * cos_m / cos_g
-    d2g = (lam_m * lam_m * u * cos_m * dg - lam_m * sin_m * cos_g) / (cos_g * cos_g)
-    kw_y = kappa * (np.cos(delta) * cos_g + np.sin(delta) * sin_g)
-    kw_x = kappa * (np.sin(delta) * cos_g - np.cos(delta) * sin_g)
-    h = np.sin(beta) + kw_x - eps
-    d2h = -d2g * kw_y - dg * dg * kw_x - np.sin(beta)
-    top = np.max(np.abs(h), axis=-1)
-    curvature = np.max(np.abs(d2h), axis=-1)
+    top = np.max(np.abs(m.pin_x - eps), axis=-1)  # h
+    curvature = np.max(np.abs(m.d2pin_x), axis=-1)  # h''
     return np.asarray(lam[:, 0] * (top + curvature * (np.pi / REACH_GRID) ** 2 / 2.0))
 
 

@@ -52,6 +52,7 @@ __all__ = [
     "proposal_force_samples",
     "proposal_roll_samples",
     "reciprocating_force_samples",
+    "reciprocating_samples",
     "roll_newton_euler",
     "roll_phasors_from_samples",
     "rotating_force_samples",
@@ -77,21 +78,10 @@ def reciprocating_force_samples(
         :math:`\sum_i -m_{rec,i}\, \omega^2 s_i''(\beta_i)\, e^{i\psi_i}` [N] (times
         :math:`z_i - z_{ref}` [N m] with ``lever=True``), one value per crank angle; with
         link rods also each link-pin mass' inertia relative to its crank pin
-        (:func:`link_pin_force_samples`).
+        (:func:`link_pin_force_samples`).  Both at once: :func:`reciprocating_samples`.
     """
-    th = np.asarray(theta, dtype=np.float64)[:, None]
-    beta = th + layout.throw - layout.bank
-    r = layout.crank_radius
-    if layout.has_links:
-        return _articulated_reciprocating(layout, np.asarray(theta, dtype=np.float64), lever)
-    _, _, d2s = normalised_slider(
-        beta, rod_ratio(r, layout.conrod_length), offset_ratio(layout.offset, r)
-    )
-    w2 = speed_squared(layout.speed)
-    force = -layout.reciprocating_mass * w2 * r * d2s * np.exp(1j * layout.bank)
-    if lever:
-        force = force * (layout.z - layout.reference_z)
-    return np.asarray(force.sum(axis=1), dtype=np.complex128)
+    force, moment = reciprocating_samples(layout, theta)
+    return moment if lever else force
 
 
 def rotating_force_samples(layout: Engine, theta: ArrayLike, lever: bool = False) -> ComplexArray:
@@ -535,15 +525,44 @@ def link_pin_force_samples(layout: Engine, theta: ArrayLike) -> ComplexArray:
     :math:`-m\omega^2(L'' - C'')` per link cylinder (rows in cylinder order), from the
     constraint kinematics (:func:`articulated_kinematics`).
     """
-    assert layout.links is not None
     th = np.asarray(theta, dtype=np.float64)
-    out = np.zeros((layout.links.link_indices.size, th.size), dtype=np.complex128)
-    row_of = {int(j): i for i, j in enumerate(layout.links.link_indices)}
+    return _link_pin_forces(layout, articulated_kinematics(layout, th), th.size)
+
+
+def _link_rows(layout: Engine) -> dict[int, int]:
+    """Row of each link cylinder in the (links, angles) arrays (cylinder order)."""
+    assert layout.links is not None
+    return {int(j): i for i, j in enumerate(layout.links.link_indices)}
+
+
+def _link_pin_forces(layout: Engine, groups: list[_Group], n_t: int) -> ComplexArray:
+    """:func:`link_pin_force_samples` from the groups' kinematics over ``n_t`` angles."""
+    assert layout.links is not None
+    out = np.zeros((layout.links.link_indices.size, n_t), dtype=np.complex128)
+    row_of = _link_rows(layout)
     w2 = speed_squared(layout.speed)
     m_pin = _pin_shares(layout)
-    for g in articulated_kinematics(layout, th):
+    for g in groups:
         for i, j in enumerate(g.links.tolist()):
             out[row_of[j]] = -m_pin[j] * w2 * (g.d2link_pin[i] + g.crank)
+    return out
+
+
+def _link_piston_rows(
+    layout: Engine, groups: list[_Group], n_t: int, *, own_angles: bool = False
+) -> FloatArray:
+    """:math:`s''/r` of each link piston along its bore over ``n_t`` angles (rows: link
+    cylinders in order) from the groups' kinematics; with ``own_angles`` the groups' angles
+    are one block of ``n_t`` per link cylinder (in cylinder order), and each row is read
+    from its own block."""
+    row_of = _link_rows(layout)
+    out = np.zeros((len(row_of), n_t))
+    for g in groups:
+        for i, j in enumerate(g.links.tolist()):
+            row = row_of[j]
+            start = row * n_t if own_angles else 0
+            acc = g.link_rods.d2piston[i, start : start + n_t]
+            out[row] = (acc * np.exp(-1j * layout.bank[j])).real / layout.crank_radius[j]
     return out
 
 
@@ -551,35 +570,50 @@ def link_piston_acceleration(layout: Engine, theta: ArrayLike) -> FloatArray:
     """:math:`s''/r` of each link piston along its bore (rows: link cylinders in order), from
     the constraint kinematics, at the crank angles ``theta``."""
     th = np.asarray(theta, dtype=np.float64)
-    assert layout.links is not None
-    n_links = layout.links.link_indices.size
-    return link_piston_acceleration_at(layout, np.broadcast_to(th, (n_links, th.size)))
+    return _link_piston_rows(layout, articulated_kinematics(layout, th), th.size)
 
 
 def link_piston_acceleration_at(layout: Engine, theta: ArrayLike) -> FloatArray:
     """:func:`link_piston_acceleration` with each link cylinder at its own crank angles
-    (``theta`` of shape (links, angles), rows in cylinder order)."""
-    assert layout.links is not None
+    (``theta`` of shape (links, angles), rows in cylinder order).
+
+    One pass of :func:`articulated_kinematics` over all rows' angles, each link cylinder
+    then read at its own row's."""
     th = np.asarray(theta, dtype=np.float64)
-    out = np.zeros(th.shape)
-    for row, j in enumerate(layout.links.link_indices.tolist()):
-        for g in articulated_kinematics(layout, th[row]):
-            if j in g.links:
-                i = int(np.flatnonzero(g.links == j)[0])
-                along = (g.link_rods.d2piston[i] * np.exp(-1j * layout.bank[j])).real
-                out[row] = along / layout.crank_radius[j]
-    return out
+    groups = articulated_kinematics(layout, th.reshape(-1))
+    return _link_piston_rows(layout, groups, th.shape[-1], own_angles=True)
 
 
-def _articulated_reciprocating(layout: Engine, theta: FloatArray, lever: bool) -> ComplexArray:
-    """Reciprocating force (or moment) samples of an engine with link rods."""
+def reciprocating_samples(layout: Engine, theta: ArrayLike) -> tuple[ComplexArray, ComplexArray]:
+    """:func:`reciprocating_force_samples` without and with the lever, from one pass of the
+    kinematics: the force [N] and the moment [N m] at each crank angle."""
+    th = np.asarray(theta, dtype=np.float64)
+    if layout.has_links:
+        return _articulated_reciprocating(layout, th)
+    beta = th[:, None] + layout.throw - layout.bank
+    r = layout.crank_radius
+    _, _, d2s = normalised_slider(
+        beta, rod_ratio(r, layout.conrod_length), offset_ratio(layout.offset, r)
+    )
+    w2 = speed_squared(layout.speed)
+    force = -layout.reciprocating_mass * w2 * r * d2s * np.exp(1j * layout.bank)
+    moment = force * (layout.z - layout.reference_z)
+    return (
+        np.asarray(force.sum(axis=1), dtype=np.complex128),
+        np.asarray(moment.sum(axis=1), dtype=np.complex128),
+    )
+
+
+def _articulated_reciprocating(
+    layout: Engine, theta: FloatArray
+) -> tuple[ComplexArray, ComplexArray]:
+    """Reciprocating force and moment samples of an engine with link rods."""
     assert layout.links is not None
     w2 = speed_squared(layout.speed)
     plain = layout.links.master < 0
     th = theta[:, None]
     beta = th + layout.throw - layout.bank
     r = layout.crank_radius
-    arm = (layout.z - layout.reference_z) if lever else np.ones(layout.n_cylinders)
     _, _, d2s = normalised_slider(
         beta[:, plain],
         rod_ratio(r[plain], layout.conrod_length[plain]),
@@ -588,17 +622,21 @@ def _articulated_reciprocating(layout: Engine, theta: FloatArray, lever: bool) -
     force = (
         -layout.reciprocating_mass[plain] * w2 * r[plain] * d2s * np.exp(1j * layout.bank[plain])
     )
-    total = (force * arm[plain]).sum(axis=1)
     j = layout.links.link_indices
-    link_acc = link_piston_acceleration(layout, theta)  # (links, angles)
+    groups = articulated_kinematics(layout, theta)
+    link_acc = _link_piston_rows(layout, groups, theta.size)  # (links, angles)
     pistons = (
         -(layout.reciprocating_mass[j] * w2 * r[j])[:, None]
         * link_acc
         * np.exp(1j * layout.bank[j])[:, None]
     )
-    pins = link_pin_force_samples(layout, theta)
-    total = total + ((pistons + pins) * arm[j][:, None]).sum(axis=0)
-    return np.asarray(total, dtype=np.complex128)
+    each = pistons + _link_pin_forces(layout, groups, theta.size)
+
+    def summed(arm: FloatArray) -> ComplexArray:
+        total = (force * arm[plain]).sum(axis=1) + (each * arm[j][:, None]).sum(axis=0)
+        return np.asarray(total, dtype=np.complex128)
+
+    return summed(np.ones(layout.n_cylinders)), summed(layout.z - layout.reference_z)
 
 
 @dataclass(frozen=True)

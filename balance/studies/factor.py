@@ -6,7 +6,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core.analysis import link_pin_first_order, piston_first_order, speed_squared
+from balance.core.analysis import first_order_parts, speed_squared
 from balance.core.balancing import balance_factor_study, optimal_balance_factor
 from balance.core.engine import Engine
 from balance.core.phasors import rounding_threshold
@@ -41,8 +41,7 @@ def factor_study_dataset(
         counterweights (``strategy``, ``counterweight_radius`` as for the proposal).
     """
     f = np.linspace(0.0, 1.0, 21) if factors is None else np.asarray(factors, dtype=np.float64)
-    g1 = piston_first_order(layout)
-    pins = link_pin_first_order(layout)  # link rods' pins (None without link rods)
+    g1, pins = first_order_parts(layout)  # pins: the link rods' (None without link rods)
     study = _zero_below_rounding(balance_factor_study(layout, g1, f, pins), layout, g1, f)
     best = optimal_balance_factor(layout, g1, pins)
 

@@ -30,6 +30,7 @@ def factor_bearing_loads(
             strategy=strategy,
             counterweight_radius=counterweight_radius,
             torque=False,
+            cylinders=False,
         )
         balanced = compute(engine, request).balanced
         sets.append(counterweights_of(balanced.proposal if balanced is not None else None))
