@@ -30,7 +30,6 @@ __all__ = [
     "bearings_json",
     "bearings_report_section",
     "bearings_tables",
-    "largest",
     "plot_internal_moment",
     "plot_main_loads",
     "plot_pin_load",
@@ -119,17 +118,6 @@ def _pin_rows(b: Bearings, v: dict[str, np.ndarray], angle: bool) -> list[list[s
         row.append(_fmt(float(v["pin_mean"][j])))
         rows.append(row)
     return rows
-
-
-def largest(b: Bearings) -> dict[str, float]:
-    """The largest main-bearing load [N] and internal moment [N m], without and with the
-    proposal (the figures a strategy or balance factor is chosen by)."""
-    return {
-        "main_max_N": float(np.max(b.main_max)),
-        "main_max_with_proposal_N": float(np.max(b.main_max_with_proposal)),
-        "internal_moment_max_Nm": float(np.max(b.moment_max)),
-        "internal_moment_max_with_proposal_Nm": float(np.max(b.moment_max_with_proposal)),
-    }
 
 
 # --------------------------------------------------------------------------- JSON
