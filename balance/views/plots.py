@@ -591,27 +591,17 @@ def plot_phasors(
         return _finish(fig, owned, title, default_title, y=title_y)
 
 
-def _direction_legend() -> list[Any]:
-    """Legend entries of the phasor arrows: forward wide, backward dashed."""
+def _direction_legend(
+    forward: str = "forward (wide):\nturns with\nthe crank",
+    backward: str = "backward (dashed):\nturns against\nthe crank",
+) -> list[Any]:
+    """Legend entries of the phasor arrows, labelled ``forward`` and ``backward``: forward
+    wide, backward dashed."""
     from matplotlib.lines import Line2D
 
     return [
-        Line2D(
-            [],
-            [],
-            color="black",
-            lw=3.4,
-            alpha=0.45,
-            label="forward (wide):\nturns with\nthe crank",
-        ),
-        Line2D(
-            [],
-            [],
-            color="black",
-            lw=1.5,
-            ls="--",
-            label="backward (dashed):\nturns against\nthe crank",
-        ),
+        Line2D([], [], color="black", lw=3.4, alpha=0.45, label=forward),
+        Line2D([], [], color="black", lw=1.5, ls="--", label=backward),
     ]
 
 
@@ -831,10 +821,7 @@ def _phasors_common(
                         int(k), Line2D([], [], color=colour, lw=2.0, label=f"order {int(k)}")
                     )
         handles = [legend_orders[k] for k in sorted(legend_orders)]
-        handles += [
-            Line2D([], [], color="black", lw=3.4, alpha=0.45, label="forward (wide)"),
-            Line2D([], [], color="black", lw=1.5, ls="--", label="backward (dashed)"),
-        ]
+        handles += _direction_legend("forward (wide)", "backward (dashed)")
         fig.legend(handles=handles, loc="outside right center")
         return _finish(
             fig, owned, title, f"{_layout_name(result)}: phasors at θ = 0, {_source_label(source)}"
