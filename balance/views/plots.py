@@ -451,6 +451,11 @@ def _va(angle_rad: float) -> str:
 #: Polar panels per row of the per-order phasor figure.
 PHASOR_COLUMNS = 4
 
+#: Room [in] for the angle labels of a phasor panel beside its circle and above and below
+#: it: what :func:`_phasor_frame` leaves on plain axes and :func:`_phasor_figure` lays the
+#: panels out with.
+_PHASOR_LABEL_ROOM = (0.3, 0.16)
+
 
 def phasor_panels(
     result: Result,
@@ -620,8 +625,7 @@ def _phasor_figure(
     from matplotlib.figure import Figure
 
     diameter, column, legend = 2.15, 2.8, 1.9  # a panel's circle, its column, the legend's
-    side, end = 0.3, 0.16  # room for the angle labels beside and above/below the circle,
-    # as _phasor_frame leaves it
+    side, end = _PHASOR_LABEL_ROOM
     panel_title, gap, group_title, note = 0.42, 0.1, 0.28, 0.55
     margin, title_line = 0.1, 0.2  # around the figure title, one line of it (12 pt)
     ncols = min(PHASOR_COLUMNS, max(max(n for _, n in groups), 1))
@@ -719,7 +723,7 @@ def _phasor_frame(
     else:
         # the circle as large as the axes' box [in] allows with room for the angle labels
         # beside it and above and below it (the box shrinks to fit, if it has to)
-        side, end = 0.3, 0.16
+        side, end = _PHASOR_LABEL_ROOM
         bbox = axes.get_position()
         w, h = bbox.width * axes.figure.get_figwidth(), bbox.height * axes.figure.get_figheight()
         diameter = min(w - 2.0 * side, h - 2.0 * end)
