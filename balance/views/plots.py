@@ -52,7 +52,7 @@ import os
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import AbstractContextManager
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -467,16 +467,39 @@ def phasor_panels(
     moment, the orders that have a phasor not zero next to the largest of that quantity
     (:data:`ZERO_SHARE`); an empty list draws one panel that says why (zero, not
     computed)."""
-    out: list[tuple[Quantity, list[int]]] = []
+    return [(p.quantity, p.shown) for p in _panel_phasors(result, source, orders)]
+
+
+class _PanelPhasors(NamedTuple):
+    """A quantity's phasors and its panels in the per-order phasor figure."""
+
+    quantity: Quantity
+    orders: NDArray[np.intp]
+    forward: synthesis.ComplexArray
+    backward: synthesis.ComplexArray
+    #: the orders with a panel of their own (:func:`phasor_panels`)
+    shown: list[int]
+    #: what the one panel of a quantity without any says: not computed, or all zero
+    note: str
+
+
+def _panel_phasors(
+    result: Result, source: Source, orders: Iterable[int] | None
+) -> list[_PanelPhasors]:
+    """For the force and the moment: its phasors (:func:`balance.views.signals.phasors_of`),
+    the orders of its panels and the note of a panel without any; the phasors are computed
+    once for both :func:`phasor_panels` and :func:`plot_phasors`."""
+    out = []
     for quantity in synthesis.QUANTITIES:
         ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
         keep = _pick_orders(ks, orders)
         size = np.stack([np.abs(fwd[keep]), np.abs(bwd[keep])])
-        if np.isnan(size).all():  # not computed
-            out.append((quantity, []))
-            continue
-        shown = np.asarray(np.asarray(_significant(size)).any(axis=0), dtype=bool)
-        out.append((quantity, [int(k) for k, s in zip(ks[keep], shown, strict=True) if s]))
+        shown: list[int] = []
+        if not np.isnan(size).all():  # computed
+            significant = np.asarray(np.asarray(_significant(size)).any(axis=0), dtype=bool)
+            shown = [int(k) for k, s in zip(ks[keep], significant, strict=True) if s]
+        note = "not computed" if np.isnan(fwd).all() else "all zero"
+        out.append(_PanelPhasors(quantity, ks, fwd, bwd, shown, note))
     return out
 
 
@@ -536,34 +559,33 @@ def plot_phasors(
     if scale == "common":
         return _phasors_common(result, ax, source, orders, normalised, title)
 
-    panels = phasor_panels(result, source=source, orders=orders)
     groups = []
-    for quantity, ks_shown in panels:
-        ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+    for quantity, ks, fwd, bwd, ks_shown, note in _panel_phasors(result, source, orders):
         divisor, unit, _ = _scale(result, quantity, normalised)
         name = "force" if quantity == "force" else "moment Σ Δz·F"
-        groups.append((ks, fwd / divisor, bwd / divisor, _axis_label(name, unit), ks_shown))
+        groups.append((ks, fwd / divisor, bwd / divisor, _axis_label(name, unit), ks_shown, note))
     default_title = f"{_layout_name(result)}: phasors at θ\u00a0=\u00a00, {_source_label(source)}"
     with _styled():
         if ax is None:
             fig, axes_list, title_y = _phasor_figure(
-                [(label, len(ks_shown)) for _, _, _, label, ks_shown in groups],
+                [(label, len(ks_shown)) for _, _, _, label, ks_shown, _ in groups],
                 default_title if title is None else title,
             )
             owned = True
         else:
-            counts = [max(len(ks_shown), 1) for _, ks_shown in panels]
+            counts = [max(len(ks_shown), 1) for _, _, _, _, ks_shown, _ in groups]
             fig, given, owned = _new_figure(ax, sum(counts), (1.0, 1.0), polar=True, kind="phasors")
             axes_list, start = [], 0
             for n in counts:
                 axes_list.append(given[start : start + n])
                 start += n
             title_y = None
-        for axes_group, (ks, fwd, bwd, label, ks_shown) in zip(axes_list, groups, strict=True):
+        for axes_group, (ks, fwd, bwd, label, ks_shown, note) in zip(
+            axes_list, groups, strict=True
+        ):
             if not ks_shown:
                 note_axes = axes_group[0]
                 note_axes.set_axis_off()
-                note = "not computed" if np.isnan(fwd).all() else "all zero"
                 note_axes.text(
                     0.5,
                     0.5,
