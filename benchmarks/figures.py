@@ -22,7 +22,6 @@ import balance
 from balance.core.analysis import compute
 from balance.core.result import Request, Result
 from balance.views import plots
-from balance.views import signals as synthesis
 from balance.views.report import render_report
 
 args = sys.argv[1:]
@@ -44,23 +43,11 @@ def drawn(result: Result, kind: str, fmt: str) -> Callable[[], bytes]:
     return lambda: plots.figure_bytes(plots.PLOT_KINDS[kind](result), fmt)
 
 
-def kinds_of(result: Result) -> list[str]:
-    """The kinds ``save_plots`` draws by default."""
-    return [
-        k
-        for k in plots.PLOT_KINDS
-        if (k != "balance" or synthesis.has_proposal(result))
-        and (k != "mounts" or result.mounts is not None)
-        and (k not in plots.BEARING_KINDS or result.bearings is not None)
-        and (k not in plots.GAS_KINDS or result.torque is not None)
-    ]
-
-
 print(f"CPU time [ms], best of {runs} runs")
 print(f"{'layout':16s} {'kind':14s} {'png':>7s} {'svg':>7s}")
 for name in names:
     result = compute(balance.load_layout(name), Request.of(range(1, 9)))
-    kinds = kinds_of(result)
+    kinds = plots.applicable_kinds(result)
     drawn(result, "spectrum", "png")()  # the font cache and the backends, loaded once
     for kind in kinds:
         png, svg = (best(drawn(result, kind, fmt), runs) for fmt in ("png", "svg"))

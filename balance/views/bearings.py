@@ -30,7 +30,6 @@ __all__ = [
     "bearings_json",
     "bearings_report_section",
     "bearings_tables",
-    "largest",
     "plot_internal_moment",
     "plot_main_loads",
     "plot_pin_load",
@@ -88,40 +87,24 @@ def printed(b: Bearings) -> dict[str, np.ndarray]:
     return out
 
 
-def _main_rows(b: Bearings) -> list[list[str]]:
-    """One row of text per main (table and report): number, z, loads without and with the
-    proposal."""
-    v = printed(b)
+#: The columns of the main-bearing loads and of the internal moments, after number and z.
+_LOADS = ("main_max", "main_mean", "main_max_with_proposal", "main_mean_with_proposal")
+_MOMENTS = ("moment_max", "moment_max_with_proposal")
+
+
+def _main_rows(b: Bearings, v: dict[str, np.ndarray], names: Sequence[str]) -> list[list[str]]:
+    """One row of text per main (tables and report): number, z, then the printed values
+    ``v`` (:func:`printed`) of ``names``, in that order."""
     return [
-        [
-            str(m + 1),
-            _mm(float(b.main_z[m])),
-            _fmt(float(v["main_max"][m])),
-            _fmt(float(v["main_mean"][m])),
-            _fmt(float(v["main_max_with_proposal"][m])),
-            _fmt(float(v["main_mean_with_proposal"][m])),
-        ]
+        [str(m + 1), _mm(float(b.main_z[m])), *(_fmt(float(v[name][m])) for name in names)]
         for m in range(b.main_z.size)
     ]
 
 
-def _moment_rows(b: Bearings) -> list[list[str]]:
-    """One row of text per main: number, z, internal moments without and with the
-    proposal."""
-    v = printed(b)
-    return [
-        [
-            str(m + 1),
-            _mm(float(b.main_z[m])),
-            _fmt(float(v["moment_max"][m])),
-            _fmt(float(v["moment_max_with_proposal"][m])),
-        ]
-        for m in range(b.main_z.size)
-    ]
-
-
-def _pin_rows(b: Bearings, angle: bool) -> list[list[str]]:
-    v = printed(b)
+def _pin_rows(b: Bearings, v: dict[str, np.ndarray], angle: bool) -> list[list[str]]:
+    """One row of text per crank pin: number, z, cylinders, the printed values ``v``
+    (:func:`printed`) of the largest load, its crank angle (with ``angle``) and the mean
+    load."""
     rows = []
     for j in range(b.pin_z.size):
         row = [
@@ -135,17 +118,6 @@ def _pin_rows(b: Bearings, angle: bool) -> list[list[str]]:
         row.append(_fmt(float(v["pin_mean"][j])))
         rows.append(row)
     return rows
-
-
-def largest(b: Bearings) -> dict[str, float]:
-    """The largest main-bearing load [N] and internal moment [N m], without and with the
-    proposal (the figures a strategy or balance factor is chosen by)."""
-    return {
-        "main_max_N": float(np.max(b.main_max)),
-        "main_max_with_proposal_N": float(np.max(b.main_max_with_proposal)),
-        "internal_moment_max_Nm": float(np.max(b.moment_max)),
-        "internal_moment_max_with_proposal_Nm": float(np.max(b.moment_max_with_proposal)),
-    }
 
 
 # --------------------------------------------------------------------------- JSON
@@ -196,6 +168,7 @@ def bearings_tables(b: Bearings) -> list[RenderableType]:
 
     from balance.views.fitted import Column, NumberTable
 
+    v = printed(b)
     gas = "with gas forces, over the cycle" if b.gas else "inertia only"
     pins = NumberTable(
         f"Crank-pin loads ({gas})",
@@ -207,7 +180,7 @@ def bearings_tables(b: Bearings) -> list[RenderableType]:
             Column("at theta", "deg"),
             Column("mean", "N"),
         ],
-        _pin_rows(b, angle=True),
+        _pin_rows(b, v, angle=True),
     )
     mains = NumberTable(
         f"Main-bearing loads ({gas}), without / with the proposed counterweights",
@@ -219,7 +192,7 @@ def bearings_tables(b: Bearings) -> list[RenderableType]:
             Column("max with proposal", "N"),
             Column("mean with proposal", "N"),
         ],
-        _main_rows(b),
+        _main_rows(b, v, _LOADS),
     )
     moments = NumberTable(
         "Internal moment of the crankshaft at the mains (inertia only)",
@@ -229,9 +202,8 @@ def bearings_tables(b: Bearings) -> list[RenderableType]:
             Column("moment max", "N m"),
             Column("moment max with proposal", "N m"),
         ],
-        _moment_rows(b),
+        _main_rows(b, v, _MOMENTS),
     )
-    v = printed(b)
     none = "" if b.counterweights else " (the proposal has no counterweights)"
     notes = [
         Text(
@@ -529,10 +501,11 @@ def bearings_report_section(
 ) -> str:
     """HTML of the report's bearings section (``table(headers, rows, caption)`` and
     ``escape(text)`` are the report's own helpers)."""
+    v = printed(b)
     gas = "with gas forces over the working cycle" if b.gas else "inertia only"
     pins = table(
         ["pin", "z [mm]", "cylinders", "max [N]", "mean [N]"],
-        _pin_rows(b, angle=False),
+        _pin_rows(b, v, angle=False),
         f"Crank-pin loads ({gas})",
     )
     mains = table(
@@ -544,12 +517,12 @@ def bearings_report_section(
             "max with proposal [N]",
             "mean with proposal [N]",
         ],
-        _main_rows(b),
+        _main_rows(b, v, _LOADS),
         f"Main-bearing loads ({gas})",
     )
     moments = table(
         ["main", "z [mm]", "moment max [N m]", "moment max with proposal [N m]"],
-        _moment_rows(b),
+        _main_rows(b, v, _MOMENTS),
         "Internal moments of the crankshaft at the mains (inertia only)",
     )
     text = (

@@ -2,8 +2,8 @@
 
 :func:`comparison_dataset` stacks the analyses along a ``layout`` dimension (the Dataset of
 ``balance compare --format netcdf`` and of :func:`balance.compare`); :func:`compare_table`,
-:func:`markdown_table`, :func:`compare_csv`, :func:`compare_json` and :func:`render_table`
-print it.
+:func:`markdown_table`, :func:`compare_csv`, :func:`compare_json` and
+:func:`render_comparison` print it.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import numpy as np
 
 from balance.core.speed import rad_per_s_to_rpm
 from balance.views.json import order_entries
-from balance.views.polar import json_number
+from balance.views.polar import json_number, speed_rpm
 from balance.views.table import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -125,7 +125,7 @@ def comparison_dataset(
     }
     # numbers as numbers, present only when asked for
     if speed is not None:
-        out.attrs["common_speed_rpm"] = float(f"{rad_per_s_to_rpm(speed):.12g}")
+        out.attrs["common_speed_rpm"] = speed_rpm(speed)
     if displacement is not None:
         out.attrs["displacement_m3"] = float(displacement)
     return out
@@ -372,8 +372,7 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
             str(int(one["n_shafts"])),
         ]
         if mounts:
-            value = float(one["mount_force_max"])
-            row.append(format_number(value) if np.isfinite(value) else "-")
+            row.append(format_number(float(one["mount_force_max"])))
         rows.append(row)
     out.append(NumberTable("Balancing needs: what each layout's proposal uses", columns, rows))
     return out

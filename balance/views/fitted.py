@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Literal
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -148,7 +149,8 @@ class NumberTable:
         One line above the table.
     columns : sequence of Column
     rows : sequence of sequence of str
-        Formatted cells, one per column; a cell may not contain a line break.
+        Formatted cells, one per column; a cell may not contain a line break.  Not to be
+        changed once the table is made (the widths of the cells are measured once).
     notes : sequence of str
         Lines printed after the table.
     """
@@ -168,7 +170,10 @@ class NumberTable:
 
     # ------------------------------------------------------------------ widths
 
+    @cached_property
     def _cell_widths(self) -> list[int]:
+        """Width of each column's widest cell, measured once (the rows are not changed
+        after the table is made)."""
         return [
             max((_length(str(row[i])) for row in self.rows), default=0)
             for i in range(len(self.columns))
@@ -180,12 +185,8 @@ class NumberTable:
 
         The headers are made as few lines high as the width allows: each column is the
         narrowest that holds its widest cell and its header in that many lines."""
-        cells = self._cell_widths()
         tokens = [self.columns[i].tokens() for i in indices]
-        floor = [
-            max(cells[i], *(_length(t) for t in words))
-            for i, words in zip(indices, tokens, strict=True)
-        ]
+        floor = [self._floor(i) for i in indices]
         if table_width(floor) > width:
             return None
         tallest = max((len(_wrap(w, f).split("\n")) for w, f in zip(tokens, floor, strict=True)))
@@ -224,7 +225,7 @@ class NumberTable:
 
     def _floor(self, i: int) -> int:
         """Narrowest content width of column ``i``: its widest cell or header word."""
-        return max(self._cell_widths()[i], *(_length(t) for t in self.columns[i].tokens()))
+        return max(self._cell_widths[i], *(_length(t) for t in self.columns[i].tokens()))
 
     # ------------------------------------------------------------------ rendering
 
@@ -292,7 +293,7 @@ class NumberTable:
     def __rich_measure__(self, console: Console, options: ConsoleOptions) -> Measurement:
         from rich.measure import Measurement
 
-        cells = self._cell_widths()
+        cells = self._cell_widths
         full = [max(c, _length(col.header)) for c, col in zip(cells, self.columns, strict=True)]
         widest = max(table_width(full), _length(self.title))
         return Measurement(min(widest, options.max_width), min(widest, options.max_width))

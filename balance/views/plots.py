@@ -52,7 +52,7 @@ import os
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import AbstractContextManager
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -451,6 +451,11 @@ def _va(angle_rad: float) -> str:
 #: Polar panels per row of the per-order phasor figure.
 PHASOR_COLUMNS = 4
 
+#: Room [in] for the angle labels of a phasor panel beside its circle and above and below
+#: it: what :func:`_phasor_frame` leaves on plain axes and :func:`_phasor_figure` lays the
+#: panels out with.
+_PHASOR_LABEL_ROOM = (0.3, 0.16)
+
 
 def phasor_panels(
     result: Result,
@@ -462,16 +467,39 @@ def phasor_panels(
     moment, the orders that have a phasor not zero next to the largest of that quantity
     (:data:`ZERO_SHARE`); an empty list draws one panel that says why (zero, not
     computed)."""
-    out: list[tuple[Quantity, list[int]]] = []
+    return [(p.quantity, p.shown) for p in _panel_phasors(result, source, orders)]
+
+
+class _PanelPhasors(NamedTuple):
+    """A quantity's phasors and its panels in the per-order phasor figure."""
+
+    quantity: Quantity
+    orders: NDArray[np.intp]
+    forward: synthesis.ComplexArray
+    backward: synthesis.ComplexArray
+    #: the orders with a panel of their own (:func:`phasor_panels`)
+    shown: list[int]
+    #: what the one panel of a quantity without any says: not computed, or all zero
+    note: str
+
+
+def _panel_phasors(
+    result: Result, source: Source, orders: Iterable[int] | None
+) -> list[_PanelPhasors]:
+    """For the force and the moment: its phasors (:func:`balance.views.signals.phasors_of`),
+    the orders of its panels and the note of a panel without any; the phasors are computed
+    once for both :func:`phasor_panels` and :func:`plot_phasors`."""
+    out = []
     for quantity in synthesis.QUANTITIES:
         ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
         keep = _pick_orders(ks, orders)
         size = np.stack([np.abs(fwd[keep]), np.abs(bwd[keep])])
-        if np.isnan(size).all():  # not computed
-            out.append((quantity, []))
-            continue
-        shown = np.asarray(np.asarray(_significant(size)).any(axis=0), dtype=bool)
-        out.append((quantity, [int(k) for k, s in zip(ks[keep], shown, strict=True) if s]))
+        shown: list[int] = []
+        if not np.isnan(size).all():  # computed
+            significant = np.asarray(np.asarray(_significant(size)).any(axis=0), dtype=bool)
+            shown = [int(k) for k, s in zip(ks[keep], significant, strict=True) if s]
+        note = "not computed" if np.isnan(fwd).all() else "all zero"
+        out.append(_PanelPhasors(quantity, ks, fwd, bwd, shown, note))
     return out
 
 
@@ -531,34 +559,33 @@ def plot_phasors(
     if scale == "common":
         return _phasors_common(result, ax, source, orders, normalised, title)
 
-    panels = phasor_panels(result, source=source, orders=orders)
     groups = []
-    for quantity, ks_shown in panels:
-        ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+    for quantity, ks, fwd, bwd, ks_shown, note in _panel_phasors(result, source, orders):
         divisor, unit, _ = _scale(result, quantity, normalised)
         name = "force" if quantity == "force" else "moment Σ Δz·F"
-        groups.append((ks, fwd / divisor, bwd / divisor, _axis_label(name, unit), ks_shown))
+        groups.append((ks, fwd / divisor, bwd / divisor, _axis_label(name, unit), ks_shown, note))
     default_title = f"{_layout_name(result)}: phasors at θ\u00a0=\u00a00, {_source_label(source)}"
     with _styled():
         if ax is None:
             fig, axes_list, title_y = _phasor_figure(
-                [(label, len(ks_shown)) for _, _, _, label, ks_shown in groups],
+                [(label, len(ks_shown)) for _, _, _, label, ks_shown, _ in groups],
                 default_title if title is None else title,
             )
             owned = True
         else:
-            counts = [max(len(ks_shown), 1) for _, ks_shown in panels]
+            counts = [max(len(ks_shown), 1) for _, _, _, _, ks_shown, _ in groups]
             fig, given, owned = _new_figure(ax, sum(counts), (1.0, 1.0), polar=True, kind="phasors")
             axes_list, start = [], 0
             for n in counts:
                 axes_list.append(given[start : start + n])
                 start += n
             title_y = None
-        for axes_group, (ks, fwd, bwd, label, ks_shown) in zip(axes_list, groups, strict=True):
+        for axes_group, (ks, fwd, bwd, label, ks_shown, note) in zip(
+            axes_list, groups, strict=True
+        ):
             if not ks_shown:
                 note_axes = axes_group[0]
                 note_axes.set_axis_off()
-                note = "not computed" if np.isnan(fwd).all() else "all zero"
                 note_axes.text(
                     0.5,
                     0.5,
@@ -591,27 +618,17 @@ def plot_phasors(
         return _finish(fig, owned, title, default_title, y=title_y)
 
 
-def _direction_legend() -> list[Any]:
-    """Legend entries of the phasor arrows: forward wide, backward dashed."""
+def _direction_legend(
+    forward: str = "forward (wide):\nturns with\nthe crank",
+    backward: str = "backward (dashed):\nturns against\nthe crank",
+) -> list[Any]:
+    """Legend entries of the phasor arrows, labelled ``forward`` and ``backward``: forward
+    wide, backward dashed."""
     from matplotlib.lines import Line2D
 
     return [
-        Line2D(
-            [],
-            [],
-            color="black",
-            lw=3.4,
-            alpha=0.45,
-            label="forward (wide):\nturns with\nthe crank",
-        ),
-        Line2D(
-            [],
-            [],
-            color="black",
-            lw=1.5,
-            ls="--",
-            label="backward (dashed):\nturns against\nthe crank",
-        ),
+        Line2D([], [], color="black", lw=3.4, alpha=0.45, label=forward),
+        Line2D([], [], color="black", lw=1.5, ls="--", label=backward),
     ]
 
 
@@ -630,8 +647,7 @@ def _phasor_figure(
     from matplotlib.figure import Figure
 
     diameter, column, legend = 2.15, 2.8, 1.9  # a panel's circle, its column, the legend's
-    side, end = 0.3, 0.16  # room for the angle labels beside and above/below the circle,
-    # as _phasor_frame leaves it
+    side, end = _PHASOR_LABEL_ROOM
     panel_title, gap, group_title, note = 0.42, 0.1, 0.28, 0.55
     margin, title_line = 0.1, 0.2  # around the figure title, one line of it (12 pt)
     ncols = min(PHASOR_COLUMNS, max(max(n for _, n in groups), 1))
@@ -729,7 +745,7 @@ def _phasor_frame(
     else:
         # the circle as large as the axes' box [in] allows with room for the angle labels
         # beside it and above and below it (the box shrinks to fit, if it has to)
-        side, end = 0.3, 0.16
+        side, end = _PHASOR_LABEL_ROOM
         bbox = axes.get_position()
         w, h = bbox.width * axes.figure.get_figwidth(), bbox.height * axes.figure.get_figheight()
         diameter = min(w - 2.0 * side, h - 2.0 * end)
@@ -831,10 +847,7 @@ def _phasors_common(
                         int(k), Line2D([], [], color=colour, lw=2.0, label=f"order {int(k)}")
                     )
         handles = [legend_orders[k] for k in sorted(legend_orders)]
-        handles += [
-            Line2D([], [], color="black", lw=3.4, alpha=0.45, label="forward (wide)"),
-            Line2D([], [], color="black", lw=1.5, ls="--", label="backward (dashed)"),
-        ]
+        handles += _direction_legend("forward (wide)", "backward (dashed)")
         fig.legend(handles=handles, loc="outside right center")
         return _finish(
             fig, owned, title, f"{_layout_name(result)}: phasors at θ = 0, {_source_label(source)}"
