@@ -899,7 +899,7 @@ def sweep_command(
     if not quiet:
         from balance.studies.checks import sweep_warnings
 
-        _warn(sweep_warnings(base, vary), quiet, layout)
+        _warn(sweep_warnings(base, grid), quiet, layout)
     show = sys.stderr.isatty() if progress is None else progress
     if show:
         from balance.views.progress import ProgressBar
@@ -912,13 +912,13 @@ def sweep_command(
         "force": force,
     }
     if scheduler is None and workers is None:
-        sweep_to_file(base, vary, output, orders, **kwargs)
+        sweep_to_file(base, grid, output, orders, **kwargs)
     else:
         from distributed import Client, LocalCluster
 
         if scheduler is not None:
             with Client(scheduler) as client:
-                sweep_to_file(base, vary, output, orders, client=client, **kwargs)
+                sweep_to_file(base, grid, output, orders, client=client, **kwargs)
         else:
             with (
                 LocalCluster(
@@ -926,7 +926,7 @@ def sweep_command(
                 ) as cluster,
                 Client(cluster) as client,
             ):
-                sweep_to_file(base, vary, output, orders, client=client, **kwargs)
+                sweep_to_file(base, grid, output, orders, client=client, **kwargs)
     from balance.views.progress import sweep_summary
 
     sys.stderr.write(
@@ -1012,6 +1012,7 @@ def tolerance_command(
     quiet: _Quiet = False,
 ) -> None:
     """Monte Carlo over part-mass and geometry scatter: percentiles of the residuals."""
+    from balance.io.fields import parse_scatter
     from balance.io.layout_file import load_layout
     from balance.studies.tolerance import PERCENTILES, tolerance
 
@@ -1022,13 +1023,14 @@ def tolerance_command(
             raise InputError(f"--plot {plot}: give a .png, .svg or .pdf file for the histograms")
         check_target(plot, force)
     engine = load_layout(layout)
+    items = [parse_scatter(text, engine) for text in scatter]
     if not quiet:
         from balance.studies.checks import tolerance_warnings
 
-        _warn(tolerance_warnings(engine, scatter), quiet, layout)
+        _warn(tolerance_warnings(engine, items), quiet, layout)
     result = tolerance(
         engine,
-        scatter,
+        items,
         samples=samples,
         orders=orders,
         distribution=distribution,
