@@ -918,15 +918,7 @@ def _links(
             dtype=np.float64,
         ),
     )
-    for m in sorted({m for m in masters if m >= 0}):
-        r, length, e = (float(arrays[k][m]) for k in ("crank_radius", "conrod_length", "offset"))
-        if not length > r + abs(e):  # already checked for plain cylinders; kept for clarity
-            raise _link_error(
-                doc,
-                ("cylinders", m, "conrod_length"),
-                f"master rod of cylinder {m + 1} is too short",
-                "conrod_length > crank_radius + |offset|",
-            )
+    # the masters are plain cylinders: their crank sliders were checked with the others
     geometry = link_geometry(
         arrays["crank_radius"], arrays["conrod_length"], arrays["offset"], arrays["bank"], links
     )
