@@ -24,7 +24,6 @@ from pydantic import BaseModel, ValidationError
 from balance.core.engine import CYLINDER_FIELDS, BalanceSettings, Engine, Links, ShaftPosition
 from balance.core.errors import InputError, LayoutError, LayoutErrors, Location, raise_all
 from balance.core.gas import GasInput, GasModel, cycle_degrees, firing_tdc
-from balance.core.links import dead_centre_lag, dead_centres, link_geometry, link_reach
 from balance.core.masses import MassParts, two_mass_split
 from balance.core.speed import rad_per_s_to_rpm
 from balance.io.bearings_section import check_mains
@@ -631,6 +630,8 @@ def _gas(
     links: Links | None = None,
 ) -> GasInput:
     """Resolve the ``gas:`` and ``flywheel:`` sections: read the trace, place firing TDCs."""
+    from balance.core.links import dead_centre_lag
+
     section = spec.gas
     assert section is not None
     cycle_deg = cycle_degrees(spec.cycle)
@@ -907,6 +908,8 @@ def _links(
     largest distance across its bore, or the mechanism cannot move."""
     if all(m < 0 for m in masters):
         return None
+    from balance.core.links import link_geometry, link_reach
+
     n = len(cylinders)
     links = Links(
         master=np.asarray(masters, dtype=np.intp),
@@ -1075,6 +1078,8 @@ def _link_comments(layout: Engine) -> str:
     if not layout.has_links:
         return ""
     assert layout.links is not None
+    from balance.core.links import dead_centres
+
     stroke, tdc = dead_centres(
         layout.throw,
         layout.bank,
