@@ -587,12 +587,14 @@ def _mounts(spec: LayoutSpec, doc: SourceDocument) -> MountSystem | None:
     """The ``mounts:`` section as a mount system, its errors located in the file."""
     if spec.mounts is None:
         return None
-    from balance.io.mounts_section import MountsSpec, mount_system, section_error
+    from balance.io.mounts_section import MountsSpec, mount_system, section_errors
 
     try:
         return mount_system(MountsSpec.model_validate(spec.mounts))
     except ValidationError as exc:
-        raise section_error(exc, doc, ("mounts",)) from None
+        errors = section_errors(exc, doc, ("mounts",))
+    raise_all(errors)  # outside the handler: the ValidationError is no part of the report
+    raise AssertionError("a failed validation has at least one problem")  # pragma: no cover
 
 
 def _balance_settings(section: BalanceSpec | None) -> BalanceSettings | None:
