@@ -130,13 +130,6 @@ _Bearings = Annotated[
 ]
 
 
-def _parse_quantity(text: str, kind: str, option: str) -> float:
-    """A command-line quantity of unit kind ``kind`` in SI; a bad one names ``option``."""
-    from balance.io.fields import parse_option_quantity
-
-    return parse_option_quantity(text, kind, option)
-
-
 def _parse_speed(text: str | None) -> float | None:
     """The ``--speed`` option in rad/s (None when it is not given)."""
     from balance.io.fields import parse_speed
@@ -418,14 +411,18 @@ class Strategy(StrEnum):
 
 
 def _parse_fraction(text: str, option: str) -> float:
-    value = _parse_quantity(text, "fraction", option)
+    from balance.io.fields import parse_option_quantity
+
+    value = parse_option_quantity(text, "fraction", option)
     if not 0.0 <= value <= 2.0:
         raise InputError(f"{option}: {text!r} is outside 0 % to 200 %")
     return value
 
 
 def _parse_length(text: str, option: str) -> float:
-    value = _parse_quantity(text, "length", option)
+    from balance.io.fields import parse_option_quantity
+
+    value = parse_option_quantity(text, "length", option)
     if value <= 0:
         raise InputError(f"{option}: must be more than zero")
     return value
@@ -590,7 +587,7 @@ def compare_command(
     """Compare layouts side by side: free forces, moments, roll and balancing needs."""
     import json
 
-    from balance.io.fields import parse_orders
+    from balance.io.fields import parse_option_quantity, parse_orders
     from balance.io.layout_file import load_layout
     from balance.studies.compare import compare_results
     from balance.views.compare import (
@@ -607,7 +604,7 @@ def compare_command(
     speed_value = _parse_speed(speed)
     volume = None
     if displacement is not None:
-        volume = _parse_quantity(displacement, "volume", "--displacement")
+        volume = parse_option_quantity(displacement, "volume", "--displacement")
         if volume <= 0:
             raise InputError("--displacement: must be more than zero")
     _check_output(output, force, binary=format is CompareFormat.netcdf)
