@@ -130,13 +130,6 @@ _Bearings = Annotated[
 ]
 
 
-def _parse_quantity(text: str, kind: str, option: str) -> float:
-    """A command-line quantity of unit kind ``kind`` in SI; a bad one names ``option``."""
-    from balance.io.fields import parse_option_quantity
-
-    return parse_option_quantity(text, kind, option)
-
-
 def _parse_speed(text: str | None) -> float | None:
     """The ``--speed`` option in rad/s (None when it is not given)."""
     from balance.io.fields import parse_speed
@@ -418,14 +411,18 @@ class Strategy(StrEnum):
 
 
 def _parse_fraction(text: str, option: str) -> float:
-    value = _parse_quantity(text, "fraction", option)
+    from balance.io.fields import parse_option_quantity
+
+    value = parse_option_quantity(text, "fraction", option)
     if not 0.0 <= value <= 2.0:
         raise InputError(f"{option}: {text!r} is outside 0 % to 200 %")
     return value
 
 
 def _parse_length(text: str, option: str) -> float:
-    value = _parse_quantity(text, "length", option)
+    from balance.io.fields import parse_option_quantity
+
+    value = parse_option_quantity(text, "length", option)
     if value <= 0:
         raise InputError(f"{option}: must be more than zero")
     return value
@@ -590,7 +587,7 @@ def compare_command(
     """Compare layouts side by side: free forces, moments, roll and balancing needs."""
     import json
 
-    from balance.io.fields import parse_orders
+    from balance.io.fields import parse_option_quantity, parse_orders
     from balance.io.layout_file import load_layout
     from balance.studies.compare import compare_results
     from balance.views.compare import (
@@ -607,7 +604,7 @@ def compare_command(
     speed_value = _parse_speed(speed)
     volume = None
     if displacement is not None:
-        volume = _parse_quantity(displacement, "volume", "--displacement")
+        volume = parse_option_quantity(displacement, "volume", "--displacement")
         if volume <= 0:
             raise InputError("--displacement: must be more than zero")
     _check_output(output, force, binary=format is CompareFormat.netcdf)
@@ -899,7 +896,7 @@ def sweep_command(
     if not quiet:
         from balance.studies.checks import sweep_warnings
 
-        _warn(sweep_warnings(base, vary), quiet, layout)
+        _warn(sweep_warnings(base, grid), quiet, layout)
     show = sys.stderr.isatty() if progress is None else progress
     if show:
         from balance.views.progress import ProgressBar
@@ -912,13 +909,13 @@ def sweep_command(
         "force": force,
     }
     if scheduler is None and workers is None:
-        sweep_to_file(base, vary, output, orders, **kwargs)
+        sweep_to_file(base, grid, output, orders, **kwargs)
     else:
         from distributed import Client, LocalCluster
 
         if scheduler is not None:
             with Client(scheduler) as client:
-                sweep_to_file(base, vary, output, orders, client=client, **kwargs)
+                sweep_to_file(base, grid, output, orders, client=client, **kwargs)
         else:
             with (
                 LocalCluster(
@@ -926,7 +923,7 @@ def sweep_command(
                 ) as cluster,
                 Client(cluster) as client,
             ):
-                sweep_to_file(base, vary, output, orders, client=client, **kwargs)
+                sweep_to_file(base, grid, output, orders, client=client, **kwargs)
     from balance.views.progress import sweep_summary
 
     sys.stderr.write(
@@ -1012,6 +1009,7 @@ def tolerance_command(
     quiet: _Quiet = False,
 ) -> None:
     """Monte Carlo over part-mass and geometry scatter: percentiles of the residuals."""
+    from balance.io.fields import parse_scatter
     from balance.io.layout_file import load_layout
     from balance.studies.tolerance import PERCENTILES, tolerance
 
@@ -1022,13 +1020,14 @@ def tolerance_command(
             raise InputError(f"--plot {plot}: give a .png, .svg or .pdf file for the histograms")
         check_target(plot, force)
     engine = load_layout(layout)
+    items = [parse_scatter(text, engine) for text in scatter]
     if not quiet:
         from balance.studies.checks import tolerance_warnings
 
-        _warn(tolerance_warnings(engine, scatter), quiet, layout)
+        _warn(tolerance_warnings(engine, items), quiet, layout)
     result = tolerance(
         engine,
-        scatter,
+        items,
         samples=samples,
         orders=orders,
         distribution=distribution,

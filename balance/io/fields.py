@@ -156,9 +156,16 @@ def option_error(option: str, problem: ValueError, prefix: str = "") -> InputErr
 
 
 def parse_option_quantity(
-    text: str, kind: str, option: str, likely: Callable[[float], str] | None = None
+    text: str,
+    kind: str,
+    option: str,
+    likely: Callable[[float], str] | None = None,
+    prefix: str = "",
 ) -> float:
     """A command-line quantity of unit kind ``kind`` in SI (degrees for angles).
+
+    ``prefix`` is what the value follows on the command line (``conrod_length=`` for
+    ``--vary``), for the message (:func:`option_error`).
 
     Raises
     ------
@@ -172,7 +179,7 @@ def parse_option_quantity(
     try:
         return parse_quantity(text, kind, likely)
     except UnitProblem as exc:
-        raise option_error(option, exc) from None
+        raise option_error(option, exc, prefix) from None
 
 
 def parse_speed(text: str | None, option: str = "--speed") -> float | None:
@@ -346,13 +353,8 @@ def _quantity(
     """A value of ``field`` for ``option``; a proposal is written as ``FIELD{typed}VALUE``
     for ``--vary`` and ``--scatter`` (``typed``: ``=`` or ``=±``), as the value alone for
     other options."""
-    from balance.io.units import UnitProblem, parse_quantity
-
-    try:
-        return parse_quantity(text.strip(), field.kind, likely)
-    except UnitProblem as exc:
-        prefix = f"{field.text}{typed}" if option in ("--vary", "--scatter") else ""
-        raise option_error(option, exc, prefix) from None
+    prefix = f"{field.text}{typed}" if option in ("--vary", "--scatter") else ""
+    return parse_option_quantity(text.strip(), field.kind, option, likely, prefix)
 
 
 # a list value that is a number of one to three digits followed by one that starts with

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, BeforeValidator, Field, ValidationError, model_validator
 
-from balance.core.errors import LayoutError, LayoutErrors, raise_all
+from balance.core.errors import LayoutError, raise_all
 from balance.core.mounts import (
     COORDINATES,
     MountPoint,
@@ -44,7 +44,6 @@ __all__ = [
     "mount_system",
     "mounts_from_dict",
     "mounts_from_text",
-    "section_error",
     "section_errors",
 ]
 
@@ -360,16 +359,6 @@ def _from_document(doc: SourceDocument) -> MountSystem:
         raise_all(section_errors(exc, doc, prefix))
         raise  # pragma: no cover - a failed validation has at least one problem
     return mount_system(spec)
-
-
-def section_error(
-    exc: ValidationError, doc: SourceDocument, prefix: tuple[str | int, ...] = ()
-) -> LayoutError:
-    """Every problem of a failed validation of a ``mounts:`` section, located: one
-    :class:`~balance.core.errors.LayoutError`, or a
-    :class:`~balance.core.errors.LayoutErrors` for several (see :func:`section_errors`)."""
-    errors = section_errors(exc, doc, prefix)
-    return errors[0] if len(errors) == 1 else LayoutErrors(errors)
 
 
 def section_errors(

@@ -31,7 +31,14 @@ from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.io.fields import Field
 
-__all__ = ["LUMPED", "Change", "apply_changes", "check_link_fields", "lumped_again"]
+__all__ = [
+    "LINK_GEOMETRY",
+    "LUMPED",
+    "Change",
+    "apply_changes",
+    "check_link_fields",
+    "lumped_again",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -125,7 +132,7 @@ def apply_changes(
 
 
 #: Fields that move the kinematics of an engine with link rods (its geometry).
-_GEOMETRY = frozenset({"throw", "bank", "z", "crank_radius", "conrod_length", "offset"})
+LINK_GEOMETRY = frozenset({"throw", "bank", "z", "crank_radius", "conrod_length", "offset"})
 #: Rod parts whose engine-wide value the layout file gives the master rods only.
 _ROD_PARTS = frozenset({"parts.conrod", "parts.conrod_cg_to_big_end", "parts.conrod_inertia"})
 
@@ -150,7 +157,7 @@ def check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:
     numbers = ", ".join(str(int(i) + 1) for i in np.flatnonzero(linked))
     for field in fields:
         attribute = field.attribute
-        if attribute in _GEOMETRY:
+        if attribute in LINK_GEOMETRY:
             why = "it moves the link kinematics, which are computed once per engine"
         elif attribute in _ROD_PARTS and field.cylinder is None:
             why = (

@@ -680,12 +680,11 @@ def _write_netcdf(plan: _Plan, target: Path, run: _Runner, force: bool) -> Path:
                     var[:] = values
                 var.setncatts(attrs)
             variables = {}
+            auxiliary = _auxiliary(plan)
             for name in _variables(plan):
                 tail, units, long_name = _VARIABLES[name]
                 var = nc.createVariable(name, "f8", plan.dims + tail)
-                var.setncatts(
-                    {"units": units, "long_name": long_name, "coordinates": _auxiliary(plan)}
-                )
+                var.setncatts({"units": units, "long_name": long_name, "coordinates": auxiliary})
                 var.set_auto_mask(False)
                 variables[name] = var
 
@@ -729,6 +728,7 @@ def _write_zarr(
             )
             array[...] = data
         arrays = {}
+        auxiliary = _auxiliary(plan)
         for name in _variables(plan):
             tail, units, long_name = _VARIABLES[name]
             tail_shape = tuple(tails[d] for d in tail)
@@ -742,7 +742,7 @@ def _write_zarr(
                 attributes={
                     "units": units,
                     "long_name": long_name,
-                    "coordinates": _auxiliary(plan),
+                    "coordinates": auxiliary,
                 },
             )
 

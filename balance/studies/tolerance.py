@@ -30,15 +30,15 @@ from numpy.typing import NDArray
 from balance.core.analysis import (
     balance_engine,
     compute_phasors,
+    engine_cylinders,
     free_phasors_of,
     speed_squared,
 )
 from balance.core.balancing import proposal_phasors
-from balance.core.engine import CYLINDER_FIELDS, Engine
+from balance.core.engine import Engine
 from balance.core.errors import AnalysisError, InputError
-from balance.core.links import pin_masses
 from balance.io.fields import Scatter, parse_orders, parse_scatter
-from balance.studies.changes import Change, apply_changes
+from balance.studies.changes import LINK_GEOMETRY, Change, apply_changes
 
 __all__ = ["PERCENTILES", "Scatter", "ToleranceResult", "parse_scatter", "tolerance"]
 
@@ -161,12 +161,14 @@ def tolerance(
             delta = s.field.to_layout_units(draw)
             changes.append((s.field, delta if s.field.cylinder is None else delta[:, None]))
         drawn = apply_changes(fixed, changes, add=True, problem=_CG_BEYOND_ROD)
-        p = {name: np.broadcast_to(getattr(drawn, name), (m, n)).copy() for name in CYLINDER_FIELDS}
-        links = None
-        if layout.has_links:  # one geometry (check_link_fields): the link path wants it 1-D
-            links = layout.links
-            p.update({name: getattr(drawn, name) for name in _GEOMETRY})
-            p["link_pin_mass"] = np.broadcast_to(pin_masses(drawn), (m, n)).copy()
+        # with link rods, one geometry (check_link_fields): the link path wants it 1-D
+        links = layout.links if layout.has_links else None
+        p = {
+            name: value
+            if links is not None and name in LINK_GEOMETRY
+            else np.broadcast_to(value, (m, n)).copy()
+            for name, value in engine_cylinders(drawn).items()
+        }
         if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
             raise InputError("--scatter: the scatter makes some masses negative; reduce it")
         try:
@@ -202,9 +204,6 @@ def tolerance(
         seed=seed,
     )
 
-
-#: The geometry arrays of an engine, kept 1-D for an engine with link rods.
-_GEOMETRY = ("throw", "bank", "z", "crank_radius", "conrod_length", "offset")
 
 _CG_BEYOND_ROD = (
     "--scatter: the scatter puts a conrod's centre of gravity beyond its small end; reduce it"
