@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.bearings import Bearings
+from balance.views.polar import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -39,15 +40,6 @@ __all__ = [
 
 #: What to add to a command for the bearing loads.
 ASK = "give --bearings (or a bearings: section in the layout)"
-
-
-def _fmt(value: float) -> str:
-    """Compact number: 0 stays 0, NaN shows as a dash."""
-    if not math.isfinite(value):
-        return "-"
-    if value == 0.0:
-        return "0"
-    return f"{value:.4g}"
 
 
 def _mm(value: float) -> str:
@@ -96,7 +88,7 @@ def _main_rows(b: Bearings, v: dict[str, np.ndarray], names: Sequence[str]) -> l
     """One row of text per main (tables and report): number, z, then the printed values
     ``v`` (:func:`printed`) of ``names``, in that order."""
     return [
-        [str(m + 1), _mm(float(b.main_z[m])), *(_fmt(float(v[name][m])) for name in names)]
+        [str(m + 1), _mm(float(b.main_z[m])), *(format_number(float(v[name][m])) for name in names)]
         for m in range(b.main_z.size)
     ]
 
@@ -111,11 +103,11 @@ def _pin_rows(b: Bearings, v: dict[str, np.ndarray], angle: bool) -> list[list[s
             str(j + 1),
             _mm(float(b.pin_z[j])),
             " ".join(map(str, b.pin_cylinders[j])),
-            _fmt(float(v["pin_max"][j])),
+            format_number(float(v["pin_max"][j])),
         ]
         if angle:
             row.append(f"{round(math.degrees(float(b.pin_max_angle[j])), 1) % 360.0:.1f}")
-        row.append(_fmt(float(v["pin_mean"][j])))
+        row.append(format_number(float(v["pin_mean"][j])))
         rows.append(row)
     return rows
 
@@ -207,12 +199,12 @@ def bearings_tables(b: Bearings) -> list[RenderableType]:
     none = "" if b.counterweights else " (the proposal has no counterweights)"
     notes = [
         Text(
-            f"Largest main load {_fmt(float(np.max(v['main_max'])))} N, with proposal "
-            f"{_fmt(float(np.max(v['main_max_with_proposal'])))} N{none}"
+            f"Largest main load {format_number(float(np.max(v['main_max'])))} N, with proposal "
+            f"{format_number(float(np.max(v['main_max_with_proposal'])))} N{none}"
         ),
         Text(
-            f"Largest internal moment {_fmt(float(np.max(v['moment_max'])))} N m, with "
-            f"proposal {_fmt(float(np.max(v['moment_max_with_proposal'])))} N m"
+            f"Largest internal moment {format_number(float(np.max(v['moment_max'])))} N m, with "
+            f"proposal {format_number(float(np.max(v['moment_max_with_proposal'])))} N m"
         ),
     ]
     return [pins, mains, moments, *notes]
@@ -230,8 +222,8 @@ def strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType]
             [
                 "none",
                 "0",
-                _fmt(float(np.max(base["main_max"]))),
-                _fmt(float(np.max(base["moment_max"]))),
+                format_number(float(np.max(base["main_max"]))),
+                format_number(float(np.max(base["moment_max"]))),
             ]
         )
     for name, b in rows:
@@ -240,8 +232,8 @@ def strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType]
             [
                 name,
                 str(len(b.counterweights)),
-                _fmt(float(np.max(v["main_max_with_proposal"]))),
-                _fmt(float(np.max(v["moment_max_with_proposal"]))),
+                format_number(float(np.max(v["main_max_with_proposal"]))),
+                format_number(float(np.max(v["moment_max_with_proposal"]))),
             ]
         )
     table = NumberTable(
@@ -435,7 +427,7 @@ def plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
         cyl = ", ".join(" ".join(map(str, b.pin_cylinders[i - 1])) for i in same)
         ax.set_title(
             f"pin{'s' if len(same) > 1 else ''} {', '.join(map(str, same))} (cyl. {cyl}): "
-            f"max {_fmt(float(b.pin_max[j]) / 1e3)} kN",
+            f"max {format_number(float(b.pin_max[j]) / 1e3)} kN",
             fontsize=9,
         )
     gas = "with gas forces" if b.gas else "inertia only"
@@ -458,10 +450,10 @@ def plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
         if with_cw:
             curves.append((b.main_load_with_proposal[m], "C1--", "with the proposal"))
         _polar_diagram(ax, curves, "x [kN]", "y [kN]")
-        z_mm, top = _mm(float(b.main_z[m])), _fmt(float(b.main_max[m]) / 1e3)
+        z_mm, top = _mm(float(b.main_z[m])), format_number(float(b.main_max[m]) / 1e3)
         text = f"main {m + 1}, z = {z_mm} mm: max {top}"
         if with_cw:
-            text += f" / {_fmt(float(b.main_max_with_proposal[m]) / 1e3)}"
+            text += f" / {format_number(float(b.main_max_with_proposal[m]) / 1e3)}"
         ax.set_title(text + " kN", fontsize=9)
     if with_cw:
         axes[0].legend(fontsize=7, loc="best")

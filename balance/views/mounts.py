@@ -15,7 +15,7 @@ import numpy as np
 
 from balance.core.mounts import COORDINATES, MountsResult, crossings
 from balance.views.fitted import Column, NumberTable
-from balance.views.polar import json_number, order_value
+from balance.views.polar import format_number, json_number, order_value
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -45,15 +45,7 @@ RPM = 30.0 / math.pi
 
 def _share(value: float) -> str:
     """A percentage of energy; round-off below 1e-9 % shown as 0."""
-    return "0" if abs(value) < 1e-9 else _fmt(value, 3)
-
-
-def _fmt(value: float, digits: int = 4) -> str:
-    if not math.isfinite(value):
-        return "-"
-    if value == 0:
-        return "0"
-    return f"{value:.{digits}g}"
+    return "0" if abs(value) < 1e-9 else format_number(value, 3)
 
 
 # ---------------------------------------------------------------------------------------
@@ -164,7 +156,7 @@ def _modes_table(m: MountsResult) -> NumberTable:
     for j in range(6):
         f = float(m.modes.frequency[j])
         shares = [_share(100 * float(v)) for v in m.modes.energy_share[j]]
-        rows.append([str(j + 1), _fmt(f), _fmt(60 * f), *shares])
+        rows.append([str(j + 1), format_number(f), format_number(60 * f), *shares])
     return NumberTable(
         "Rigid-body modes on the mounts (undamped): frequency f, energy shares",
         [
@@ -187,10 +179,10 @@ def mounts_tables(m: MountsResult) -> list[RenderableType]:
     peak = m.force_peak
     rows = []
     for i, k in enumerate(m.orders):
-        cells = [_fmt(1e3 * float(v)) for v in m.translation[i]]
-        cells += [_fmt(1e3 * float(v)) for v in m.rotation[i]]
+        cells = [format_number(1e3 * float(v)) for v in m.translation[i]]
+        cells += [format_number(1e3 * float(v)) for v in m.rotation[i]]
         n = int(np.argmax(peak[i]))
-        rows.append([str(order_value(k)), *cells, _fmt(float(peak[i, n])), str(n + 1)])
+        rows.append([str(order_value(k)), *cells, format_number(float(peak[i, n])), str(n + 1)])
     parts.append(
         NumberTable(
             f"Response on the mounts per order ({what}"
@@ -232,9 +224,9 @@ def mounts_tables(m: MountsResult) -> list[RenderableType]:
             [
                 [
                     str(n + 1),
-                    *(_fmt(1e3 * float(v)) for v in m.system.positions[n]),
-                    _fmt(1e3 * float(m.axis_distance[n])),
-                    *(_fmt(1e3 * float(v)) for v in m.elastic_offsets[n]),
+                    *(format_number(1e3 * float(v)) for v in m.system.positions[n]),
+                    format_number(1e3 * float(m.axis_distance[n])),
+                    *(format_number(1e3 * float(v)) for v in m.elastic_offsets[n]),
                 ]
                 for n in range(m.system.n_mounts)
             ],
@@ -275,7 +267,10 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
                 *(Column(f"order {order_value(k)}", "N") for k in m.orders),
             ],
             [
-                [_fmt(float(m.speed[s]) * RPM, 5), *(_fmt(float(v)) for v in largest[s])]
+                [
+                    format_number(float(m.speed[s]) * RPM, 5),
+                    *(format_number(float(v)) for v in largest[s]),
+                ]
                 for s in shown
             ],
             notes=notes,
@@ -296,8 +291,8 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
                     [
                         str(c["order"]),
                         str(c["mode"]),
-                        _fmt(c["frequency_Hz"]),
-                        _fmt(c["speed_rpm"], 5),
+                        format_number(c["frequency_Hz"]),
+                        format_number(c["speed_rpm"], 5),
                     ]
                     for c in found
                 ],
@@ -483,7 +478,7 @@ def mounts_report_section(m: MountsResult, table: Any, escape: Any) -> str:
         [
             [
                 str(j + 1),
-                _fmt(float(m.modes.frequency[j])),
+                format_number(float(m.modes.frequency[j])),
                 *(_share(100 * float(v)) for v in m.modes.energy_share[j]),
             ]
             for j in range(6)
@@ -505,9 +500,9 @@ def mounts_report_section(m: MountsResult, table: Any, escape: Any) -> str:
         [
             [
                 str(order_value(k)),
-                *(_fmt(1e3 * float(v)) for v in m.translation[i]),
-                *(_fmt(1e3 * float(v)) for v in m.rotation[i]),
-                _fmt(float(peak[i].max())),
+                *(format_number(1e3 * float(v)) for v in m.translation[i]),
+                *(format_number(1e3 * float(v)) for v in m.rotation[i]),
+                format_number(float(peak[i].max())),
             ]
             for i, k in enumerate(m.orders)
         ],
@@ -518,8 +513,8 @@ def mounts_report_section(m: MountsResult, table: Any, escape: Any) -> str:
         [
             [
                 str(n + 1),
-                *(_fmt(1e3 * float(v)) for v in m.system.positions[n]),
-                _fmt(1e3 * float(m.axis_distance[n])),
+                *(format_number(1e3 * float(v)) for v in m.system.positions[n]),
+                format_number(1e3 * float(m.axis_distance[n])),
             ]
             for n in range(m.system.n_mounts)
         ],

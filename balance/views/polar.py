@@ -18,6 +18,7 @@ from balance.core.speed import rad_per_s_to_rpm
 __all__ = [
     "CONVENTIONS",
     "SCHEMA",
+    "format_number",
     "json_number",
     "order_value",
     "phase_deg",
@@ -98,3 +99,12 @@ def zero_below_rounding(values: ArrayLike, scale: float, n_terms: int) -> NDArra
     if math.isfinite(threshold):
         out[np.abs(out) <= threshold] = 0.0
     return out
+
+
+def format_number(value: float, digits: int = 4) -> str:
+    """Compact engineering formatting: 0 stays 0, NaN shows as a dash."""
+    if not math.isfinite(value):
+        return "-"
+    if value == 0.0:
+        return "0"
+    return f"{value:.{digits}g}"

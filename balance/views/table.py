@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.views.fitted import Column, NumberTable
-from balance.views.polar import phase_deg, safe_ratio, speed_rpm
+from balance.views.polar import format_number, phase_deg, safe_ratio, speed_rpm
 
 if TYPE_CHECKING:  # pragma: no cover
     from rich.console import RenderableType
@@ -42,15 +42,6 @@ __all__ = [
 
 #: Why a moment has no normalised value: the pitch is undefined.
 NO_PITCH = "n/a (all cylinders in one plane)"
-
-
-def format_number(value: float, digits: int = 4) -> str:
-    """Compact engineering formatting: 0 stays 0, NaN shows as a dash."""
-    if not math.isfinite(value):
-        return "-"
-    if value == 0.0:
-        return "0"
-    return f"{value:.{digits}g}"
 
 
 def format_ratio(value: float, reference: float) -> str:
