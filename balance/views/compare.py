@@ -179,8 +179,7 @@ def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], l
         row += [format_number(float(one[roll].sel(roll_order=float(k)))) for k in ks]
         row += [format_number(float(one["counterweight_total_mass"])), str(int(one["n_shafts"]))]
         if mounts:
-            value = float(one["mount_force_max"])
-            row += [format_number(value) if np.isfinite(value) else "-"]
+            row += [format_number(float(one["mount_force_max"]))]
         rows.append(row)
     return headers, rows
 
