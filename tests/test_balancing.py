@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -125,6 +126,27 @@ def test_random_layout_proposals_cancel_orders_one_to_three(layout, per_throw):
             assert abs(residual[key][i]) <= 1e-9 * f1
         for key in ("mf", "mb"):
             assert abs(residual[key][i]) <= 1e-9 * m1
+
+
+def test_per_throw_counterweight_plane_does_not_depend_on_numbering():
+    """Rods within 1e-12 m of one plane share a throw; its counterweight sits at the least of
+    their planes (it took the first cylinder's, so renumbering moved it by 3.7e-13 m)."""
+    base = load_layout("inline-4")
+    layout = dataclasses.replace(
+        base,
+        z=np.array([3.74524841e-13, 0.0, 0.0, 0.0]),
+        throw=np.zeros(4),
+        reference_z=0.0,
+        mass_parts=None,
+    )
+    planes = []
+    for order in ([0, 1, 2, 3], [3, 2, 1, 0]):
+        each = layout.reordered(np.asarray(order))
+        proposal = balance_engine(
+            each, compute_phasors(each, ORDERS), strategy="per-throw", cancel=[1]
+        ).proposal
+        planes.append([c.z for c in proposal.counterweights])
+    assert planes[0] == planes[1] == [0.0]
 
 
 # --- textbook cases ----------------------------------------------------------------------

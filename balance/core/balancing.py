@@ -33,7 +33,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
@@ -50,6 +50,7 @@ __all__ = [
     "ProposalPhasors",
     "balance_factor_study",
     "counterweight_targets",
+    "group_least",
     "optimal_balance_factor",
     "proposal_phasors",
     "propose",
@@ -178,6 +179,19 @@ def throw_groups(layout: Engine) -> NDArray[np.intp]:
     pairs = np.stack([keys, z], axis=-1)
     _, inverse = np.unique(pairs, axis=0, return_inverse=True)
     return np.asarray(inverse.ravel(), dtype=np.intp)
+
+
+def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float64]:
+    """The least member value of each group of :func:`throw_groups` (a throw's plane [m] or
+    angle [rad]).
+
+    The members of a throw agree only to the rounding of :func:`throw_groups`; taking the
+    least of them, rather than the first or last, keeps the throw where it is whatever the
+    cylinders' numbering.
+    """
+    out = np.full(int(groups.max()) + 1, np.inf)
+    np.minimum.at(out, groups, np.asarray(values, dtype=np.float64))
+    return out
 
 
 def counterweight_targets(
@@ -347,12 +361,12 @@ def propose(
                 counterweights.append(Counterweight(plane_z, value, radius))
         else:
             groups = throw_groups(layout)
-            for g in range(int(groups.max()) + 1):
+            for g, plane_z in enumerate(group_least(z, groups)):
                 members = groups == g
                 value = complex(targets[members].sum())
                 value = _zero_below(value, float(np.abs(targets[members]).sum()), 2)
                 if value != 0:
-                    counterweights.append(Counterweight(float(z[members][0]), -value, radius))
+                    counterweights.append(Counterweight(float(plane_z), -value, radius))
         # what the counterweights take off the forward first order of the reciprocating part
         cw_force = sum((c.unbalance for c in counterweights), 0j) * w2
         cw_moment = sum(((c.z - z_ref) * c.unbalance for c in counterweights), 0j) * w2

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core.balancing import Proposal, throw_groups
+from balance.core.balancing import Proposal, group_least, throw_groups
 from balance.core.engine import Engine
 from balance.core.gas import pressure_tables
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
@@ -239,8 +239,7 @@ def pin_groups(engine: Engine) -> tuple[NDArray[np.intp], FloatArray, tuple[tupl
     """
     group = throw_groups(engine)
     n = int(group.max()) + 1
-    z = np.zeros(n)
-    z[group] = engine.z
+    z = group_least(engine.z, group)
     cylinders = tuple(tuple(int(i) + 1 for i in np.flatnonzero(group == g)) for g in range(n))
     return group, z, cylinders
 
@@ -521,8 +520,7 @@ class _Model:
         group, pin_z, cylinders = pin_groups(engine)
         n_pins = pin_z.size
         self.pin_z, self.cylinders = pin_z, cylinders
-        self.pin_throw = np.zeros(n_pins)
-        self.pin_throw[group] = engine.throw
+        self.pin_throw = group_least(engine.throw, group)
         self.sum_pins = np.zeros((n_pins, engine.n_cylinders))
         self.sum_pins[group, np.arange(engine.n_cylinders)] = 1.0
         w2 = float(speed_squared(engine.speed))
