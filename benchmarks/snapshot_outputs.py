@@ -67,6 +67,41 @@ def snapshot(name: str, out: Path) -> None:
     dataset(
         ["propose", name, "--factor-study", "--bearings"], out / f"{name}.propose-bearings.nc.txt"
     )
+    for model in ("series", "textbook", "time"):
+        (out / f"{name}.{model}.json").write_text(
+            run(["analyse", name, "--format", "json", "--model", model, "--orders", "1-6"])
+        )
+    (out / f"{name}.tolerance.json").write_text(
+        run(["analyse", name, "--format", "json", "--tolerance", "1e-4"])
+    )
+    (out / f"{name}.expand.yaml").write_text(run(["layout", "expand", name]))
+    if name in MOUNTED:
+        mounts(name, out)
+
+
+#: Built-in layouts with a ``mounts:`` section.
+MOUNTED = ("inline-4-mounts", "single-mounts")
+
+
+def mounts(name: str, out: Path) -> None:
+    """The engine on its mounts: ``analyse`` with the mounts, bare and with the proposal,
+    and the ``mounts`` speed sweep in every format."""
+    for extra, tag in (([], ""), (["--with-proposal"], ".with-proposal")):
+        on = [*MOUNTS_FLAG, *extra]
+        for fmt in ("json", "csv", "table"):
+            (out / f"{name}.mounts{tag}.{fmt}").write_text(
+                run(["analyse", name, *on, "--format", fmt, "--bearings"])
+            )
+        dataset(["analyse", name, *on], out / f"{name}.mounts{tag}.nc.txt")
+        for fmt in ("json", "csv", "table"):
+            (out / f"{name}.mounts-sweep{tag}.{fmt}").write_text(
+                run(["mounts", name, *extra, "--speed", "800rpm:8000rpm:25", "--format", fmt])
+            )
+
+
+#: What turns the mounts on in ``analyse``: the layout's ``mounts:`` section does by itself;
+#: ``--on-mounts`` is kept as an accepted no-op so that older versions snapshot alike.
+MOUNTS_FLAG: list[str] = ["--on-mounts"]
 
 
 def dataset(command: list[str], path: Path) -> None:
@@ -91,7 +126,22 @@ def main() -> None:
     names = listing.stdout.split()
     with ThreadPoolExecutor(max_workers=2) as pool:
         list(pool.map(lambda n: snapshot(n, out), names))
+    (out / "compare.table").write_text(run(["compare", "--all", "--orders", "1-4"]))
+    for name in ("inline-4", "v8-crossplane", "radial-5"):
+        sweep(name, out / f"{name}.sweep.nc.txt")
     print(f"{len(names)} layouts written to {out}")
+
+
+def sweep(name: str, path: Path) -> None:
+    """A small sweep over speed and rod length, its file dumped like :func:`dataset`'s."""
+    with tempfile.TemporaryDirectory() as tmp:
+        nc = Path(tmp) / "sweep.nc"
+        grid = ["--vary", "speed=1000rpm:8000rpm:5", "--vary", "conrod_length=130mm:160mm:3"]
+        status = run(["sweep", name, *grid, "--no-progress", "-o", str(nc)])
+        dump = subprocess.run(
+            [sys.executable, "-c", DUMP, str(nc)], capture_output=True, text=True, check=False
+        )
+        path.write_text(status.split("\n")[0] + "\n" + dump.stdout)
 
 
 if __name__ == "__main__":
