@@ -20,11 +20,14 @@ when a bit does.
 
 from __future__ import annotations
 
-import subprocess
+import multiprocessing
+import os
 import sys
 import tempfile
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+
+#: Layouts snapshotted at once (each in a process forked from the first).
+WORKERS = 2
 
 DUMP = r"""
 import sys
@@ -48,10 +51,53 @@ for name in sorted(ds.variables):
 
 
 def run(args: list[str]) -> str:
-    done = subprocess.run(
-        [sys.executable, "-m", "balance", *args], capture_output=True, text=True, check=False
-    )
-    return f"exit {done.returncode}\n{done.stdout}\n--- stderr\n{done.stderr}"
+    """Exit status, stdout and stderr of ``balance ARGS``.
+
+    The command runs in a process forked from this one, which has imported balance and the
+    libraries it draws on, so that each of the many commands does not pay for a start-up;
+    the child writes to its own pipes and ends with the command's exit status, as a
+    separate ``python -m balance`` would.
+    """
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        pid = os.fork()
+        if pid == 0:  # the child: run the command as the entry point does
+            os.dup2(out.fileno(), 1)
+            os.dup2(err.fileno(), 2)
+            code = 1
+            try:
+                sys.argv = ["balance", *args]
+                from balance.cli import main as balance_main
+
+                balance_main()
+                code = 0
+            except SystemExit as exc:
+                code = exc.code if isinstance(exc.code, int) else 1
+            finally:
+                sys.stdout.flush()
+                sys.stderr.flush()
+                os._exit(code)
+        _, status = os.waitpid(pid, 0)
+        out.seek(0)
+        err.seek(0)
+        stdout, stderr = out.read().decode(), err.read().decode()
+    return f"exit {os.waitstatus_to_exitcode(status)}\n{stdout}\n--- stderr\n{stderr}"
+
+
+def dump(path: Path) -> str:
+    """A netCDF file as text, every float in hex (run in a forked child, as :func:`run`)."""
+    with tempfile.TemporaryFile() as out:
+        pid = os.fork()
+        if pid == 0:
+            os.dup2(out.fileno(), 1)
+            try:
+                sys.argv = ["dump", str(path)]
+                exec(DUMP, {"__name__": "__dump__"})
+            finally:
+                sys.stdout.flush()
+                os._exit(0)
+        os.waitpid(pid, 0)
+        out.seek(0)
+        return out.read().decode()
 
 
 def snapshot(name: str, out: Path) -> None:
@@ -108,24 +154,32 @@ def dataset(command: list[str], path: Path) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         nc = Path(tmp) / "result.nc"
         status = run([*command, "--format", "netcdf", "-o", str(nc)])
-        dump = subprocess.run(
-            [sys.executable, "-c", DUMP, str(nc)], capture_output=True, text=True, check=False
-        )
-        path.write_text(status.split("\n")[0] + "\n" + dump.stdout)
+        path.write_text(status.split("\n")[0] + "\n" + dump(nc))
 
 
 def main() -> None:
     out = Path(sys.argv[1])
     out.mkdir(parents=True, exist_ok=True)
-    listing = subprocess.run(
-        [sys.executable, "-c", "import balance; print(*balance.builtin_layout_names())"],
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    names = listing.stdout.split()
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        list(pool.map(lambda n: snapshot(n, out), names))
+    import importlib
+    import pkgutil
+
+    import matplotlib
+    import netCDF4  # noqa: F401
+    import rich.console  # noqa: F401
+    import xarray  # noqa: F401
+
+    import balance
+
+    # every module of the package, imported once here rather than in every forked command
+    for part in ("core", "io", "views", "studies"):
+        package = importlib.import_module(f"balance.{part}")
+        for module in pkgutil.iter_modules(package.__path__):
+            importlib.import_module(f"balance.{part}.{module.name}")
+    importlib.import_module("balance.cli")
+    matplotlib.use("Agg")
+    names = list(balance.builtin_layout_names())
+    with multiprocessing.get_context("fork").Pool(WORKERS) as pool:
+        pool.starmap(snapshot, [(name, out) for name in names])
     (out / "compare.table").write_text(run(["compare", "--all", "--orders", "1-4"]))
     for name in ("inline-4", "v8-crossplane", "radial-5"):
         sweep(name, out / f"{name}.sweep.nc.txt")
@@ -138,10 +192,7 @@ def sweep(name: str, path: Path) -> None:
         nc = Path(tmp) / "sweep.nc"
         grid = ["--vary", "speed=1000rpm:8000rpm:5", "--vary", "conrod_length=130mm:160mm:3"]
         status = run(["sweep", name, *grid, "--no-progress", "-o", str(nc)])
-        dump = subprocess.run(
-            [sys.executable, "-c", DUMP, str(nc)], capture_output=True, text=True, check=False
-        )
-        path.write_text(status.split("\n")[0] + "\n" + dump.stdout)
+        path.write_text(status.split("\n")[0] + "\n" + dump(nc))
 
 
 if __name__ == "__main__":
