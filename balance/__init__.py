@@ -19,11 +19,11 @@ __all__ = [
     "BalanceError",
     "Engine",
     "InputError",
-    "Layout",
     "LayoutError",
     "__version__",
     "analyse",
     "builtin_layout_names",
+    "compute_result",
     "load_layout",
 ]
 
@@ -32,7 +32,7 @@ _LAZY = {
     "load_layout": "balance.api",
     "builtin_layout_names": "balance.api",
     "Engine": "balance.api",
-    "Layout": "balance.api",
+    "compute_result": "balance.api",
     "AnalysisError": "balance.core.errors",
     "BalanceError": "balance.core.errors",
     "InputError": "balance.core.errors",
@@ -40,7 +40,7 @@ _LAZY = {
 }
 
 if TYPE_CHECKING:  # pragma: no cover
-    from balance.api import Engine, Layout, analyse, builtin_layout_names, load_layout
+    from balance.api import Engine, analyse, builtin_layout_names, compute_result, load_layout
     from balance.core.errors import AnalysisError, BalanceError, InputError, LayoutError
 
 

@@ -1,62 +1,86 @@
 """What ``import balance`` offers: load a layout, analyse it into an xarray Dataset.
 
-The command line (:mod:`balance.cli`) and the Python API both go through
-:func:`balance.core.analysis.compute`; :func:`analyse` hands its result to the Dataset view
-(:mod:`balance.views.dataset`).
+The command line (:mod:`balance.cli`) and the Python API go through the same front door,
+:func:`balance.io.request.build_request`, and the same computation,
+:func:`balance.core.analysis.compute`: :func:`analyse` can ask for everything the command
+line can, and a layout's sections (``gas:``, ``bearings:``, ``mounts:``) turn their
+concerns on in both.  :func:`analyse` hands the result to the Dataset view
+(:mod:`balance.views.dataset`); :func:`compute_result` returns the
+:class:`~balance.core.result.Result` itself, for the other views.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from balance.core.analysis import compute
 from balance.core.engine import Engine
-from balance.core.result import Request
-from balance.io.fields import check_speed, parse_orders
 from balance.io.layout_file import builtin_layout_names, load_layout
+from balance.io.request import build_request
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
 
-__all__ = ["Engine", "Layout", "analyse", "builtin_layout_names", "load_layout"]
+    from balance.core.result import Result
 
-#: The engine as loaded from a layout file (the name used before the package had layers).
-Layout = Engine
+__all__ = ["Engine", "analyse", "builtin_layout_names", "compute_result", "load_layout"]
+
+
+def compute_result(
+    layout: Engine | str,
+    orders: int | str | Iterable[int] | None = None,
+    **settings: Any,
+) -> Result:
+    """Analyse a layout and return the :class:`~balance.core.result.Result` (complex
+    phasors and one part per section), for the views that read it.
+
+    Parameters
+    ----------
+    layout : Engine or str
+        The engine (:func:`balance.load_layout`), or a layout file or built-in name.
+    orders : int, str or sequence of int, optional
+        Orders to report; default 1 to 8.
+    **settings
+        As :func:`analyse`.
+
+    Returns
+    -------
+    Result
+    """
+    engine = load_layout(layout) if isinstance(layout, str) else layout
+    return compute(engine, build_request(engine, orders, **settings))
 
 
 def analyse(
-    layout: Engine,
+    layout: Engine | str,
     orders: int | str | Iterable[int] | None = None,
     *,
     speed: float | None = None,
-    model: str = "exact",
+    model: str | None = None,
     terms: int = 3,
     samples: int | None = None,
     tolerance: float | None = None,
     moments: bool = True,
     roll: bool = True,
-    proposal: bool = True,
-    cancel: Iterable[int] | None = None,
-    strategy: str | None = None,
-    balance_factor: float | None = None,
-    counterweight_radius: float | None = None,
-    cancel_roll: bool = False,
+    **sections: Any,
 ) -> xr.Dataset:
-    r"""Analyse a layout: free forces, moments, rotating forces and roll per order.
+    r"""Analyse a layout: free forces, moments, rotating forces and roll per order, and
+    every section asked for or turned on by the layout.
 
     Parameters
     ----------
-    layout : Engine
-        The engine (:func:`balance.load_layout`).
+    layout : Engine or str
+        The engine (:func:`balance.load_layout`), or a layout file or built-in name.
     orders : int, str or sequence of int, optional
-        Orders to report; default 1 to 8.
+        Orders to report: 1 to N for an int, ``"1-8"``, ``"1,2,4-6"`` or a list; default
+        1 to 8.
     speed : float, optional
         Crank speed [rad/s] instead of the layout's.  A Python number here is SI (rad/s);
         only text (layout files, the command line) must carry its unit.
-    model : {'exact', 'series', 'textbook', 'time'}
-        Piston acceleration model; ``exact`` is accurate to machine precision; ``time``
-        synthesises the forces over crank angle (see :func:`compute`).
+    model : {'exact', 'series', 'textbook', 'time'}, optional
+        Piston acceleration model (default ``exact``, accurate to machine precision;
+        ``time`` synthesises the forces over crank angle).
     terms : int
         Binomial terms for the ``series`` model.
     samples : int, optional
@@ -67,48 +91,57 @@ def analyse(
         (:func:`balance.core.accuracy.choose_model`) and recorded with its error bound.
     moments, roll : bool
         Whether to compute the moments and the roll torque.
-    proposal : bool
-        Propose counterweights and balance shafts and report the residual (needs moments
-        and roll).
-    cancel, strategy, balance_factor, counterweight_radius, cancel_roll
-        Proposal settings (see :func:`balance_engine`); by default from the layout's
-        ``balance:`` section.  Numbers are SI: ``balance_factor`` a fraction [1],
-        ``counterweight_radius`` [m].
+    **sections
+        Each concern beyond the free forces, by name, with True, False or a mapping of its
+        options, or its options by name (docs/api.md lists them):
+
+        - ``proposal`` (on unless False; needs moments and roll): counterweights and
+          balance shafts and the residual; options ``cancel`` (orders), ``strategy``
+          (``'two-plane'``, ``'per-throw'``), ``balance_factor`` (a fraction),
+          ``counterweight_radius`` [m], ``cancel_roll``; by default from the layout's
+          ``balance:`` section;
+        - ``torque`` (on with a ``gas:`` section): forces and torque over the cycle, the
+          roll with gas forces;
+        - ``cylinders`` (on): each cylinder's stroke and TDC, its link rod;
+        - ``factor_study``: the residual first order against the balance factor
+          (option ``factors``);
+        - ``bearings`` (on with a ``bearings:`` section): crank-pin and main-bearing loads
+          (option ``strategies``: also with each counterweight strategy);
+        - ``mounts`` (on with a ``mounts:`` section): the engine on its mounts (options
+          ``with_proposal``, ``speeds`` [rad/s]).
 
     Returns
     -------
     xarray.Dataset
-        Every variable carries ``units`` and ``long_name``; see :mod:`balance.views.dataset`.
-        With a ``gas:`` section the Dataset also holds the forces and torque over the cycle
-        (dimension ``crank_angle``), the torque summary, and the roll with gas forces, in
-        half orders for a four-stroke (:mod:`balance.core.torque`).
+        Every variable carries ``units`` and ``long_name``; see :mod:`balance.views.dataset`
+        and the output catalogue (:mod:`balance.core.catalogue`).
+
+    Raises
+    ------
+    InputError
+        For an unknown keyword or a value out of range (one line naming it).
 
     Examples
     --------
     >>> import balance
-    >>> ds = balance.analyse(balance.load_layout("inline-4"), orders=2)
+    >>> ds = balance.analyse("inline-4", orders=2)
     >>> float(ds.reciprocating_force_peak_normalised.sel(order=2)) > 1.0
+    True
+    >>> "main_bearing_max_load" in balance.analyse("inline-4", bearings=True)
     True
     """
     from balance.views.dataset import build_dataset
 
-    if speed is not None:
-        speed = check_speed(speed)
-    request = Request.of(
-        parse_orders(orders),
+    result = compute_result(
+        layout,
+        orders,
+        speed=speed,
         model=model,
         terms=terms,
         samples=samples,
         tolerance=tolerance,
-        speed=speed,
         moments=moments,
         roll=roll,
-        proposal=proposal,
-        cancel=None if cancel is None else tuple(int(k) for k in cancel),
-        strategy=strategy,
-        balance_factor=balance_factor,
-        counterweight_radius=counterweight_radius,
-        cancel_roll=cancel_roll,
+        **sections,
     )
-    result = compute(layout, request)
     return build_dataset(result)

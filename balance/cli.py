@@ -173,27 +173,42 @@ def _prepare(
     output: Path | None = None,
     force: bool = False,
     binary: bool = False,
+    mounts_file: Path | None = None,
     **settings: Any,
 ) -> "tuple[Engine, Request]":
     """The preamble of a command that analyses one layout, written once.
 
     Reads ``--orders`` and ``--speed`` (each checked here, once), refuses an output that
     cannot be written (``output``/``force``; ``binary``: a format that needs ``-o``) before
-    any work is done, loads the layout and builds the
-    :class:`~balance.core.result.Request` with ``settings`` (its other fields).  A command
-    with another kind of output (a directory of figures) checks it before calling this.
+    any work is done, loads the layout (with the mounts of ``--mounts FILE`` in place of its
+    ``mounts:`` section) and builds the :class:`~balance.core.result.Request` with
+    ``settings`` through the one front door (:func:`balance.io.request.build_request`, as
+    :func:`balance.analyse` does).  A command with another kind of output (a directory of
+    figures) checks it before calling this.
     """
-    from balance.core.result import Request
     from balance.io.fields import parse_orders
     from balance.io.layout_file import load_layout
+    from balance.io.request import build_request
 
     order_list = parse_orders(orders)
     speed_value = _parse_speed(speed)
     _check_output(output, force, binary)
     engine = load_layout(layout)
-    if engine.mains is not None:  # a bearings: section asks for the bearing loads
-        settings["bearings"] = True
-    return engine, Request.of(order_list, speed=speed_value, **settings)
+    if mounts_file is not None:
+        from balance.io.mounts_section import load_mounts
+
+        engine = engine.with_section("mounts", load_mounts(mounts_file))
+    if "mounts" not in engine.sections:
+        if settings.get("mounts"):
+            raise InputError(
+                f"layout '{engine.name}' has no mounts: section; add one, or give --mounts FILE"
+            )
+        if settings.get("with_proposal"):
+            raise InputError(
+                "--with-proposal puts the proposal on the mounts, and layout "
+                f"'{engine.name}' has no mounts: section; give --mounts FILE (or add one)"
+            )
+    return engine, build_request(engine, order_list, speed=speed_value, **settings)
 
 
 def _write_netcdf(ds: Any, output: Path, force: bool) -> None:
@@ -275,7 +290,9 @@ def analyse_command(
     on_mounts: Annotated[
         bool,
         typer.Option(
-            "--on-mounts", help="Engine on its mounts, from the layout's mounts: section."
+            "--on-mounts",
+            help="Engine on its mounts (the default for a layout with a mounts: section; "
+            "kept for older scripts).",
         ),
     ] = False,
     with_proposal: Annotated[
@@ -290,10 +307,6 @@ def analyse_command(
     """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
     from balance.core.analysis import compute
 
-    if tolerance is not None and model is not None:
-        raise InputError("give --model or --tolerance, not both")
-    if tolerance is not None and not (tolerance > 0 and tolerance < 1):
-        raise InputError(f"--tolerance: {tolerance!r} is not between 0 and 1, e.g. 1e-6")
     engine, request = _prepare(
         layout,
         orders,
@@ -301,38 +314,21 @@ def analyse_command(
         output=output,
         force=force,
         binary=format is Format.netcdf,
-        model=(model or Model.exact).value,
+        mounts_file=mounts,
+        model=None if model is None else model.value,
         terms=terms,
         samples=samples,
         tolerance=tolerance,
         moments=not no_moments,
         roll=not no_roll,
-        proposal=not (no_proposal or no_moments or no_roll),
-        mounts=mounts is not None or on_mounts,
-        mounts_with_proposal=with_proposal,
-        bearings=bearings,
+        proposal=False if no_proposal else None,
+        mounts=True if (mounts is not None or on_mounts) else None,
+        with_proposal=with_proposal,
+        bearings=True if bearings else None,
     )
-    engine = _attach_mounts(engine, mounts, request.mounts, with_proposal)
     result = compute(engine, request)
     _warn(result.warnings, quiet, layout)
     _write(result, format, output, force)
-
-
-def _attach_mounts(
-    engine: "Engine", file: Path | None, asked: bool, with_proposal: bool
-) -> "Engine":
-    """The engine with the mounts of ``--mounts FILE`` (checks ``--with-proposal``)."""
-    if with_proposal and not asked:
-        raise InputError(
-            "--with-proposal puts the proposal on the mounts: give --mounts FILE or --on-mounts"
-        )
-    if file is None:
-        return engine
-    import dataclasses
-
-    from balance.io.mounts_section import load_mounts
-
-    return dataclasses.replace(engine, mounts=load_mounts(file))
 
 
 def _write(
@@ -340,16 +336,14 @@ def _write(
     format: Format,
     output: Path | None,
     force: bool,
-    proposal_only: bool = False,
-    factor_study: Any = None,
-    strategies: Any = None,
+    only: tuple[str, ...] | None = None,
 ) -> None:
-    """Hand the result to the view of ``format`` (``factor_study``: a balance-factor study
-    Dataset of ``propose --factor-study``)."""
+    """Hand the result to the view of ``format`` (``only``: the sections the table shows,
+    after a short heading, as ``balance propose`` prints)."""
     if format is Format.json:
         from balance.views.json import to_json
 
-        _emit_text(to_json(result, factor_study=factor_study), output, force)
+        _emit_text(to_json(result), output, force)
     elif format is Format.csv:
         from balance.views.csv import to_csv
 
@@ -358,49 +352,11 @@ def _write(
         from balance.views.dataset import build_dataset
 
         assert output is not None
-        ds = build_dataset(result)
-        _write_netcdf(ds if factor_study is None else ds.merge(factor_study), output, force)
+        _write_netcdf(build_dataset(result), output, force)
     else:
-        from rich.console import Group
-
         from balance.views.table import render
 
-        renderable = (
-            Group(*_proposal_table(result, factor_study, strategies))
-            if proposal_only
-            else render(result)
-        )
-        _emit_rich(renderable, output, force, width=140)
-
-
-def _proposal_table(
-    result: "Result", factor_study: Any = None, strategies: Any = None
-) -> list[Any]:
-    from rich.text import Text
-
-    from balance.views.polar import speed_rpm
-    from balance.views.table import render_factor_study, render_proposal
-
-    engine = result.engine
-    parts: list[Any] = [
-        Text(str(engine.name), style="bold"),
-        Text(
-            f"{engine.n_cylinders} cylinder{'s' if engine.n_cylinders != 1 else ''} at "
-            f"{speed_rpm(engine.speed):.0f} rpm"
-        ),
-    ]
-    parts += render_proposal(result)
-    if factor_study is not None:
-        parts += render_factor_study(factor_study)
-    if result.bearings is not None:
-        from balance.views.bearings import bearings_tables, strategy_table
-
-        parts += bearings_tables(result.bearings)
-        if strategies:
-            parts += strategy_table(strategies)
-    from balance.views.table import render_warnings
-
-    return parts + render_warnings(result)
+        _emit_rich(render(result, only), output, force, width=140)
 
 
 class Strategy(StrEnum):
@@ -488,43 +444,14 @@ def propose_command(
         balance_factor=factor,
         counterweight_radius=radius,
         cancel_roll=cancel_roll,
-        bearings=bearings,
+        factor_study=factor_study,
+        bearings=True if bearings else None,
     )
+    if request.wants("bearings"):  # each strategy's bearing loads beside the proposal's
+        request = request.with_sections(bearings={"strategies": True})
     result = compute(engine, request)
     _warn(result.warnings, quiet, layout)
-    study = None
-    if factor_study:  # the study is a Dataset: xarray for this option only
-        from balance.studies.factor import factor_study_dataset
-
-        study = factor_study_dataset(
-            result.engine,
-            bearings=request.bearings,
-            strategy=request.strategy,
-            counterweight_radius=request.counterweight_radius,
-        )
-    strategies = _strategy_bearings(engine, request) if request.bearings else None
-    _write(
-        result,
-        format,
-        output,
-        force,
-        proposal_only=True,
-        factor_study=study,
-        strategies=strategies,
-    )
-
-
-def _strategy_bearings(engine: "Engine", request: "Request") -> list[tuple[str, Any]]:
-    """Each counterweight strategy's bearing loads (``propose --bearings``)."""
-    import dataclasses
-
-    from balance.core.analysis import compute
-
-    rows = []
-    for strategy in Strategy:
-        other = dataclasses.replace(request, strategy=strategy.value, roll=True, torque=False)
-        rows.append((strategy.value, compute(engine, other).bearings))
-    return rows
+    _write(result, format, output, force, only=("proposal", "factor_study", "bearings"))
 
 
 class CompareFormat(StrEnum):
@@ -681,11 +608,16 @@ def plot_command(
 ) -> None:
     """Draw the design-review figures of a layout into a directory."""
     from balance.core.analysis import compute
+    from balance.views.plots import section_kinds
 
     _check_output_directory(output_dir)
     asked = {k.replace("-", "_") for k in kind or ()}
-    bearings = bearings or bool(asked & {"pin_load", "main_loads", "internal_moment"})
-    result = compute(*_with_section_mounts(*_prepare(layout, orders, speed, bearings=bearings)))
+    # a figure kind of a section asked for by name turns its section on
+    drawn = {name for k, (name, _) in section_kinds().items() if k in asked}
+    wanted: dict[str, Any] = {name: True for name in drawn}
+    if bearings:
+        wanted["bearings"] = True
+    result = compute(*_prepare(layout, orders, speed, figures=True, **wanted))
     _warn(result.warnings, quiet, layout)
     from balance.views.plots import save_plots
 
@@ -729,8 +661,14 @@ def report_command(
     from balance.core.analysis import compute
 
     result = compute(
-        *_with_section_mounts(
-            *_prepare(layout, orders, speed, output=output, force=force, bearings=bearings)
+        *_prepare(
+            layout,
+            orders,
+            speed,
+            output=output,
+            force=force,
+            figures=True,
+            bearings=True if bearings else None,
         )
     )
     _warn(result.warnings, quiet, layout)
@@ -738,15 +676,6 @@ def report_command(
 
     write_report(result, output, force=force)
     sys.stderr.write(f"balance: wrote {output}\n")
-
-
-def _with_section_mounts(engine: "Engine", request: "Request") -> "tuple[Engine, Request]":
-    """Figures and reports of a layout with a ``mounts:`` section include the mounts."""
-    import dataclasses
-
-    if engine.mounts is None:
-        return engine, request
-    return engine, dataclasses.replace(request, mounts=True)
 
 
 class MountsFormat(StrEnum):
@@ -794,7 +723,6 @@ def mounts_command(
     """Mount forces per order against speed, the modes, and which order crosses which mode
     where (a mounts: section or --mounts FILE)."""
     from balance.core.analysis import compute
-    from balance.core.mounts import speed_sweep
     from balance.io.fields import parse_field, parse_values
 
     if plot is not None and plot.suffix.lower().lstrip(".") not in ("png", "svg", "pdf"):
@@ -805,17 +733,19 @@ def mounts_command(
         None,
         output=plot,
         force=force,
+        mounts_file=mounts,
         mounts=True,
-        mounts_with_proposal=with_proposal,
+        with_proposal=with_proposal,
+        bearings=False,
     )
-    engine = _attach_mounts(engine, mounts, True, with_proposal)
     speeds = parse_values(speed, parse_field("speed", engine), "--speed")
     if not (speeds.min() > 0):
         raise InputError(f"--speed: {speed!r}: every speed must be above zero")
     from balance.core.plausibility import check_engine
 
     _warn(check_engine(engine.with_speed(float(speeds.max()))), quiet, layout)  # the top speed
-    sweep = speed_sweep(compute(engine, request).mounts, speeds)  # type: ignore[arg-type]
+    options = {**request.options("mounts"), "speeds": speeds}
+    sweep = compute(engine, request.with_sections(mounts=options)).part("mounts").sweep
     if format is MountsFormat.json:
         import json
 

@@ -20,7 +20,8 @@ from collections.abc import Callable
 
 import balance
 from balance.core.analysis import compute
-from balance.core.result import Request, Result
+from balance.core.result import Result
+from balance.io.request import build_request
 from balance.views import plots
 from balance.views.report import render_report
 
@@ -46,7 +47,9 @@ def drawn(result: Result, kind: str, fmt: str) -> Callable[[], bytes]:
 print(f"CPU time [ms], best of {runs} runs")
 print(f"{'layout':16s} {'kind':14s} {'png':>7s} {'svg':>7s}")
 for name in names:
-    result = compute(balance.load_layout(name), Request.of(range(1, 9)))
+    result = compute(
+        balance.load_layout(name), build_request(balance.load_layout(name), range(1, 9))
+    )
     kinds = plots.applicable_kinds(result)
     drawn(result, "spectrum", "png")()  # the font cache and the backends, loaded once
     for kind in kinds:

@@ -21,17 +21,17 @@ import numpy as np
 
 import balance
 from balance.core.analysis import compute
-from balance.core.result import Request
+from balance.io.request import build_request
 
 
-def _on_the_pin(engine: balance.api.Layout) -> balance.api.Layout:
+def _on_the_pin(engine: balance.api.Engine) -> balance.api.Engine:
     assert engine.links is not None
     links = dataclasses.replace(engine.links, pin_radius=np.zeros(engine.n_cylinders))
     return dataclasses.replace(engine, links=links)
 
 
-def _peaks(engine: balance.api.Layout) -> tuple[np.ndarray, float]:
-    p = compute(engine, Request(proposal=False, moments=False, roll=False)).phasors
+def _peaks(engine: balance.api.Engine) -> tuple[np.ndarray, float]:
+    p = compute(engine, build_request(engine, proposal=False, moments=False, roll=False)).phasors
     peak = np.abs(p.force_forward) + np.abs(p.force_backward)
     with_rotating = abs(p.force_forward[0] + p.rotating_force) + abs(p.force_backward[0])
     return peak, with_rotating
@@ -42,8 +42,8 @@ def main() -> None:
         real = balance.load_layout(f"radial-{n}")
         ideal = balance.load_layout(f"radial-{n}-idealised")
         flat = _on_the_pin(real)
-        result = compute(real, Request(orders=(1,), proposal=False))
-        assert result.cylinder_stroke is not None and result.cylinder_tdc is not None
+        result = compute(real, build_request(real, orders=(1,), proposal=False))
+        dead_centres = result.part("cylinders")
         print(f"\n### {real.name}\n")
         print("| cylinder | rod | stroke [mm] | TDC at [deg] | nominal TDC [deg] |")
         print("|---|---|---|---|---|")
@@ -51,8 +51,8 @@ def main() -> None:
             rod = "master" if i == 0 else "link"
             nominal = np.degrees(real.bank[i] - real.throw[i]) % 360.0
             print(
-                f"| {i + 1} | {rod} | {result.cylinder_stroke[i] * 1e3:.3f} | "
-                f"{np.degrees(result.cylinder_tdc[i]):.3f} | {nominal:.3f} |"
+                f"| {i + 1} | {rod} | {dead_centres.stroke[i] * 1e3:.3f} | "
+                f"{np.degrees(dead_centres.tdc[i]):.3f} | {nominal:.3f} |"
             )
         rows = [
             (f"idealised (`radial-{n}-idealised`)", ideal),

@@ -44,7 +44,7 @@ END = "<!-- /link-rods -->"
 CALLS = 20
 
 
-def engines() -> dict[str, balance.api.Layout]:
+def engines() -> dict[str, balance.api.Engine]:
     real = balance.load_layout("radial-9")
     on_the_pin = dataclasses.replace(real, links=None, name="radial-9, rods on the pin")
     return {

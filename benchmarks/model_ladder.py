@@ -37,7 +37,7 @@ import mpmath
 import numpy as np
 
 import balance
-from balance.api import Layout, analyse
+from balance.api import Engine, analyse
 from balance.core import kinematics
 from balance.core.analysis import compute, compute_phasors
 from balance.core.result import Request
@@ -76,9 +76,9 @@ def reference(lam: float) -> np.ndarray:
     return np.array(out)
 
 
-def single(lam: float) -> Layout:
+def single(lam: float) -> Engine:
     r = 0.04
-    return Layout(
+    return Engine(
         name="single",
         speed=600.0,
         throw=np.zeros(1),
@@ -127,7 +127,7 @@ def ladder() -> list[dict[str, object]]:
             result = compute_phasors(
                 layout, ORDERS, model=model, moments=False, roll=False, **options
             )
-            error = float(np.abs(result.acceleration_coefficients[0] - ref).max())
+            error = float(np.abs(result.coefficients[0] - ref).max())
             per_analysis = best_time(
                 lambda m=model, o=options, lay=layout: compute_phasors(
                     lay, ORDERS, model=m, moments=False, roll=False, **o
@@ -140,7 +140,7 @@ def ladder() -> list[dict[str, object]]:
                     "lambda": lam,
                     "model": label,
                     "error": error,
-                    "bound": result.error_bound,
+                    "bound": result.model.error_bound,
                     "per_analysis": per_analysis,
                     "per_million": million,
                     "extrapolated": extrapolated,

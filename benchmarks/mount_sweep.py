@@ -61,7 +61,7 @@ def real_engine() -> list[tuple[str, float]]:
 
     engine = load_layout("inline-4-mounts")
     request = Request(orders=tuple(range(1, ORDERS + 1)), mounts=True)
-    base = compute(engine, request).mounts
+    base = compute(engine, request).part("mounts").response
     assert base is not None
     speeds = np.linspace(800, 8000, SPEEDS) * np.pi / 30
     sweep = mt.speed_sweep(base, speeds)

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from balance.api import Layout
+from balance.api import Engine
 from balance.io.layout_file import layout_from_dict
 
 if TYPE_CHECKING:
@@ -31,7 +31,7 @@ def engine(
     rotating: float | str = 0.4,
     speed: str = "6000 rpm",
     **extra: Any,
-) -> Layout:
+) -> Engine:
     """A layout in the compact form, for tests (angles in degrees; a number for a length is
     metres and for a mass kilograms, written into the layout with its unit, since a layout
     file refuses bare dimensional numbers)."""

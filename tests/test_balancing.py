@@ -12,17 +12,18 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 from test_phasors import random_layouts
 
-from balance.api import Layout, analyse, builtin_layout_names, load_layout
+import balance
+from balance.api import Engine, analyse, builtin_layout_names, load_layout
 from balance.core import kinematics as kin
 from balance.core import sampled as td
-from balance.core.analysis import balance_engine, compute_phasors
+from balance.core.analysis import compute_phasors
 from balance.core.balancing import balance_factor_study, optimal_balance_factor
-from balance.studies.factor import factor_study_dataset
+from balance.core.proposal import balance_engine
 
 ORDERS = np.arange(1, 9)
 
 
-def _units(layout: Layout) -> tuple[float, float]:
+def _units(layout: Engine) -> tuple[float, float]:
     """Tolerance units: m_rec r w^2 (largest cylinder) and that times the pitch (or the
     crank's axial span, or the stroke for single-plane engines)."""
     f1 = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
@@ -31,7 +32,7 @@ def _units(layout: Layout) -> tuple[float, float]:
     return f1, f1 * pitch
 
 
-def _time_domain_residual(layout: Layout, proposal) -> dict[str, np.ndarray]:
+def _time_domain_residual(layout: Engine, proposal) -> dict[str, np.ndarray]:
     """Forward/backward phasors of the whole free force and moment with every proposed mass,
     from sampled vector sums (independent of the phasor algebra)."""
     theta = td.crank_angles(1024)
@@ -68,19 +69,19 @@ def test_every_builtin_proposal_cancels_what_it_sets_out_to(name, strategy):
         assert abs(residual["mb"][i]) <= 1e-9 * m_unit, (k, "backward moment")
     # and the reported residual agrees with the time domain for every order
     for key, mine in (
-        ("ff", balanced.force_forward),
-        ("fb", balanced.force_backward),
-        ("mf", balanced.moment_forward),
-        ("mb", balanced.moment_backward),
+        ("ff", balanced.residual.force_forward),
+        ("fb", balanced.residual.force_backward),
+        ("mf", balanced.residual.moment_forward),
+        ("mb", balanced.residual.moment_backward),
     ):
         unit = f_unit if key[0] == "f" else m_unit
         np.testing.assert_allclose(mine, residual[key], rtol=0, atol=1e-9 * unit)
 
 
-def _one_plane(n: int, reference_z: float) -> Layout:
+def _one_plane(n: int, reference_z: float) -> Engine:
     """``n`` cylinders evenly spaced on one crank plane z = 0, moments about ``reference_z``."""
     radius = np.full(n, 0.043)
-    return Layout(
+    return Engine(
         name="random",
         speed=200.0,
         throw=np.radians(np.arange(n) * 360.0 / n),
@@ -271,7 +272,7 @@ def test_balance_factor_in_the_proposal_leaves_the_rest_as_residual():
 
 
 def test_factor_study_dataset_for_a_twin():
-    ds = factor_study_dataset(load_layout("inline-2-360"))
+    ds = balance.analyse("inline-2-360", factor_study=True)
     assert float(ds.optimal_balance_factor) == pytest.approx(0.5, abs=1e-6)
     for name in ("study_vertical_peak", "study_horizontal_peak", "study_moment_peak"):
         assert ds[name].attrs["units"]
@@ -287,7 +288,7 @@ def test_lanchester_pair_placed_to_cancel_second_order_roll():
     result = compute_phasors(layout, ORDERS)
     balanced = balance_engine(layout, result, cancel_roll=True)
     k2 = 1  # index of order 2
-    assert balanced.roll[k2] == 0.0
+    assert balanced.residual.roll[k2] == 0.0
     theta = td.crank_angles(1024)
     torque = td.roll_newton_euler(layout, theta) + td.proposal_roll_samples(
         balanced.proposal, layout, theta
@@ -314,5 +315,7 @@ def test_shaft_roll_is_reported_and_checked_in_the_time_domain():
     )
     sampled = td.roll_phasors_from_samples(torque, ORDERS)
     scale = float(np.max(layout.reciprocating_mass * layout.crank_radius**2) * layout.speed**2)
-    np.testing.assert_allclose(balanced.roll, sampled, rtol=0, atol=1e-9 * scale)
-    assert abs(balanced.roll[0]) > 0  # a single -w shaft off the crank axis rocks the block
+    np.testing.assert_allclose(balanced.residual.roll, sampled, rtol=0, atol=1e-9 * scale)
+    assert (
+        abs(balanced.residual.roll[0]) > 0
+    )  # a single -w shaft off the crank axis rocks the block

@@ -14,6 +14,7 @@ from balance.core.analysis import compute
 from balance.core.bearings import analysis_bearings, bearing_loads, counterweights_of
 from balance.core.result import Request
 from balance.io.layout_file import load_layout
+from balance.io.request import build_request
 
 runner = CliRunner()
 
@@ -58,7 +59,7 @@ def test_not_computed_unless_asked():
     result = run("analyse", "inline-4", "--format", "json")
     assert result.exit_code == 0
     assert "bearings" not in json.loads(result.stdout)
-    assert compute(load_layout("inline-4"), Request()).bearings is None
+    assert compute(load_layout("inline-4"), Request()).part("bearings") is None
 
 
 def test_section_sets_the_mains_and_asks(tmp_path):
@@ -72,7 +73,7 @@ def test_section_sets_the_mains_and_asks(tmp_path):
 def test_empty_section_means_default_mains(tmp_path):
     path = write(tmp_path, LAYOUT + "bearings: {}\n")
     engine = load_layout(path)
-    assert engine.mains == pytest.approx((-0.045, 0.045, 0.135))
+    assert engine.section("bearings") == pytest.approx((-0.045, 0.045, 0.135))
 
 
 @pytest.mark.parametrize(
@@ -121,13 +122,14 @@ def test_factor_study_columns():
 
 
 def test_factor_study_dataset_matches_single_analyses():
-    from balance.studies.factor import factor_study_dataset
+    from balance.views.dataset import build_dataset
 
     engine = load_layout("single")
-    study = factor_study_dataset(engine, [0.0, 0.5, 1.0], bearings=True)
+    request = build_request(engine, factors=[0.0, 0.5, 1.0], bearings=True)
+    study = build_dataset(compute(engine, request))
     for i, f in enumerate((0.0, 0.5, 1.0)):
-        result = compute(engine, Request(balance_factor=f, bearings=True))
-        b = result.bearings
+        result = compute(engine, build_request(engine, balance_factor=f, bearings=True))
+        b = result.part("bearings").loads
         assert b is not None
         assert float(study["study_largest_main_load"][i]) == pytest.approx(
             float(np.max(b.main_max_with_proposal)), rel=1e-12
@@ -141,7 +143,9 @@ def test_factor_study_dataset_matches_single_analyses():
 def test_dataset_variables_have_units_and_long_names():
     from balance.views.dataset import build_dataset
 
-    ds = build_dataset(compute(load_layout("inline-4"), Request(bearings=True)))
+    ds = build_dataset(
+        compute(load_layout("inline-4"), build_request(load_layout("inline-4"), bearings=True))
+    )
     names = [v for v in ds.variables if "bearing" in v or "crank_pin" in v or "internal" in v]
     assert "main_bearing_max_load_with_proposal" in names
     assert "crank_pin_load_y" in names and "internal_moment_max" in names
@@ -163,10 +167,10 @@ def test_dataset_variables_have_units_and_long_names():
 )
 def test_result_equals_two_separate_computations(layout, strategy):
     engine = load_layout(layout)
-    result = compute(engine, Request(bearings=True, strategy=strategy))
-    b = result.bearings
+    result = compute(engine, build_request(engine, bearings=True, strategy=strategy))
+    b = result.part("bearings").loads
     assert b is not None
-    cws = counterweights_of(result.balanced.proposal if result.balanced else None)
+    cws = counterweights_of(result.part("proposal").proposal if result.part("proposal") else None)
     without, with_cw = bearing_loads(engine), bearing_loads(engine, counterweights=cws)
     order = np.argsort(without.pin_z, kind="stable")
     np.testing.assert_allclose(b.pin_max, without.pin_max[order], rtol=1e-12)
@@ -183,10 +187,16 @@ def test_per_throw_counterweights_unload_the_centre_main_of_an_inline_4():
     """The worked example of docs/bearings.md."""
     engine = load_layout("inline-4")
     two = analysis_bearings(
-        engine, counterweights_of(compute(engine, Request(strategy="two-plane")).balanced.proposal)
+        engine,
+        counterweights_of(
+            compute(engine, build_request(engine, strategy="two-plane")).part("proposal").proposal
+        ),
     )
     per = analysis_bearings(
-        engine, counterweights_of(compute(engine, Request(strategy="per-throw")).balanced.proposal)
+        engine,
+        counterweights_of(
+            compute(engine, build_request(engine, strategy="per-throw")).part("proposal").proposal
+        ),
     )
     centre = 2
     assert per.main_max_with_proposal[centre] < 0.5 * two.main_max_with_proposal[centre]
@@ -221,14 +231,16 @@ def test_plots_and_report(tmp_path, sections_report):
 
 def test_default_plots_leave_out_bearing_kinds_without_loads(tmp_path, monkeypatch):
     from balance.views import plots
-    from balance.views.plots import BEARING_KINDS, PLOT_KINDS
+    from balance.views.bearings import PLOTS
+    from balance.views.plots import PLOT_KINDS
 
-    assert set(BEARING_KINDS) <= set(PLOT_KINDS)
+    BEARING_KINDS = tuple(PLOTS)
+    assert set(BEARING_KINDS) <= set(plots.all_kinds())
     result = compute(load_layout("inline-2-180"), Request())
     for kind in BEARING_KINDS:  # a figure that says what to ask for, not an error
-        fig = PLOT_KINDS[kind](result)
+        fig = plots.plot_kind(kind)(result)
         texts = [t.get_text() for ax in fig.axes for t in ax.texts]
-        assert any("--bearings" in t for t in texts)
+        assert any("ask for them" in t for t in texts)
     # which kinds are written, not how: every default kind is drawn as SVG in each report
     # (no figure is built or drawn here)
     monkeypatch.setattr(plots, "figure_bytes", lambda fig, fmt="png": b"")
@@ -245,4 +257,4 @@ def test_expand_keeps_the_mains(tmp_path):
     assert "bearings:" in result.stdout and "-45 mm" in result.stdout
     again = tmp_path / "expanded.yaml"
     again.write_text(result.stdout)
-    assert load_layout(str(again)).mains == pytest.approx((-0.045, 0.045, 0.135))
+    assert load_layout(str(again)).section("bearings") == pytest.approx((-0.045, 0.045, 0.135))

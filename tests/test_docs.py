@@ -16,10 +16,8 @@ import typer
 
 import balance
 from balance.cli import app
-from balance.core.analysis import compute
-from balance.core.result import Request
 from balance.views.json import to_dict
-from balance.views.plots import PLOT_KINDS
+from balance.views.plots import all_kinds
 
 CLI_MD = Path(__file__).resolve().parents[1] / "docs" / "cli.md"
 PYPROJECT = Path(__file__).resolve().parents[1] / "pyproject.toml"
@@ -116,9 +114,10 @@ def test_every_plot_kind_is_documented_under_its_file_name():
     section = _section("plot")
     described = re.findall(r"^\s*- (`[a-z_]+`(?:, `[a-z_]+`)*):", section, re.M)
     names = {n.strip("`") for line in described for n in line.split(", ")}
-    assert names == set(PLOT_KINDS), names ^ set(PLOT_KINDS)
+    kinds = set(all_kinds())
+    assert names == kinds, names ^ kinds
     kind_help = next(p.help for p in dict(COMMANDS)["plot"].params if p.name == "kind")
-    assert all(kind in kind_help for kind in PLOT_KINDS)
+    assert all(kind in kind_help for kind in kinds)
 
 
 def test_every_json_block_is_documented():
@@ -126,13 +125,8 @@ def test_every_json_block_is_documented():
     the schema of docs/cli.md, and the schema names nothing the program does not write."""
     block = _text().split("## JSON output", 1)[1].split("```text", 1)[1].split("```", 1)[0]
     documented = set(re.findall(r'^  "(\w+)":', block, re.M))
-    gas = to_dict(compute(balance.load_layout("inline-4-gas"), Request.of([1, 2])))
-    mounted = to_dict(
-        compute(
-            balance.load_layout("inline-4-mounts"),
-            Request.of([1, 2], mounts=True, bearings=True),
-        )
-    )
+    gas = to_dict(balance.compute_result("inline-4-gas", [1, 2]))
+    mounted = to_dict(balance.compute_result("inline-4-mounts", [1, 2], bearings=True))
     written = set(gas) | set(mounted) | {"balance_factor_study"}
     assert documented == written, documented ^ written
     assert "not yet produced" not in _text() and "refuses a `gas:`" not in _text()

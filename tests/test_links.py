@@ -35,6 +35,7 @@ from balance.core.links import (
 from balance.core.result import Request
 from balance.core.torque import compute_torque
 from balance.io.layout_file import expand_layout, layout_from_text
+from balance.io.request import build_request
 from balance.studies.sweep import sweep, variant
 from balance.views.json import to_dict
 
@@ -155,16 +156,20 @@ def test_forces_moments_and_roll_equal_newton_euler_of_the_rigid_bodies(name):
     first = (ORDERS == 1).astype(float)
     tol = 1e-10 * _scale(engine)
     np.testing.assert_allclose(
-        f_fwd, result.force_forward + first * result.rotating_force, atol=tol
+        f_fwd, result.phasors.force_forward + first * result.phasors.rotating_force, atol=tol
     )
-    np.testing.assert_allclose(f_bwd, result.force_backward, atol=tol)
+    np.testing.assert_allclose(f_bwd, result.phasors.force_backward, atol=tol)
     span = max(float(np.ptp(engine.z)), 0.1)
     np.testing.assert_allclose(
-        m_fwd, result.moment_forward + first * result.rotating_moment, atol=tol * span
+        m_fwd,
+        result.phasors.moment_forward + first * result.phasors.rotating_moment,
+        atol=tol * span,
     )
-    np.testing.assert_allclose(m_bwd, result.moment_backward, atol=tol * span)
+    np.testing.assert_allclose(m_bwd, result.phasors.moment_backward, atol=tol * span)
     roll = td.roll_phasors_from_samples(td.roll_newton_euler(engine, theta, 0.4, 0.2), ORDERS)
-    np.testing.assert_allclose(roll, result.roll, atol=tol * float(np.max(engine.crank_radius)))
+    np.testing.assert_allclose(
+        roll, result.phasors.roll, atol=tol * float(np.max(engine.crank_radius))
+    )
 
 
 def test_newton_euler_does_not_depend_on_how_the_masses_are_split():
@@ -187,13 +192,15 @@ def test_time_model_is_the_exact_model_for_link_engines():
     sampled = compute_phasors(engine, ORDERS, model="time", samples=512)
     tol = 1e-10 * _scale(engine)
     for name in ("force_forward", "force_backward", "moment_forward", "moment_backward"):
-        np.testing.assert_allclose(getattr(sampled, name), getattr(exact, name), atol=tol)
-    np.testing.assert_allclose(sampled.roll, exact.roll, atol=tol * 0.05)
+        np.testing.assert_allclose(
+            getattr(sampled.phasors, name), getattr(exact.phasors, name), atol=tol
+        )
+    np.testing.assert_allclose(sampled.phasors.roll, exact.phasors.roll, atol=tol * 0.05)
+    np.testing.assert_allclose(sampled.coefficients, exact.coefficients, atol=1e-12)
+    assert exact.link_pins.force_forward is not None and sampled.link_pins.force_forward is not None
     np.testing.assert_allclose(
-        sampled.acceleration_coefficients, exact.acceleration_coefficients, atol=1e-12
+        sampled.link_pins.force_forward, exact.link_pins.force_forward, atol=tol
     )
-    assert exact.link_pin_forward is not None and sampled.link_pin_forward is not None
-    np.testing.assert_allclose(sampled.link_pin_forward, exact.link_pin_forward, atol=tol)
 
 
 def test_pin_loads_equal_newton_euler_with_and_without_gas():
@@ -211,9 +218,12 @@ def test_pin_loads_equal_newton_euler_with_and_without_gas():
             want = solution.pin_force
             np.testing.assert_allclose(got[[0, 3]], want, atol=1e-12 * np.abs(want).max())
         assert np.all(got[[1, 2, 4]] == 0.0)
-    result = compute(twisted(), Request(bearings=True))
-    assert result.bearings is not None and result.bearings.pin_cylinders == ((1, 2, 3), (4, 5))
-    assert np.all(result.bearings.pin_max > 0)
+    result = compute(twisted(), build_request(twisted(), bearings=True))
+    assert result.part("bearings") is not None and result.part("bearings").loads.pin_cylinders == (
+        (1, 2, 3),
+        (4, 5),
+    )
+    assert np.all(result.part("bearings").loads.pin_max > 0)
 
 
 def test_gas_torque_and_roll_equal_newton_euler():
@@ -311,15 +321,21 @@ def test_vanishing_pin_radius_is_the_all_on_one_pin_engine():
     a, b = compute_phasors(linked, ORDERS), compute_phasors(plain, ORDERS)
     tol = 1e-13 * _scale(plain)
     for name in ("force_forward", "force_backward", "roll"):
-        np.testing.assert_allclose(getattr(a, name), getattr(b, name), atol=tol)
-    assert abs(a.rotating_force - b.rotating_force) <= tol
+        np.testing.assert_allclose(getattr(a.phasors, name), getattr(b.phasors, name), atol=tol)
+    assert abs(a.phasors.rotating_force - b.phasors.rotating_force) <= tol
     stroke, tdc = engine_dead_centres(linked)
     np.testing.assert_allclose(stroke, 0.13, rtol=0, atol=1e-15)
     np.testing.assert_allclose(np.degrees(tdc), [0, 72, 144, 216, 288], rtol=0, atol=1e-12)
     gaps = []
     for rho in (1e-7, 1e-6):
         small, _ = _on_one_pin(rho)
-        gaps.append(np.max(np.abs(compute_phasors(small, ORDERS).force_forward - b.force_forward)))
+        gaps.append(
+            np.max(
+                np.abs(
+                    compute_phasors(small, ORDERS).phasors.force_forward - b.phasors.force_forward
+                )
+            )
+        )
     assert 8.0 < gaps[1] / gaps[0] < 12.0
 
 
@@ -376,10 +392,12 @@ def test_crank_angle_origin_only_turns_the_phasors(engine, shift):
     b = compute_phasors(dataclasses.replace(engine, throw=engine.throw + delta), ORDERS)
     tol = 1e-12 * _scale(engine)
     turn = np.exp(1j * ORDERS * delta)
-    np.testing.assert_allclose(b.force_forward, a.force_forward * turn, atol=tol)
-    np.testing.assert_allclose(b.force_backward, a.force_backward / turn, atol=tol)
-    np.testing.assert_allclose(b.moment_backward, a.moment_backward / turn, atol=tol)
-    np.testing.assert_allclose(b.roll, a.roll * turn, atol=tol * 0.1)
+    np.testing.assert_allclose(b.phasors.force_forward, a.phasors.force_forward * turn, atol=tol)
+    np.testing.assert_allclose(b.phasors.force_backward, a.phasors.force_backward / turn, atol=tol)
+    np.testing.assert_allclose(
+        b.phasors.moment_backward, a.phasors.moment_backward / turn, atol=tol
+    )
+    np.testing.assert_allclose(b.phasors.roll, a.phasors.roll * turn, atol=tol * 0.1)
 
 
 @settings(max_examples=12, deadline=None)
@@ -394,7 +412,7 @@ def test_renumbering_cylinders_keeps_every_master(engine, seed):
     a, b = compute_phasors(engine, ORDERS), compute_phasors(renumbered, ORDERS)
     tol = 1e-12 * _scale(engine)
     for name in ("force_forward", "force_backward", "moment_forward", "moment_backward", "roll"):
-        np.testing.assert_allclose(getattr(b, name), getattr(a, name), atol=tol)
+        np.testing.assert_allclose(getattr(b.phasors, name), getattr(a.phasors, name), atol=tol)
     sa, ta = engine_dead_centres(engine)
     sb, tb = engine_dead_centres(renumbered)
     np.testing.assert_allclose(sb, sa[order], rtol=1e-14)
@@ -409,15 +427,17 @@ def _measured_error(engine: Engine, model: str, **options: object) -> float:
     G_k (the bounds' units): |dG| plus, for link pins the model leaves out, 2|P|/(m r w^2)."""
     exact = compute_phasors(engine, ORDERS)
     got = compute_phasors(engine, ORDERS, model=model, **options)  # type: ignore[arg-type]
-    error = np.abs(got.acceleration_coefficients - exact.acceleration_coefficients)
+    error = np.abs(got.coefficients - exact.coefficients)
     unit = (engine.reciprocating_mass * engine.crank_radius * engine.speed**2)[:, None]
-    assert exact.link_pin_forward is not None and exact.link_pin_backward is not None
-    pin = got.link_pin_forward
+    assert exact.link_pins.force_forward is not None and exact.link_pins.force_backward is not None
+    pin = got.link_pins.force_forward
     if pin is None:  # the model leaves the link pins' relative motion out
         error = (
             error
             + 2.0
-            * np.maximum(np.abs(exact.link_pin_forward), np.abs(exact.link_pin_backward))
+            * np.maximum(
+                np.abs(exact.link_pins.force_forward), np.abs(exact.link_pins.force_backward)
+            )
             / unit
         )
     return float(error.max())
@@ -433,21 +453,21 @@ def test_model_ladder_bounds_hold_for_link_engines(name):
         ("time", {"samples": 17}),  # aliasing well above rounding
         ("time", {"samples": 24}),
     ):
-        bound = compute_phasors(engine, ORDERS, model=model, **options).error_bound
+        bound = compute_phasors(engine, ORDERS, model=model, **options).model.error_bound
         measured = _measured_error(engine, model, **options)
         assert measured <= bound, (model, options, measured, bound)
     # the exact model against a fine time-domain reference
     reference = compute_phasors(engine, ORDERS, model="time", samples=4096)
     exact = compute_phasors(engine, ORDERS)
-    gap = np.abs(exact.acceleration_coefficients - reference.acceleration_coefficients).max()
-    assert gap <= exact.error_bound
+    gap = np.abs(exact.coefficients - reference.coefficients).max()
+    assert gap <= exact.model.error_bound
 
 
 def test_tolerance_picks_a_model_whose_bound_holds_for_links():
     engine = load_layout("radial-5")
     loose = compute(engine, Request(tolerance=10.0))
     assert loose.request.model == "textbook"
-    assert _measured_error(engine, "textbook") <= loose.phasors.error_bound <= 10.0
+    assert _measured_error(engine, "textbook") <= loose.model.error_bound <= 10.0
     tight = compute(engine, Request(tolerance=1e-9))
     assert tight.request.model == "exact"
 
@@ -529,12 +549,12 @@ def test_json_lists_every_cylinder_with_stroke_and_tdc():
 
 
 def test_table_report_and_dataset_show_the_cylinders():
+    from balance.views.cylinders import cylinders_table
     from balance.views.report import render_report
-    from balance.views.table import cylinders_table
 
     result = compute(load_layout("radial-5"), Request(orders=(1, 2)))
     ds = analyse(load_layout("radial-5"), "1-2")
-    np.testing.assert_array_equal(ds.cylinder_stroke.values, result.cylinder_stroke)
+    np.testing.assert_array_equal(ds.cylinder_stroke.values, result.part("cylinders").stroke)
     assert ds.tdc_crank_angle.attrs["units"] == "deg"
     assert list(ds.link_master.values) == [0, 1, 1, 1, 1]
     from rich.console import Console
@@ -572,20 +592,20 @@ def test_expansion_shows_the_link_geometry_and_loads_back(tmp_path):
 def test_proposal_and_factor_study_take_the_link_pins_first_order():
     """The counterweights take the whole forward first order (link pins included); the
     balance-factor study's residual equals the phasors with the counterweight added."""
-    from balance.studies.factor import factor_study_dataset
+    from balance.core.proposal import factor_study
 
     engine = load_layout("radial-5")
     result = compute(engine, Request())
-    assert result.balanced is not None
-    assert result.balanced.force_forward[0] == 0.0
-    study = factor_study_dataset(engine, [0.0, 0.5])
+    assert result.part("proposal") is not None
+    assert result.part("proposal").residual.force_forward[0] == 0.0
+    study = factor_study(engine, [0.0, 0.5])
     p = result.phasors
     w2 = engine.speed**2
     for i, factor in enumerate((0.0, 0.5)):
         cw = factor * np.sum(engine.reciprocating_mass * engine.crank_radius) * w2
         fwd = p.force_forward[0] - cw  # the rotating masses are balanced in full
         vertical = abs(fwd + np.conj(p.force_backward[0]))
-        assert float(study.study_vertical_peak[i]) == pytest.approx(vertical, rel=1e-12)
+        assert float(study.vertical_peak[i]) == pytest.approx(vertical, rel=1e-12)
 
 
 # --------------------------------------------------------------------------- studies
@@ -625,11 +645,11 @@ def test_mounts_take_the_link_engines_forces():
     roll: the loads per order are the result's phasors."""
     from balance.core.mount_loads import order_loads
 
-    engine = dataclasses.replace(
-        load_layout("radial-5"), mounts=load_layout("inline-4-mounts").mounts
+    engine = load_layout("radial-5").with_section(
+        "mounts", load_layout("inline-4-mounts").section("mounts")
     )
-    result = compute(engine, Request(mounts=True))
-    assert result.mounts is not None and result.roll is not None
+    result = compute(engine, build_request(engine, mounts=True))
+    assert result.part("mounts") is not None and result.roll is not None
     _, ff, fb, _, _, roll = order_loads(result)
     p = result.phasors
     np.testing.assert_array_equal(ff[1:8], p.force_forward[1:])

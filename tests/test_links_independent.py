@@ -36,8 +36,9 @@ from hypothesis import strategies as st
 from balance.api import load_layout
 from balance.core.analysis import compute
 from balance.core.engine import Engine
-from balance.core.result import Request, Result
+from balance.core.result import Result
 from balance.io.layout_file import layout_from_dict
+from balance.io.request import build_request
 from balance.views.json import to_dict
 
 ORDERS = tuple(range(1, 9))
@@ -219,7 +220,7 @@ def _compare(mech: Mechanism, result: Result, tol: float = 1e-12) -> dict[str, f
     f_fwd, f_bwd = phasors(force, ORDERS)
     m_fwd, m_bwd = phasors(moment, ORDERS)
     a_f_fwd, a_f_bwd, a_m_fwd, a_m_bwd = _total_force(result.phasors)
-    f1 = result.phasors.reference_force
+    f1 = result.reference_force
     return {
         "force": max(np.max(abs(f_fwd - a_f_fwd)), np.max(abs(f_bwd - a_f_bwd))) / f1,
         "moment": max(np.max(abs(m_fwd - a_m_fwd)), np.max(abs(m_bwd - a_m_bwd)))
@@ -236,12 +237,14 @@ def test_the_simulation_reproduces_a_plain_offset_crank_slider() -> None:
     # sin(beta) = e/(l + r), l the rod).
     r, rod, e = 0.05, 0.17, 0.006
     mech = Mechanism(r, 3000.0, [cyl(0, 20, 0.0, 0.8, (0.9, 0.05, 3e-3, rod), e)], 0.3)
-    result = compute(layout_of(mech), Request.of(ORDERS, proposal=False, bearings=True))
+    result = compute(
+        layout_of(mech), build_request(layout_of(mech), ORDERS, proposal=False, bearings=True)
+    )
     assert max(_compare(mech, result).values()) < 1e-13
     roll_energy = signals(mech, THETA)[2]
     roll_walls, _ = newton_euler(mech, THETA)
     assert np.max(abs(roll_energy - roll_walls)) < 1e-12 * np.max(abs(roll_energy))
-    bearings = result.bearings
+    bearings = result.part("bearings").loads
     assert bearings is not None
     mine = newton_euler(mech, bearings.theta)[1][0]
     assert np.max(abs(mine - bearings.pin_load[0])) < 1e-12 * np.max(abs(mine))
@@ -254,7 +257,7 @@ def test_the_simulation_reproduces_a_plain_offset_crank_slider() -> None:
 @pytest.mark.parametrize("name", list(ENGINES))
 def test_link_engines_equal_the_independent_simulation(name: str) -> None:
     mech, layout = _layout(name)
-    result = compute(layout, Request.of(ORDERS, proposal=False, bearings=True))
+    result = compute(layout, build_request(layout, ORDERS, proposal=False, bearings=True))
     # the reference agrees with itself: roll by energy and momentum and by the walls
     roll_energy = signals(mech, THETA)[2]
     roll_walls, _ = newton_euler(mech, THETA)
@@ -270,7 +273,7 @@ def test_link_engines_equal_the_independent_simulation(name: str) -> None:
     turn = np.radians([c["tdc_crank_deg"] for c in listed]) - tdc
     assert np.max(abs(np.angle(np.exp(1j * turn)))) < 1e-10
     # the force each master rod's big end puts on its crank pin (CONTRACT §6)
-    bearings = result.bearings
+    bearings = result.part("bearings").loads
     assert bearings is not None
     _, pin_load = newton_euler(mech, bearings.theta)
     for k, cylinders in enumerate(bearings.pin_cylinders):
@@ -298,12 +301,12 @@ def test_any_master_and_link_pair_equals_the_simulation(
     link_rod = (0.5, cg * link_length, 1.5e-3, link_length)
     link = cyl(throw, bank, 0.0, 0.7, link_rod, offsets[1], (0, pin_radius, bank + pin_off))
     mech = Mechanism(0.05, 4000.0, [master, link], crank_unbalance=0.2)
-    result = compute(layout_of(mech), Request.of(ORDERS, proposal=False))
+    result = compute(layout_of(mech), build_request(layout_of(mech), ORDERS, proposal=False))
     for what, error in _compare(mech, result).items():
         assert error < 1e-12, (what, error)
     stroke, tdc = dead_centres(mech)
-    np.testing.assert_allclose(result.cylinder_stroke, stroke, rtol=0, atol=1e-12)
-    assert np.max(abs(np.angle(np.exp(1j * (result.cylinder_tdc - tdc))))) < 1e-10
+    np.testing.assert_allclose(result.part("cylinders").stroke, stroke, rtol=0, atol=1e-12)
+    assert np.max(abs(np.angle(np.exp(1j * (result.part("cylinders").tdc - tdc))))) < 1e-10
 
 
 def test_gas_torque_roll_and_pin_loads_of_a_link_engine() -> None:
@@ -322,8 +325,8 @@ def test_gas_torque_roll_and_pin_loads_of_a_link_engine() -> None:
         firing_order=[1, 2, 3, 4],
         gas={"pressure_trace": str(trace_file), "crankcase_pressure": "1 bar", "bore": "97 mm"},
     )
-    result = compute(layout, Request.of(ORDERS, proposal=False, bearings=True))
-    torque, bearings = result.torque, result.bearings
+    result = compute(layout, build_request(layout, ORDERS, proposal=False, bearings=True))
+    torque, bearings = result.part("torque"), result.part("bearings").loads
     assert torque is not None and bearings is not None
     theta = np.radians(torque.crank_angle)
     state = positions(mech, theta)
@@ -359,8 +362,8 @@ def test_gas_torque_roll_and_pin_loads_of_a_link_engine() -> None:
 )
 def test_proposal_residual_equals_the_simulated_engine_with_its_masses(name, settings_) -> None:
     mech, layout = _layout(name)
-    result = compute(layout, Request.of(ORDERS, **settings_))
-    balanced = result.balanced
+    result = compute(layout, build_request(layout, ORDERS, **settings_))
+    balanced = result.part("proposal")
     assert balanced is not None
     force, moment, roll = signals(mech, THETA)
     w = mech.omega
@@ -374,14 +377,17 @@ def test_proposal_residual_equals_the_simulated_engine_with_its_masses(name, set
             pull = unbalance * (s * w) ** 2 * np.exp(1j * s * THETA)
             force, moment = force + pull, moment + (z - mech.z_ref) * pull
             roll = roll + (np.conj(axis) * pull).imag
-    f1 = result.phasors.reference_force
+    f1 = result.reference_force
     f_fwd, f_bwd = phasors(force, ORDERS)
     m_fwd, m_bwd = phasors(moment, ORDERS)
-    assert np.max(abs(f_fwd - balanced.force_forward)) < 1e-12 * f1
-    assert np.max(abs(f_bwd - balanced.force_backward)) < 1e-12 * f1
-    assert np.max(abs(m_fwd - balanced.moment_forward)) < 1e-12 * f1 * _span(mech)
-    assert np.max(abs(m_bwd - balanced.moment_backward)) < 1e-12 * f1 * _span(mech)
-    assert np.max(abs(roll_phasors(roll, ORDERS) - balanced.roll)) < 1e-12 * result.reference_roll
+    assert np.max(abs(f_fwd - balanced.residual.force_forward)) < 1e-12 * f1
+    assert np.max(abs(f_bwd - balanced.residual.force_backward)) < 1e-12 * f1
+    assert np.max(abs(m_fwd - balanced.residual.moment_forward)) < 1e-12 * f1 * _span(mech)
+    assert np.max(abs(m_bwd - balanced.residual.moment_backward)) < 1e-12 * f1 * _span(mech)
+    assert (
+        np.max(abs(roll_phasors(roll, ORDERS) - balanced.residual.roll))
+        < 1e-12 * result.reference_roll
+    )
     # what the proposal set out to cancel is gone in the simulated engine
     for k in balanced.proposal.orders:
         assert abs(f_fwd[k - 1]) + abs(f_bwd[k - 1]) < 1e-10 * f1
@@ -402,13 +408,15 @@ def test_cheaper_models_stay_within_their_stated_bounds(model, settings_) -> Non
     # phasors may be off by at most the bound times the sum of those
     mech = asymmetric_radial_5()
     layout = layout_of(mech)
-    result = compute(layout, Request.of(ORDERS, proposal=False, model=model, **settings_))
+    result = compute(
+        layout, build_request(layout, ORDERS, proposal=False, model=model, **settings_)
+    )
     force = signals(mech, THETA)[0]
     f_fwd, f_bwd = phasors(force, ORDERS)
     a_fwd, a_bwd, _, _ = _total_force(result.phasors)
     scale = float(np.sum(layout.reciprocating_mass * layout.crank_radius)) * mech.omega**2
     error = max(np.max(abs(f_fwd - a_fwd)), np.max(abs(f_bwd - a_bwd))) / scale
-    assert error <= result.phasors.error_bound
+    assert error <= result.model.error_bound
     if model == "time":  # the samples are too few for rounding: the bound is exercised
         assert error > 1e-12
 
@@ -418,13 +426,13 @@ def test_cheaper_models_stay_within_their_stated_bounds(model, settings_) -> Non
 
 def test_turning_the_crank_angle_origin_only_turns_the_phasors() -> None:
     mech = offset_v4()
-    base = compute(layout_of(mech), Request.of(ORDERS, proposal=False))
+    base = compute(layout_of(mech), build_request(layout_of(mech), ORDERS, proposal=False))
     delta = rad(37.0)
     for c in mech.cylinders:
         c.throw += delta
-    turned = compute(layout_of(mech), Request.of(ORDERS, proposal=False))
+    turned = compute(layout_of(mech), build_request(layout_of(mech), ORDERS, proposal=False))
     k = np.asarray(ORDERS)
-    f1, span = base.phasors.reference_force, _span(mech)
+    f1, span = base.reference_force, _span(mech)
     a, b = _total_force(base.phasors), _total_force(turned.phasors)
     turn = np.exp(1j * k * delta)
     for i, (rot, scale) in enumerate(
@@ -432,14 +440,18 @@ def test_turning_the_crank_angle_origin_only_turns_the_phasors() -> None:
     ):
         assert np.max(abs(b[i] - a[i] * rot)) < 1e-12 * scale
     assert np.max(abs(turned.phasors.roll - base.phasors.roll * turn)) < 1e-12 * base.reference_roll
-    np.testing.assert_allclose(turned.cylinder_stroke, base.cylinder_stroke, rtol=0, atol=1e-15)
-    shift = np.angle(np.exp(1j * (turned.cylinder_tdc - base.cylinder_tdc + delta)))
+    np.testing.assert_allclose(
+        turned.part("cylinders").stroke, base.part("cylinders").stroke, rtol=0, atol=1e-15
+    )
+    shift = np.angle(
+        np.exp(1j * (turned.part("cylinders").tdc - base.part("cylinders").tdc + delta))
+    )
     assert np.max(abs(shift)) < 1e-12
 
 
 def test_renumbering_the_cylinders_keeps_every_number() -> None:
     mech = offset_v4()
-    base = compute(layout_of(mech), Request.of(ORDERS, proposal=False))
+    base = compute(layout_of(mech), build_request(layout_of(mech), ORDERS, proposal=False))
     order = [3, 1, 2, 0]  # new cylinder j is old cylinder order[j]
     new_index = {old: new for new, old in enumerate(order)}
     renumbered = [
@@ -451,17 +463,20 @@ def test_renumbering_the_cylinders_keeps_every_number() -> None:
         )
         for old in order
     ]
-    other = compute(
-        layout_of(replace(mech, cylinders=renumbered)), Request.of(ORDERS, proposal=False)
-    )
-    f1, span = base.phasors.reference_force, _span(mech)
+    renumbered_layout = layout_of(replace(mech, cylinders=renumbered))
+    other = compute(renumbered_layout, build_request(renumbered_layout, ORDERS, proposal=False))
+    f1, span = base.reference_force, _span(mech)
     for i, (a, b) in enumerate(
         zip(_total_force(base.phasors), _total_force(other.phasors), strict=True)
     ):
         assert np.max(abs(a - b)) < 1e-12 * (f1 if i < 2 else f1 * span)
     assert np.max(abs(base.phasors.roll - other.phasors.roll)) < 1e-12 * base.reference_roll
-    np.testing.assert_allclose(other.cylinder_stroke, base.cylinder_stroke[order], atol=1e-15)
-    np.testing.assert_allclose(other.cylinder_tdc, base.cylinder_tdc[order], atol=1e-12)
+    np.testing.assert_allclose(
+        other.part("cylinders").stroke, base.part("cylinders").stroke[order], atol=1e-15
+    )
+    np.testing.assert_allclose(
+        other.part("cylinders").tdc, base.part("cylinders").tdc[order], atol=1e-12
+    )
 
 
 def test_vanishing_pin_radius_is_the_all_on_one_pin_engine() -> None:
@@ -472,18 +487,20 @@ def test_vanishing_pin_radius_is_the_all_on_one_pin_engine() -> None:
     plain = replace(
         linked, cylinders=[replace(c, master=None, pin_radius=0.0) for c in linked.cylinders]
     )
-    request = Request.of(ORDERS, proposal=False, bearings=True)
-    a = compute(layout_of(linked), request)
-    b = compute(layout_of(plain), request)
-    f1 = a.phasors.reference_force
+    a_layout, b_layout = layout_of(linked), layout_of(plain)
+    a = compute(a_layout, build_request(a_layout, ORDERS, proposal=False, bearings=True))
+    b = compute(b_layout, build_request(b_layout, ORDERS, proposal=False, bearings=True))
+    f1 = a.reference_force
     for x, y in zip(_total_force(a.phasors)[:2], _total_force(b.phasors)[:2], strict=True):
         assert np.max(abs(x - y)) < 1e-13 * f1
     assert np.max(abs(a.phasors.roll - b.phasors.roll)) < 1e-13 * a.reference_roll
-    np.testing.assert_allclose(a.cylinder_stroke, 2 * linked.crank_radius, rtol=0, atol=1e-15)
-    np.testing.assert_allclose(a.cylinder_tdc, b.cylinder_tdc, rtol=0, atol=1e-12)
-    assert a.bearings is not None and b.bearings is not None
-    total = b.bearings.pin_load.sum(axis=0)  # the plain engine: every rod on the pin
-    assert np.max(abs(a.bearings.pin_load[0] - total)) < 1e-12 * np.max(abs(total))
+    np.testing.assert_allclose(
+        a.part("cylinders").stroke, 2 * linked.crank_radius, rtol=0, atol=1e-15
+    )
+    np.testing.assert_allclose(a.part("cylinders").tdc, b.part("cylinders").tdc, rtol=0, atol=1e-12)
+    assert a.part("bearings") is not None and b.part("bearings") is not None
+    total = b.part("bearings").loads.pin_load.sum(axis=0)  # the plain engine: every rod on the pin
+    assert np.max(abs(a.part("bearings").loads.pin_load[0] - total)) < 1e-12 * np.max(abs(total))
     # and the simulation, which knows nothing of the limit, agrees with both
     assert max(_compare(linked, a).values()) < 1e-12
 

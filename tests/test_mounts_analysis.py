@@ -23,6 +23,7 @@ from balance.core.mount_loads import mounts_of, order_loads
 from balance.core.result import Request
 from balance.io.layout_file import builtin_layout_path, load_layout
 from balance.io.mounts_section import mounts_from_text
+from balance.io.request import build_request
 
 runner = CliRunner()
 
@@ -56,7 +57,7 @@ def mounts_file(tmp_path_factory):
 
 def test_loads_are_the_free_phasors_with_the_rotating_ones_at_order_1():
     engine = load_layout("single-mounts")
-    result = compute(engine, Request(mounts=True))
+    result = compute(engine, build_request(engine, mounts=True))
     orders, ff, fb, mf, mb, roll = order_loads(result)
     p = result.phasors
     assert np.array_equal(orders, np.arange(1.0, 9.0))
@@ -65,22 +66,22 @@ def test_loads_are_the_free_phasors_with_the_rotating_ones_at_order_1():
     assert np.array_equal(fb, p.force_backward)
     assert mf[0] == p.moment_forward[0] + p.rotating_moment
     assert np.array_equal(roll, result.roll)
-    m = result.mounts
+    m = result.part("mounts").response
     assert m is not None and not m.with_proposal and not m.gas
-    load = mt.crank_loads(engine.reference_z, engine.mounts.cg, ff, fb, mf, mb, roll)
+    load = mt.crank_loads(engine.reference_z, engine.section("mounts").cg, ff, fb, mf, mb, roll)
     assert np.allclose(m.loads, load, rtol=0, atol=1e-12 * np.abs(load).max())
 
 
 def test_with_proposal_uses_the_residual():
     engine = load_layout("inline-4-mounts")
-    result = compute(engine, Request(mounts=True, mounts_with_proposal=True))
-    b = result.balanced
+    result = compute(engine, build_request(engine, mounts=True, with_proposal=True))
+    b = result.part("proposal").residual
     _, ff, fb, _, _, roll = order_loads(result, with_proposal=True)
     assert np.array_equal(ff, b.force_forward) and np.array_equal(fb, b.force_backward)
-    assert np.array_equal(roll, result.residual_roll)
-    bare = compute(engine, Request(mounts=True)).mounts
+    assert np.array_equal(roll, result.part("proposal").residual_roll)
+    bare = compute(engine, build_request(engine, mounts=True)).part("mounts").response
     # the second-order shafts take out the free force: the mounts see only the roll
-    assert result.mounts.largest_force[1] < 0.8 * bare.largest_force[1]
+    assert result.part("mounts").response.largest_force[1] < 0.8 * bare.largest_force[1]
 
 
 def test_peak_force_is_the_largest_magnitude_over_a_cycle():
@@ -97,28 +98,30 @@ def test_speed_sweep_equals_an_analysis_at_each_speed(layout, with_proposal):
     """Inertia loads scale with speed squared; the gas torque (one pressure trace) does
     not: the sweep from one analysis equals analyses at the other speeds."""
     engine = load_layout(layout)
-    engine = dataclasses.replace(engine, mounts=mounts_from_text(MOUNTS))
-    request = Request(mounts=True, mounts_with_proposal=with_proposal)
-    base = compute(engine, request).mounts
+    engine = engine.with_section("mounts", mounts_from_text(MOUNTS))
+    request = build_request(engine, mounts=True, with_proposal=with_proposal)
+    base = compute(engine, request).part("mounts").response
     speeds = np.array([0.4, 1.3]) * engine.speed
     sweep = mt.speed_sweep(base, speeds)
     assert sweep.forces.shape == (2, base.orders.size, 4, 3)
     assert sweep.gas == (layout == "inline-4-gas")
     for s, w in enumerate(speeds):
-        one = compute(engine, dataclasses.replace(request, speed=float(w))).mounts
+        one = compute(engine, dataclasses.replace(request, speed=float(w))).part("mounts").response
         scale = np.abs(one.forces).max()
         assert np.allclose(sweep.forces[s], one.forces, rtol=0, atol=1e-9 * scale)
 
 
 def test_gas_roll_has_half_orders():
-    engine = dataclasses.replace(load_layout("inline-4-gas"), mounts=mounts_from_text(MOUNTS))
-    result = compute(engine, Request(mounts=True))
-    m = result.mounts
+    engine = load_layout("inline-4-gas").with_section("mounts", mounts_from_text(MOUNTS))
+    result = compute(engine, build_request(engine, mounts=True))
+    m = result.part("mounts").response
     assert 0.5 in m.orders and 1.5 in m.orders and m.gas
     # evenly fired inline-4: the gas torque's reaction is at orders 2, 4, ... only
     half = [i for i, k in enumerate(m.orders) if not float(k).is_integer()]
     assert np.all(m.largest_force[half] < 1e-9 * m.largest_force.max())
-    bare = compute(engine, Request(mounts=True, torque=False)).mounts  # no gas roll
+    bare = (
+        compute(engine, build_request(engine, mounts=True, torque=False)).part("mounts").response
+    )  # no gas roll
     second = list(m.orders).index(2.0)
     assert abs(m.response[second, 5] - bare.response[1, 5]) > 0.1 * abs(bare.response[1, 5])
 
@@ -148,13 +151,13 @@ def test_mounts_need_moments_roll_and_mounts():
 
     engine = load_layout("inline-4")
     with pytest.raises(InputError, match="no mounts: section"):
-        compute(engine, Request(mounts=True))
+        compute(engine, build_request(engine, mounts=True))
     engine = load_layout("inline-4-mounts")
     with pytest.raises(InputError, match="moments and the roll"):
-        compute(engine, Request(mounts=True, roll=False, proposal=False))
-    with pytest.raises(InputError, match="--with-proposal"):
-        compute(engine, Request(mounts=True, mounts_with_proposal=True, proposal=False))
-    assert compute(engine, Request()).mounts is None  # only when asked
+        compute(engine, build_request(engine, mounts=True, roll=False, proposal=False))
+    with pytest.raises(InputError, match="loaded with the proposal need a proposal"):
+        compute(engine, build_request(engine, mounts=True, with_proposal=True, proposal=False))
+    assert compute(engine, Request()).part("mounts") is None  # only when asked
 
 
 # ---------------------------------------------------------------------------------------
@@ -182,8 +185,9 @@ def test_analyse_json_has_the_contract_mounts_block():
     assert max(max(f) for f in second) > 1.0
     assert len(block["torque_roll_axis"]) == 3
     assert len(block["mounts"]) == 4
+    # the layout's mounts: section asks for them, as a bearings: section does its loads
     plain = json.loads(run("analyse", "inline-4-mounts", "--format", "json").stdout)
-    assert "mounts" not in plain  # computed only when asked
+    assert plain["mounts"] == block
 
 
 def test_analyse_table_shows_modes_response_and_tra():
@@ -281,8 +285,10 @@ def test_compare_column_of_the_largest_mount_force():
     head, plain, mounted = [line.split(",") for line in r.stdout.splitlines()[:3]]
     at = head.index("mount F max [N]")
     assert plain[at] == "-"
-    expected = compute(load_layout("inline-4-mounts"), Request(mounts=True, orders=(1, 2, 3, 4)))
-    assert float(mounted[at]) == pytest.approx(float(expected.mounts.largest_force.max()), rel=1e-3)
+    engine = load_layout("inline-4-mounts")
+    expected = compute(engine, build_request(engine, (1, 2, 3, 4), mounts=True))
+    largest = expected.part("mounts").response.largest_force.max()
+    assert float(mounted[at]) == pytest.approx(float(largest), rel=1e-3)
     r = run("compare", "inline-4", "inline-2-180", "-f", "csv")
     assert "mount F" not in r.stdout
 
@@ -293,7 +299,12 @@ def test_dataset_netcdf_figure_and_report(tmp_path, sections_report):
     the bearing loads; the section is the same code for any layout with mounts)."""
     from balance.views.dataset import build_dataset
 
-    ds = build_dataset(compute(load_layout("inline-4-mounts"), Request(mounts=True)))
+    ds = build_dataset(
+        compute(
+            load_layout("inline-4-mounts"),
+            build_request(load_layout("inline-4-mounts"), mounts=True),
+        )
+    )
     for name in (
         "mount_mode_frequency",
         "mount_mode_energy_share",
@@ -320,6 +331,6 @@ def test_dataset_netcdf_figure_and_report(tmp_path, sections_report):
 
 def test_mounts_of_result_matches_compute():
     engine = load_layout("single-mounts")
-    with_mounts = compute(engine, Request(mounts=True))
+    with_mounts = compute(engine, build_request(engine, mounts=True))
     again = mounts_of(compute(engine, Request()))
-    assert np.array_equal(with_mounts.mounts.forces, again.forces)
+    assert np.array_equal(with_mounts.part("mounts").response.forces, again.forces)

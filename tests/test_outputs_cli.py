@@ -20,6 +20,7 @@ from typer.testing import CliRunner
 
 import balance
 from balance.cli import app
+from balance.io.request import build_request
 from balance.views.table import format_number
 
 runner = CliRunner()
@@ -175,7 +176,7 @@ def test_report_free_moments_table_shows_what_its_figures_draw(tmp_path, monkeyp
     peak is formed here from the JSON's phasors."""
     import balance.views.report as report
 
-    monkeypatch.setattr(report, "_figure", lambda *args: "")  # tables only: figures are slow
+    monkeypatch.setattr(report, "html_figure", lambda *args: "")  # tables only: figures are slow
     target = tmp_path / "v8.html"
     assert run("report", "v8-crossplane", "-o", str(target)).exit_code == 0
     html = target.read_text(encoding="utf-8")
@@ -200,10 +201,12 @@ def test_phasor_panels_each_order_on_its_own_scale(tmp_path):
     """Each order's panel is scaled to that order: the longest arrow of every panel reaches
     1/1.12 of its radius, whether it is 242 N (order 4 of the V8) or 0.18 N (order 8)."""
     from balance.core.analysis import compute
-    from balance.core.result import Request
     from balance.views.plots import plot_phasors
 
-    result = compute(balance.load_layout("v8-crossplane"), Request.of(range(1, 9)))
+    result = compute(
+        balance.load_layout("v8-crossplane"),
+        build_request(balance.load_layout("v8-crossplane"), range(1, 9)),
+    )
     fig = plot_phasors(result)
     panels = [ax for ax in fig.axes if ax.get_title().startswith("order ")]
     assert [ax.get_title().split("\n")[0] for ax in panels] == ["order 4", "order 8", "order 1"]

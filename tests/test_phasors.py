@@ -11,7 +11,7 @@ from helpers import engine
 from hypothesis import given
 from hypothesis import strategies as st
 
-from balance.api import Layout, analyse, load_layout
+from balance.api import Engine, analyse, load_layout
 from balance.core import kinematics as kin
 from balance.core import sampled as td
 from balance.core.analysis import compute_phasors
@@ -19,7 +19,7 @@ from balance.core.analysis import compute_phasors
 ORDERS = np.arange(1, 9)
 
 
-def f1(layout: Layout) -> float:
+def f1(layout: Engine) -> float:
     return float(layout.reciprocating_mass[0] * layout.crank_radius[0] * layout.speed**2)
 
 
@@ -141,7 +141,7 @@ def test_builtin_layouts_show_the_textbook_coefficients(name):
 
 
 @st.composite
-def random_layouts(draw, max_cylinders: int = 10) -> Layout:
+def random_layouts(draw, max_cylinders: int = 10) -> Engine:
     n = draw(st.integers(1, max_cylinders))
     angles = st.floats(-360, 360, allow_nan=False)
     lam = draw(st.lists(st.floats(0.02, 0.5), min_size=n, max_size=n))
@@ -149,7 +149,7 @@ def random_layouts(draw, max_cylinders: int = 10) -> Layout:
     share = np.asarray(draw(st.lists(st.floats(-0.9, 0.9), min_size=n, max_size=n)))
     length = radius / np.asarray(lam)
     offset = share * (length - radius)
-    return Layout(
+    return Engine(
         name="random",
         speed=draw(st.floats(10.0, 2000.0)),
         throw=np.radians(draw(st.lists(angles, min_size=n, max_size=n))),
@@ -168,7 +168,7 @@ def random_layouts(draw, max_cylinders: int = 10) -> Layout:
     )
 
 
-def _scale(layout: Layout) -> float:
+def _scale(layout: Engine) -> float:
     """m_rec r w^2 of the largest cylinder (the tolerance unit of the issue)."""
     return float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
 
@@ -181,17 +181,17 @@ def test_phasors_equal_fft_of_sampled_forces(layout):
     theta = td.crank_angles(1024)
     scale = _scale(layout)
     fwd, bwd = td.phasors_from_samples(td.reciprocating_force_samples(layout, theta), ORDERS)
-    np.testing.assert_allclose(result.force_forward, fwd, rtol=0, atol=1e-9 * scale)
-    np.testing.assert_allclose(result.force_backward, bwd, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(result.phasors.force_forward, fwd, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(result.phasors.force_backward, bwd, rtol=0, atol=1e-9 * scale)
     fwd, bwd = td.phasors_from_samples(td.reciprocating_force_samples(layout, theta, True), ORDERS)
-    np.testing.assert_allclose(result.moment_forward, fwd, rtol=0, atol=1e-9 * scale)
-    np.testing.assert_allclose(result.moment_backward, bwd, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(result.phasors.moment_forward, fwd, rtol=0, atol=1e-9 * scale)
+    np.testing.assert_allclose(result.phasors.moment_backward, bwd, rtol=0, atol=1e-9 * scale)
     rot_scale = float(np.sum(layout.rotating_mass * layout.crank_radius) * layout.speed**2) + 1e-300
     fwd, bwd = td.phasors_from_samples(td.rotating_force_samples(layout, theta), [1])
-    assert abs(result.rotating_force - fwd[0]) <= 1e-12 * rot_scale
+    assert abs(result.phasors.rotating_force - fwd[0]) <= 1e-12 * rot_scale
     assert abs(bwd[0]) <= 1e-12 * rot_scale
     fwd, _ = td.phasors_from_samples(td.rotating_force_samples(layout, theta, True), [1])
-    assert abs(result.rotating_moment - fwd[0]) <= 1e-12 * rot_scale
+    assert abs(result.phasors.rotating_moment - fwd[0]) <= 1e-12 * rot_scale
 
 
 @given(layout=random_layouts())
@@ -204,10 +204,10 @@ def test_sum_of_phasors_rebuilds_the_force_at_any_angle(layout):
     a = float(np.min(np.arccosh(1 / lam - np.abs(layout.offset / layout.crank_radius))))
     result = compute_phasors(layout, min(int(np.ceil(36 / a)) + 20, 3000))
     theta = np.array([0.123, 1.0, 2.5, 4.4, 6.0])
-    k = result.orders[None, :]
+    k = result.phasors.orders[None, :]
     rebuilt = (
-        result.force_forward[None, :] * np.exp(1j * k * theta[:, None])
-        + result.force_backward[None, :] * np.exp(-1j * k * theta[:, None])
+        result.phasors.force_forward[None, :] * np.exp(1j * k * theta[:, None])
+        + result.phasors.force_backward[None, :] * np.exp(-1j * k * theta[:, None])
     ).sum(axis=1)
     direct = td.reciprocating_force_samples(layout, theta)
     np.testing.assert_allclose(rebuilt, direct, rtol=0, atol=1e-9 * _scale(layout))
@@ -226,13 +226,15 @@ def test_crank_angle_origin_changes_phases_only(layout, shift):
     b = compute_phasors(turned, ORDERS)
     tol = 1e-12 * _scale(layout)
     np.testing.assert_allclose(
-        b.force_forward, a.force_forward * np.exp(1j * ORDERS * delta), atol=tol
+        b.phasors.force_forward, a.phasors.force_forward * np.exp(1j * ORDERS * delta), atol=tol
     )
     np.testing.assert_allclose(
-        b.force_backward, a.force_backward * np.exp(-1j * ORDERS * delta), atol=tol
+        b.phasors.force_backward, a.phasors.force_backward * np.exp(-1j * ORDERS * delta), atol=tol
     )
-    np.testing.assert_allclose(np.abs(b.moment_forward), np.abs(a.moment_forward), atol=tol)
-    np.testing.assert_allclose(np.abs(b.roll), np.abs(a.roll), atol=tol)
+    np.testing.assert_allclose(
+        np.abs(b.phasors.moment_forward), np.abs(a.phasors.moment_forward), atol=tol
+    )
+    np.testing.assert_allclose(np.abs(b.phasors.roll), np.abs(a.phasors.roll), atol=tol)
 
 
 @given(layout=random_layouts(), seed=st.integers(0, 2**32 - 1))
@@ -242,7 +244,7 @@ def test_renumbering_cylinders_changes_nothing(layout, seed):
     b = compute_phasors(layout.reordered(order), ORDERS)
     tol = 1e-12 * _scale(layout)
     for name in ("force_forward", "force_backward", "moment_forward", "moment_backward", "roll"):
-        np.testing.assert_allclose(getattr(b, name), getattr(a, name), atol=tol)
+        np.testing.assert_allclose(getattr(b.phasors, name), getattr(a.phasors, name), atol=tol)
 
 
 @given(
@@ -260,10 +262,14 @@ def test_forces_scale_with_speed_squared_and_mass(layout, speed_factor, mass_fac
     b = compute_phasors(scaled, ORDERS)
     factor = speed_factor**2 * mass_factor
     tol = 1e-11 * _scale(layout) * factor
-    np.testing.assert_allclose(b.force_forward, a.force_forward * factor, atol=tol)
-    np.testing.assert_allclose(b.moment_backward, a.moment_backward * factor, atol=tol)
-    np.testing.assert_allclose(b.roll, a.roll * factor, atol=tol * 0.1)
-    assert abs(b.rotating_force - a.rotating_force * factor) <= tol + 1e-12 * abs(b.rotating_force)
+    np.testing.assert_allclose(b.phasors.force_forward, a.phasors.force_forward * factor, atol=tol)
+    np.testing.assert_allclose(
+        b.phasors.moment_backward, a.phasors.moment_backward * factor, atol=tol
+    )
+    np.testing.assert_allclose(b.phasors.roll, a.phasors.roll * factor, atol=tol * 0.1)
+    assert abs(b.phasors.rotating_force - a.phasors.rotating_force * factor) <= tol + 1e-12 * abs(
+        b.phasors.rotating_force
+    )
 
 
 @given(
@@ -280,7 +286,7 @@ def test_mirror_symmetric_crank_has_no_free_moments(half):
     banks = [b for _, b, _ in half] * 2
     z = [zz for _, _, zz in half] + [-zz for _, _, zz in half]
     n = len(throws)
-    layout = Layout(
+    layout = Engine(
         name="mirror",
         speed=600.0,
         throw=np.radians(throws),
@@ -296,8 +302,10 @@ def test_mirror_symmetric_crank_has_no_free_moments(half):
         pitch=0.1,
     )
     result = compute_phasors(layout, ORDERS)
-    assert np.all(result.moment_forward == 0) and np.all(result.moment_backward == 0)
-    assert result.rotating_moment == 0
+    assert np.all(result.phasors.moment_forward == 0) and np.all(
+        result.phasors.moment_backward == 0
+    )
+    assert result.phasors.rotating_moment == 0
 
 
 def test_exact_cancellation_is_reported_as_zero_not_noise():

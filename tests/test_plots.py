@@ -17,12 +17,17 @@ from helpers import engine, image_compare
 
 import balance
 from balance.core import sampled as timedomain
-from balance.core.analysis import balance_engine, compute, compute_phasors
+from balance.core.analysis import compute, compute_phasors
 from balance.core.engine import Engine
 from balance.core.errors import InputError
-from balance.core.result import Request, Result
+from balance.core.proposal import balance_engine
+from balance.core.result import Result
+from balance.io.request import build_request
 from balance.views import plots
 from balance.views import signals as synthesis
+
+#: The figure kinds of the bearing loads' section (balance.views.bearings).
+BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
 
 ORDERS = 40
 REL = 1e-9
@@ -30,7 +35,7 @@ REL = 1e-9
 
 def computed(layout: Engine, orders: int = 8, **settings: Any) -> Result:
     """The Result of orders 1 to ``orders`` (what the views read)."""
-    return compute(layout, Request.of(range(1, orders + 1), **settings))
+    return compute(layout, build_request(layout, range(1, orders + 1), **settings))
 
 
 @cache
@@ -256,12 +261,12 @@ def test_every_kind_draws_the_numbers_of_the_result(name):
     ds = balance.analyse(layout)
     kinds = [
         k
-        for k in plots.PLOT_KINDS
+        for k in plots.all_kinds()
         if (k != "balance" or synthesis.has_proposal(result))
-        and (k != "mounts" or result.mounts is not None)
-        and (k not in plots.BEARING_KINDS or result.bearings is not None)
+        and (k != "mounts" or result.part("mounts") is not None)
+        and (k not in BEARING_KINDS or result.part("bearings") is not None)
     ]
-    figures = {kind: plots.PLOT_KINDS[kind](result) for kind in kinds}
+    figures = {kind: plots.plot_kind(kind)(result) for kind in kinds}
     for kind, fig in figures.items():
         assert " ".join(result.engine.name.split()) in " ".join(fig.get_suptitle().split()), kind
         for axes in fig.axes:
@@ -385,13 +390,14 @@ def test_every_kind_draws_what_was_computed(options):
     full = analysed("v8-crossplane")
     result = computed(balance.load_layout("v8-crossplane"), **options)
     missing = set().union(*(READS[k] for k in READS if options.get(k) is False))
-    for kind, function in plots.PLOT_KINDS.items():
+    for kind in plots.all_kinds():
+        function = plots.plot_kind(kind)
         if kind == "balance" and not synthesis.has_proposal(result):
             continue
         if "model" in options:
             fig = function(result)
             _assert_same_figure(fig, function(full), rel=1e-9)
-            if kind in plots.GAS_KINDS + plots.BEARING_KINDS + ("mounts",):
+            if kind in plots.GAS_KINDS + BEARING_KINDS + ("mounts",):
                 assert plots.figure_bytes(fig, "png").startswith(b"\x89PNG")
             continue
         if missing and kind not in missing:
@@ -498,7 +504,7 @@ def test_save_plots_choices(tmp_path, monkeypatch):
     default = [
         k
         for k in plots.PLOT_KINDS
-        if k != "mounts" and k not in plots.BEARING_KINDS and k not in plots.GAS_KINDS
+        if k != "mounts" and k not in BEARING_KINDS and k not in plots.GAS_KINDS
     ]
     assert [p.name for p in written] == [f"i3-{kind}.png" for kind in default]
     gas = plots.save_plots(

@@ -14,7 +14,18 @@ import balance
 from balance.core.analysis import compute
 from balance.core.errors import InputError
 from balance.core.result import Request
-from balance.views.report import SECTIONS, accuracy_statement, render_report, write_report
+from balance.io.request import build_request
+from balance.views.report import SECTIONS as BASE_SECTIONS
+from balance.views.report import accuracy_statement, render_report, write_report
+
+#: The sections of a report of an analysis with or without its proposal, no mounts or
+#: bearing loads: those of every analysis, with the proposal's (which says when there is
+#: none) before the model.
+SECTIONS = (
+    *BASE_SECTIONS[:-1],
+    ("proposal", "Balancing proposal and residual"),
+    BASE_SECTIONS[-1],
+)
 
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = [
@@ -55,7 +66,9 @@ def computed(name: str, proposal: bool = True):
 
 @cache  # on positional arguments only: computed("x") and computed("x", proposal=True) are one
 def _computed(name: str, proposal: bool):
-    return compute(balance.load_layout(name), Request(proposal=proposal))
+    return compute(
+        balance.load_layout(name), build_request(balance.load_layout(name), proposal=proposal)
+    )
 
 
 def hostile(result):
@@ -141,7 +154,7 @@ def test_report_parses_and_has_every_section(name):
     result = reported(name)
     assert result.engine.name in body
     assert accuracy_statement(result) in body
-    assert f"model {result.phasors.model}" in body
+    assert f"model {result.model.name}" in body
 
 
 @pytest.mark.parametrize("name", list(REPORTED))
@@ -178,8 +191,8 @@ def test_tables_hold_the_result_numbers():
     p = result.phasors
     peak = format_number(float(abs(p.moment_forward[0]) + abs(p.moment_backward[0])))
     assert peak in body
-    assert result.balanced is not None
-    assert format_number(result.balanced.proposal.counterweights[0].mass) in body
+    assert result.part("proposal") is not None
+    assert format_number(result.part("proposal").proposal.counterweights[0].mass) in body
     assert "Counterweights" in body and "Residual with the proposal" in body
     assert "None needed." in body  # the V8's proposal has no balance shaft
 
@@ -218,9 +231,9 @@ def test_every_text_is_escaped():
     assert not any(tag in {"script", "img", "b"} for tag, _ in document.elements)
     assert "&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt; &amp; &lt;b&gt;" in text
     result = hostile(computed("inline-4"))  # with the proposal
-    assert result.balanced is not None
-    proposal = replace(result.balanced.proposal, notes=(HOSTILE_NOTE,))
-    result = replace(result, balanced=replace(result.balanced, proposal=proposal))
+    assert result.part("proposal") is not None
+    proposal = replace(result.part("proposal").proposal, notes=(HOSTILE_NOTE,))
+    result = result.with_part("proposal", replace(result.part("proposal"), proposal=proposal))
     text = render_report(result, figures=False)
     document = parse(text)
     assert_whole_page(document)
@@ -236,12 +249,16 @@ def test_every_text_is_escaped():
 
 def test_accuracy_statement_per_model():
     layout = balance.load_layout("inline-4")
-    series = accuracy_statement(compute(layout, Request(model="series", terms=2, proposal=False)))
+    series = accuracy_statement(
+        compute(layout, build_request(layout, model="series", terms=2, proposal=False))
+    )
     assert "2 terms" in series and "λ^3" in series
-    textbook = accuracy_statement(compute(layout, Request(model="textbook", proposal=False)))
+    textbook = accuracy_statement(
+        compute(layout, build_request(layout, model="textbook", proposal=False))
+    )
     assert "cos 2β" in textbook and "orders 4, 6" in textbook
     assert "machine precision" in accuracy_statement(computed("inline-4"))
-    time = accuracy_statement(compute(layout, Request(model="time", proposal=False)))
+    time = accuracy_statement(compute(layout, build_request(layout, model="time", proposal=False)))
     assert "crank angles per revolution" in time
 
 

@@ -11,11 +11,11 @@ import pytest
 
 import balance
 from balance.core.analysis import compute
+from balance.core.phasors import phase_deg
 from balance.core.result import Request
 from balance.views.csv import to_csv
 from balance.views.dataset import build_dataset
 from balance.views.json import to_dict
-from balance.views.polar import phase_deg
 
 HEAVY = ("xarray", "pandas", "pint", "matplotlib")
 
@@ -57,9 +57,11 @@ def test_dataset_uses_the_stored_references(result, ds):
 def test_dataset_reports_the_gas_roll_of_the_result():
     result = compute(balance.load_layout("inline-4-gas"), Request())
     ds = build_dataset(result)
-    assert result.torque is not None and result.residual_roll is not None
+    assert result.part("torque") is not None and result.part("proposal").residual_roll is not None
     np.testing.assert_array_equal(ds.roll_order.values, result.roll_orders)
-    np.testing.assert_array_equal(ds.residual_roll_amplitude.values, np.abs(result.residual_roll))
+    np.testing.assert_array_equal(
+        ds.residual_roll_amplitude.values, np.abs(result.part("proposal").residual_roll)
+    )
     assert "with gas forces" in ds.roll_amplitude.attrs["long_name"]
 
 

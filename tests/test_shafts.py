@@ -20,15 +20,16 @@ from hypothesis import given, settings
 from test_phasors import random_layouts
 from typer.testing import CliRunner
 
-from balance.api import Layout, load_layout
+from balance.api import Engine, load_layout
 from balance.cli import app
 from balance.core import sampled as td
-from balance.core.analysis import balance_engine, compute, compute_phasors
+from balance.core.analysis import compute, compute_phasors
 from balance.core.balancing import SHAFT_CLEARANCE, Proposal
 from balance.core.engine import ShaftPosition
 from balance.core.errors import LayoutError
-from balance.core.result import Request
+from balance.core.proposal import balance_engine
 from balance.io.layout_file import expand_layout, layout_from_text
+from balance.io.request import build_request
 from balance.views.report import render_report
 
 ORDERS = np.arange(1, 5)
@@ -36,14 +37,14 @@ K2 = 1  # index of order 2 in ORDERS
 runner = CliRunner()
 
 
-def _sampled_roll(layout: Layout, proposal: Proposal) -> np.ndarray:
+def _sampled_roll(layout: Engine, proposal: Proposal) -> np.ndarray:
     """Roll phasors of the engine (Newton-Euler) and the shafts (sampled forces) together."""
     theta = td.crank_angles(256)
     torque = td.roll_newton_euler(layout, theta) + td.proposal_roll_samples(proposal, layout, theta)
     return td.roll_phasors_from_samples(torque, ORDERS)
 
 
-def _sampled_force(layout: Layout, proposal: Proposal) -> tuple[np.ndarray, np.ndarray]:
+def _sampled_force(layout: Engine, proposal: Proposal) -> tuple[np.ndarray, np.ndarray]:
     """Forward and backward phasors of the whole free force with every proposed mass."""
     theta = td.crank_angles(256)
     force = (
@@ -54,12 +55,12 @@ def _sampled_force(layout: Layout, proposal: Proposal) -> tuple[np.ndarray, np.n
     return td.phasors_from_samples(force, ORDERS)
 
 
-def _roll_unit(layout: Layout) -> float:
+def _roll_unit(layout: Engine) -> float:
     """m_rec r^2 w^2 of the largest cylinder [N m]."""
     return float(np.max(layout.reciprocating_mass * layout.crank_radius**2) * layout.speed**2)
 
 
-def _balanced(layout: Layout, **options):
+def _balanced(layout: Engine, **options):
     return balance_engine(layout, compute_phasors(layout, ORDERS), **options)
 
 
@@ -81,12 +82,12 @@ def test_default_pair_adds_second_order_roll_the_engine_does_not_have(name):
     balanced = balance_engine(layout, result)
     sampled = _sampled_roll(layout, balanced.proposal)
     unit = _roll_unit(layout)
-    assert result.roll[K2] == 0.0
-    f2 = abs(result.force_forward[K2]) + abs(result.force_backward[K2])
+    assert result.phasors.roll[K2] == 0.0
+    f2 = abs(result.phasors.force_forward[K2]) + abs(result.phasors.force_backward[K2])
     r = float(np.mean(layout.crank_radius))
     expected = 2 * math.sqrt(2) * r * f2
-    assert abs(balanced.roll[K2]) == pytest.approx(expected, rel=1e-12)
-    assert abs(sampled[K2] - balanced.roll[K2]) <= 1e-9 * unit
+    assert abs(balanced.residual.roll[K2]) == pytest.approx(expected, rel=1e-12)
+    assert abs(sampled[K2] - balanced.residual.roll[K2]) <= 1e-9 * unit
     assert (
         f"order 2: the balance shafts raise the roll from 0 to {expected:.4g} N m"
         in (balanced.proposal.notes[0])
@@ -103,7 +104,7 @@ def test_cancel_roll_cancels_the_pairs_own_roll(name):
     layout = load_layout(name)
     balanced = _balanced(layout, cancel_roll=True)
     proposal = balanced.proposal
-    assert balanced.roll[K2] == 0.0
+    assert balanced.residual.roll[K2] == 0.0
     assert abs(_sampled_roll(layout, proposal)[K2]) <= 1e-9 * _roll_unit(layout)
     fwd, bwd = _sampled_force(layout, proposal)
     f1 = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
@@ -157,7 +158,7 @@ def test_placement_does_not_depend_on_the_crank_angle_origin(name, shift):
         assert abs(sa.x - sb.x) <= 1e-9 * scale and abs(sa.y - sb.y) <= 1e-9 * scale
         assert abs(sa.total_unbalance) == pytest.approx(abs(sb.total_unbalance), rel=1e-9)
     np.testing.assert_allclose(
-        np.abs(a.roll), np.abs(b.roll), rtol=0, atol=1e-9 * _roll_unit(layout)
+        np.abs(a.residual.roll), np.abs(b.residual.roll), rtol=0, atol=1e-9 * _roll_unit(layout)
     )
 
 
@@ -176,7 +177,7 @@ def test_one_shaft_cannot_cancel_roll_near_the_crank_axis():
     assert notes[2].startswith("order 2: shafts placed to cancel the roll")
     sampled = _sampled_roll(layout, balanced.proposal)
     assert abs(sampled[K2]) <= 1e-9 * _roll_unit(layout)
-    assert abs(sampled[0] - balanced.roll[0]) <= 1e-9 * _roll_unit(layout)
+    assert abs(sampled[0] - balanced.residual.roll[0]) <= 1e-9 * _roll_unit(layout)
 
 
 def test_a_shaft_placed_beyond_the_crank_trains_reach_is_noted():
@@ -208,8 +209,8 @@ def test_shafts_carrying_pure_couples_cannot_move_the_roll():
         "order 2: the shafts carry pure couples (no net force)"
     )
     result = compute_phasors(layout, ORDERS)
-    assert abs(balanced.roll[K2]) == pytest.approx(abs(result.roll[K2]), rel=1e-12)
-    assert abs(result.roll[K2]) > 0.1 * _roll_unit(layout)
+    assert abs(balanced.residual.roll[K2]) == pytest.approx(abs(result.phasors.roll[K2]), rel=1e-12)
+    assert abs(result.phasors.roll[K2]) > 0.1 * _roll_unit(layout)
 
 
 @settings(max_examples=30)
@@ -273,7 +274,7 @@ def test_fixed_shafts_as_in_the_contract():
     f1 = 0.55 * 0.043 * layout.speed**2
     assert abs(fwd[K2]) <= 1e-9 * f1 and abs(bwd[K2]) <= 1e-9 * f1
     sampled = _sampled_roll(layout, fixed.proposal)
-    np.testing.assert_allclose(fixed.roll, sampled, rtol=0, atol=1e-9 * _roll_unit(layout))
+    np.testing.assert_allclose(fixed.residual.roll, sampled, rtol=0, atol=1e-9 * _roll_unit(layout))
     assert fixed.proposal.notes == ()  # equal heights, symmetric: the roll is the engine's
 
 
@@ -304,8 +305,10 @@ def test_fixed_shafts_say_what_they_leave():
     assert "the shaft at +3 in balance.shafts carries nothing" in notes[2]
     assert "order 3 is not among the orders to cancel (1, 2)" in notes[2]
     fwd, bwd = _sampled_force(layout, balanced.proposal)
-    assert abs(fwd[K2]) <= 1e-9 * abs(result.force_forward[K2])
-    assert abs(bwd[K2] - result.force_backward[K2]) <= 1e-9 * abs(result.force_backward[K2])
+    assert abs(fwd[K2]) <= 1e-9 * abs(result.phasors.force_forward[K2])
+    assert abs(bwd[K2] - result.phasors.force_backward[K2]) <= 1e-9 * abs(
+        result.phasors.force_backward[K2]
+    )
 
 
 def test_fixed_lateral_positions_heights_chosen_for_roll():
@@ -337,8 +340,8 @@ def test_fully_fixed_shafts_are_not_moved_and_worse_roll_is_noted():
     balanced = _balanced(layout, cancel_roll=True, fixed_shafts=fixed)
     assert [(s.x, s.y) for s in balanced.proposal.shafts] == [(-0.07, -0.08), (0.07, -0.08)]
     sampled = _sampled_roll(layout, balanced.proposal)
-    assert abs(sampled[K2] - balanced.roll[K2]) <= 1e-9 * _roll_unit(layout)
-    amplitude = abs(balanced.roll[K2])
+    assert abs(sampled[K2] - balanced.residual.roll[K2]) <= 1e-9 * _roll_unit(layout)
+    amplitude = abs(balanced.residual.roll[K2])
     assert amplitude > 100.0
     notes = balanced.proposal.notes
     assert notes[0].startswith("order 2: the shaft axes are all given in balance.shafts")
@@ -418,7 +421,10 @@ def test_cli_notes_in_table_json_and_report():
         "order 2: the balance shafts raise the roll from 0 to 574.9 N m"
     )
     # the report command's text without its figures (the figures take seconds to draw)
-    html = render_report(compute(load_layout("v-twin-90"), Request.of([1, 2])), figures=False)
+    html = render_report(
+        compute(load_layout("v-twin-90"), build_request(load_layout("v-twin-90"), [1, 2])),
+        figures=False,
+    )
     note = "order 2: the balance shafts raise the roll from 0 to 574.9"
     assert f'<ul class="note notes"><li>{note}' in html
     placed = json.loads(
@@ -462,7 +468,7 @@ def test_cli_fixed_shafts_in_json_and_table(tmp_path):
     layout = layout_from_text(text)
     core = balance_engine(layout, compute_phasors(layout, np.arange(1, 3)))
     assert proposal["residual"]["roll"][1]["amplitude"] == pytest.approx(
-        abs(core.roll[1]), rel=1e-12
+        abs(core.residual.roll[1]), rel=1e-12
     )
     table = run("propose", str(path), "--orders", "1-2")
     assert table.exit_code == 0, table.stderr

@@ -18,6 +18,7 @@ from typer.testing import CliRunner
 
 import balance
 from balance.cli import app
+from balance.io.request import build_request
 from balance.views.fitted import Column, NumberTable
 from balance.views.table import format_number
 
@@ -222,12 +223,14 @@ def test_titles_do_not_wrap_and_headers_carry_units():
     """At 80 columns each table's title is one line of its own; every column of a quantity
     has its unit (the counterweights and shafts printed bare z, mass, radius, x, y)."""
     from balance.core.analysis import compute
-    from balance.core.result import Request
     from balance.views.table import render
 
     text = run("analyse", "boxer-2", "--bearings", columns=80)
     lines = {line.strip() for line in text.splitlines()}
-    result = compute(balance.load_layout("boxer-2"), Request.of(range(1, 9), bearings=True))
+    result = compute(
+        balance.load_layout("boxer-2"),
+        build_request(balance.load_layout("boxer-2"), range(1, 9), bearings=True),
+    )
     titles = [part.title for part in render(result).renderables if isinstance(part, NumberTable)]
     assert len(titles) == 10  # forces, moments, roll, cylinders, proposal (3), bearings (3)
     for title in titles:

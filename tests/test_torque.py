@@ -153,7 +153,7 @@ def test_inertia_only_roll_equals_the_core_roll(name):
         crankcase_pressure=1e5,
     )
     result = compute_torque(dataclasses.replace(layout, gas=flat), ORDERS)
-    core = compute_phasors(layout, ORDERS).roll
+    core = compute_phasors(layout, ORDERS).phasors.roll
     scale = float(np.max(layout.reciprocating_mass * layout.crank_radius**2) * layout.speed**2)
     integer = np.isclose(result.roll_orders, np.round(result.roll_orders))
     np.testing.assert_allclose(result.roll[integer], core, rtol=0, atol=1e-9 * scale)

@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
-from balance.core.phasors import rounding_threshold
+from balance.core.phasors import Phasors, rounding_threshold
 from balance.core.speed import speed_squared
 
 __all__ = [
@@ -47,7 +47,6 @@ __all__ = [
     "BalanceShaft",
     "Counterweight",
     "Proposal",
-    "ProposalPhasors",
     "balance_factor_study",
     "counterweight_targets",
     "group_least",
@@ -149,17 +148,6 @@ class Proposal:
     def is_empty(self) -> bool:
         """True when nothing is proposed."""
         return not self.counterweights and not self.shafts
-
-
-@dataclass(frozen=True)
-class ProposalPhasors:
-    """Phasors of the proposed masses, per order (same layout as the analysis)."""
-
-    force_forward: ComplexArray
-    force_backward: ComplexArray
-    moment_forward: ComplexArray
-    moment_backward: ComplexArray
-    roll: ComplexArray
 
 
 def _deg(z: complex) -> float:
@@ -835,8 +823,23 @@ def _roll_increase_notes(
 
 def proposal_phasors(
     proposal: Proposal, layout: Engine, orders: Sequence[int] | NDArray[np.integer]
-) -> ProposalPhasors:
-    """Forward and backward phasors of every proposed mass, and their roll, per order."""
+) -> Phasors:
+    """Forward and backward phasors of every proposed mass, and their roll, per order.
+
+    Parameters
+    ----------
+    proposal : Proposal
+        The counterweights and shafts.
+    layout : Engine
+        The engine (its speed and ``reference_z``).
+    orders : sequence of int
+        The orders.
+
+    Returns
+    -------
+    Phasors
+        Force and moment [N, N m] and roll [N m] per order (no rotating part of its own).
+    """
     ks = np.asarray(orders, dtype=np.intp).ravel()
     w2 = float(speed_squared(layout.speed))
     z_ref = layout.reference_z
@@ -858,7 +861,7 @@ def proposal_phasors(
                 fb[at] += force
                 mb[at] += (plane_z - z_ref) * force
     roll = shaft_roll_phasors(proposal.shafts, layout.speed, ks)
-    return ProposalPhasors(ff, fb, mf, mb, roll)
+    return Phasors(ks, ff, fb, mf, mb, roll=roll)
 
 
 def _residual_first_order(

@@ -8,18 +8,18 @@ never sees a unit string or an impossible value.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from balance.core.errors import InputError
 
-if TYPE_CHECKING:  # pragma: no cover (annotations only: gas and mounts load when used)
+if TYPE_CHECKING:  # pragma: no cover (annotations only: gas loads when used)
     from balance.core.gas import GasInput
     from balance.core.masses import MassParts
-    from balance.core.mounts import MountSystem
 
 __all__ = [
     "CYLINDER_FIELDS",
@@ -198,12 +198,11 @@ class Engine:
     mass_parts : MassParts or None
         The parts behind the lumped masses of a by-part layout (None for lumped masses), so
         that a sweep of a part or of the conrod length lumps them again.
-    mounts : MountSystem or None
-        The powertrain on its mounts (a ``mounts:`` section or ``--mounts FILE``,
-        :mod:`balance.core.mounts`); None when not given.
-    mains : tuple of float or None
-        Main-bearing positions [m] of a ``bearings:`` section, strictly increasing; None for
-        the default mains (:func:`balance.core.bearings.engine_default_mains`).
+    sections : mapping of str to object
+        What the layout file's concern sections say, read and checked, by the section's
+        name (:mod:`balance.core.sections`): the main-bearing positions of ``bearings:``,
+        the mount system of ``mounts:``.  A section present here turns its concern on
+        (:func:`balance.io.request.build_request`).
     links : Links or None
         Articulated rods (:class:`Links`); None when every rod runs on its crank pin.
     """
@@ -231,9 +230,16 @@ class Engine:
     balance: BalanceSettings | None = None
     gas: GasInput | None = field(default=None, repr=False)
     mass_parts: MassParts | None = field(default=None, repr=False)
-    mounts: MountSystem | None = field(default=None, repr=False)
-    mains: tuple[float, ...] | None = None
+    sections: Mapping[str, Any] = field(default_factory=dict, repr=False)
     links: Links | None = field(default=None, repr=False)
+
+    def section(self, name: str) -> Any:
+        """What the layout's section ``name`` says (None when it has none)."""
+        return self.sections.get(name)
+
+    def with_section(self, name: str, value: Any) -> Engine:
+        """The same engine with the layout section ``name`` given (or replaced) as ``value``."""
+        return replace(self, sections={**self.sections, name: value})
 
     @property
     def n_cylinders(self) -> int:

@@ -10,14 +10,33 @@ engine has gas forces, whose orders may be halves).  :func:`mounts_of` solves th
 
 from __future__ import annotations
 
-import numpy as np
-from numpy.typing import NDArray
+from dataclasses import dataclass
+from typing import Any
 
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from balance.core.catalogue import Output
 from balance.core.errors import InputError
-from balance.core.mounts import MountsResult, MountSystem, mount_response
+from balance.core.mounts import (
+    COORDINATES,
+    MountsResult,
+    MountSystem,
+    mount_response,
+    speed_sweep,
+)
 from balance.core.result import Result
 
-__all__ = ["OrderLoads", "mounts_of", "order_loads"]
+__all__ = [
+    "FIGURE_SPEEDS",
+    "OUTPUTS",
+    "MountsPart",
+    "OrderLoads",
+    "figure_speeds",
+    "mounts_of",
+    "mounts_part",
+    "order_loads",
+]
 
 ComplexArray = NDArray[np.complex128]
 FloatArray = NDArray[np.float64]
@@ -47,29 +66,24 @@ def order_loads(result: Result, with_proposal: bool = False) -> OrderLoads:
     InputError
         Without the moments or the roll, or without a proposal for ``with_proposal``.
     """
-    p = result.phasors
     if not result.has_moments or result.roll is None:
         raise InputError(
-            "the response on the mounts needs the free moments and the roll "
-            "(do not give --no-moments or --no-roll with mounts)"
+            "the response on the mounts needs the free moments and the roll: "
+            "analyse with both to put the engine on its mounts"
         )
-    force_orders = np.asarray(p.orders, dtype=np.float64)
-    first = (force_orders == 1).astype(np.float64)
+    force_orders = np.asarray(result.phasors.orders, dtype=np.float64)
     if with_proposal:
-        b = result.balanced
-        if b is None or result.residual_roll is None:
+        proposal = result.part("proposal")
+        if proposal is None:
             raise InputError(
-                "--with-proposal: there is no proposal to put on the mounts "
-                "(do not give --no-proposal with --with-proposal)"
+                "the mounts loaded with the proposal need a proposal: "
+                "analyse with the proposal to put it on the mounts"
             )
-        ff, fb, mf, mb = b.force_forward, b.force_backward, b.moment_forward, b.moment_backward
-        roll = result.residual_roll
+        loads, roll = proposal.residual, proposal.residual_roll
     else:
-        ff = p.force_forward + first * p.rotating_force
-        fb = p.force_backward
-        mf = p.moment_forward + first * p.rotating_moment
-        mb = p.moment_backward
-        roll = result.roll
+        loads, roll = result.phasors.free(), result.roll
+    ff, fb = loads.force_forward, loads.force_backward
+    mf, mb = loads.moment_forward, loads.moment_backward
     roll_orders = np.asarray(result.roll_orders, dtype=np.float64)
     orders = np.union1d(force_orders, roll_orders)
     at_force = np.searchsorted(orders, force_orders)
@@ -94,8 +108,8 @@ def require_mounts(system: MountSystem | None, name: str) -> MountSystem:
     """The engine's mount system, or an :class:`InputError` that says how to give one."""
     if system is None:
         raise InputError(
-            f"layout '{name}' has no mounts: section (asked by --on-mounts or balance mounts); "
-            "add one or give --mounts FILE"
+            f"layout '{name}' has no mounts: section, so the engine on its mounts cannot "
+            "be computed; add one (docs/mounts.md) or give a mounts file"
         )
     return system
 
@@ -106,7 +120,8 @@ def mounts_of(result: Result, with_proposal: bool = False) -> MountsResult:
     Parameters
     ----------
     result : Result
-        An analysis of an engine with a mount system (:attr:`Engine.mounts`).
+        An analysis of an engine with a mount system (its ``mounts`` section,
+        :meth:`balance.core.engine.Engine.section`).
     with_proposal : bool
         Load the mounts with the residual (the proposal added).
 
@@ -115,7 +130,7 @@ def mounts_of(result: Result, with_proposal: bool = False) -> MountsResult:
     MountsResult
     """
     engine = result.engine
-    system = require_mounts(engine.mounts, engine.name)
+    system = require_mounts(engine.section("mounts"), engine.name)
     orders, ff, fb, mf, mb, roll = order_loads(result, with_proposal)
     return mount_response(
         system,
@@ -135,11 +150,149 @@ def mounts_of(result: Result, with_proposal: bool = False) -> MountsResult:
 def gas_roll(result: Result, orders: FloatArray) -> ComplexArray | None:
     """The gas torque's reaction in the roll, per order of ``orders`` [N m] (None without
     gas): the roll with gas forces less the inertia roll on the integer orders."""
-    if result.torque is None or result.roll is None:
+    if result.part("torque") is None or result.roll is None:
         return None
     total = np.zeros(orders.size, dtype=np.complex128)
     total[np.searchsorted(orders, result.roll_orders)] = result.roll
     p = result.phasors
     at = np.searchsorted(orders, np.asarray(p.orders, dtype=np.float64))
+    assert p.roll is not None  # the roll was asked for, so was its inertia part
     total[at] -= p.roll
     return total
+
+
+# --------------------------------------------------------------------------- the section
+
+
+@dataclass(frozen=True)
+class MountsPart:
+    """The ``mounts`` section's part of a result.
+
+    Attributes
+    ----------
+    response : MountsResult
+        Modes and the response per order at the analysis speed.
+    sweep : MountsResult or None
+        The same response over the speeds asked for (:func:`balance.core.mounts.speed_sweep`),
+        None when none were asked.
+    """
+
+    response: MountsResult
+    sweep: MountsResult | None = None
+
+
+#: The speeds of the mount-force figure, as fractions of the analysis speed, and their
+#: number: 0.15 to 1.3 times, 231 speeds.
+FIGURE_SPEEDS = (0.15, 1.3, 231)
+
+
+def figure_speeds(speed: float) -> FloatArray:
+    """The speeds [rad/s] the mount-force figure draws for an analysis at ``speed``."""
+    low, high, count = FIGURE_SPEEDS
+    return np.linspace(low * speed, high * speed, count)
+
+
+def mounts_part(
+    engine: Any,
+    request: Any,
+    result: Result,
+    *,
+    with_proposal: bool = False,
+    speeds: ArrayLike | str | None = None,
+) -> Result:
+    """The ``mounts`` section (:mod:`balance.core.sections`): the engine's response on its
+    mounts (:func:`mounts_of`), and over ``speeds`` [rad/s] when given (``"figure"``: those
+    of the mount-force figure, :func:`figure_speeds`)."""
+    response = mounts_of(result, with_proposal)
+    sweep = None
+    if isinstance(speeds, str):
+        speeds = figure_speeds(float(result.engine.speed))
+    if speeds is not None:
+        sweep = speed_sweep(response, np.asarray(speeds, dtype=np.float64))
+    return result.with_part("mounts", MountsPart(response, sweep))
+
+
+def _response(result: Any) -> MountsResult:
+    part: MountsPart = result.part("mounts")
+    return part.response
+
+
+def _output(name: str, dims: tuple[str, ...], units: str, long_name: str, get: Any) -> Output:
+    return Output(name, dims, units, long_name, lambda r: get(_response(r)))
+
+
+def _coordinate(name: str, long_name: str, get: Any) -> Output:
+    return Output(name, (name,), "1", long_name, lambda r: get(_response(r)), kind="coord")
+
+
+#: The outputs of the ``mounts`` section.
+OUTPUTS: tuple[Output, ...] = (
+    _output(
+        "mount_mode_frequency",
+        ("mount_mode",),
+        "Hz",
+        "undamped rigid-body mode frequency on the mounts",
+        lambda m: m.modes.frequency,
+    ),
+    _output(
+        "mount_mode_energy_share",
+        ("mount_mode", "mount_coordinate"),
+        "1",
+        "share of the mode's kinetic energy per CG coordinate",
+        lambda m: m.modes.energy_share,
+    ),
+    _output(
+        "mount_cg_translation",
+        ("mount_order", "axis"),
+        "m",
+        "amplitude of the CG translation",
+        lambda m: m.translation,
+    ),
+    _output(
+        "mount_rotation",
+        ("mount_order", "axis"),
+        "rad",
+        "amplitude of the rotation about axes through the CG",
+        lambda m: m.rotation,
+    ),
+    _output(
+        "mount_force",
+        ("mount_order", "mount", "axis"),
+        "N",
+        "amplitude of the force each mount passes on, engine axes",
+        lambda m: m.force_amplitude,
+    ),
+    _output(
+        "mount_force_peak",
+        ("mount_order", "mount"),
+        "N",
+        "largest magnitude of each mount's force over a cycle",
+        lambda m: m.force_peak,
+    ),
+    _output(
+        "mount_force_max",
+        (),
+        "N",
+        "largest force of any mount and order at the analysis speed",
+        lambda m: float(np.max(m.largest_force)),
+    ),
+    _output(
+        "torque_roll_axis",
+        ("axis",),
+        "1",
+        "direction of the torque-roll axis through the CG",
+        lambda m: m.roll_axis,
+    ),
+    _output(
+        "mount_distance_to_torque_roll_axis",
+        ("mount",),
+        "m",
+        "distance of each mount from the torque-roll axis",
+        lambda m: m.axis_distance,
+    ),
+    _coordinate("mount_mode", "rigid-body mode number", lambda m: np.arange(1, 7)),
+    _coordinate("mount_coordinate", "CG coordinate", lambda m: list(COORDINATES)),
+    _coordinate("mount_order", "order of the mount response", lambda m: np.asarray(m.orders)),
+    _coordinate("mount", "mount number", lambda m: np.arange(1, m.system.n_mounts + 1)),
+    _coordinate("axis", "engine axis", lambda m: ["x", "y", "z"]),
+)

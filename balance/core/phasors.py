@@ -19,19 +19,24 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from dataclasses import dataclass, replace
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "CANCELLATION_FACTOR",
+    "QUANTITIES",
+    "Phasors",
     "cancel_to_zero",
+    "phase_deg",
     "reciprocating_force_and_moment",
     "reciprocating_phasors",
     "roll_phasors",
     "rotating_phasor",
     "rounding_threshold",
+    "safe_ratio",
     "sum_over_cylinders",
     "weighted_phasor_sum",
 ]
@@ -397,3 +402,203 @@ def roll_phasors(
     return _complex_dot(
         [(a_rec, u_rec.real, u_rec.imag), (a_rod, u_rod.real, u_rod.imag)], scale, 2 * n
     )
+
+
+#: The two quantities a :class:`Phasors` bundle holds per order.
+QUANTITIES = ("force", "moment")
+Quantity = Literal["force", "moment"]
+
+
+def phase_deg(phasor: ArrayLike) -> FloatArray:
+    """Phase of complex phasors in degrees, in [0, 360), to 1e-9 deg; 0 where the
+    magnitude is 0, NaN where the phasor is NaN (not computed).
+
+    Rounded to 1e-9 deg so that rounding noise (1e-14 deg) does not show as a phase.
+    """
+    z = np.asarray(phasor, dtype=np.complex128)
+    deg = np.round(np.mod(np.degrees(np.angle(z)), 360.0), 9)
+    deg = np.where(deg >= 360.0, 0.0, deg)
+    deg = np.where(np.abs(z) == 0.0, 0.0, deg)
+    deg = np.where(np.isnan(z), np.nan, deg)
+    return np.asarray(deg + 0.0, dtype=np.float64)  # + 0.0 turns -0.0 into 0.0
+
+
+def safe_ratio(values: Any, scale: float) -> Any:
+    """``values / scale``: NaN where the scale is zero or not finite, and inf (without a
+    warning) where the ratio lies beyond the float range (a normalising force of a few
+    1e-300 N, as a layout with a 1e-308 kg piston has)."""
+    if not math.isfinite(scale) or scale == 0.0:
+        return np.full(np.shape(values), np.nan)
+    with np.errstate(over="ignore"):
+        return np.asarray(values) / scale
+
+
+@dataclass(frozen=True, eq=False)
+class Phasors:
+    r"""Forward and backward phasors per order of a force and its moment, and the roll.
+
+    The one bundle of phasors in balance: the free forces of an analysis, the masses a
+    proposal adds, the residual, a sweep's grid and a tolerance study's samples are each
+    one :class:`Phasors`.  Leading axes (a grid of engines, or cylinders) broadcast;
+    the orders are on the last axis.
+
+    Attributes
+    ----------
+    orders : ndarray of int
+        The K orders, ascending.
+    force_forward, force_backward : ndarray of complex
+        :math:`P_k^{+}` and :math:`P_k^{-}` of the force, shape ``(..., K)`` [N].
+    moment_forward, moment_backward : ndarray of complex or None
+        The same of the moment about ``reference_z`` [N m]; None when not computed.
+    rotating_force, rotating_moment : ndarray of complex or complex
+        The order-1 forward phasor of the rotating (centrifugal) masses, shape ``(...)``,
+        kept apart from the reciprocating ``force_forward`` (0 where the bundle has no
+        rotating masses of its own; ``rotating_moment`` None without moments).
+    roll : ndarray of complex or None
+        Roll phasors :math:`R_k` per order, shape ``(..., K)`` [N m]; None when not
+        computed.
+
+    Notes
+    -----
+    Order k of a quantity is :math:`P_k^{+} e^{ik\theta} + P_k^{-} e^{-ik\theta}`
+    (docs/conventions.md, "Phasors"); its peak over a revolution is
+    :math:`|P_k^{+}| + |P_k^{-}|` (:meth:`peak`), and the whole free force adds the
+    rotating masses to order 1 forward (:meth:`free`).
+    """
+
+    orders: NDArray[np.intp]
+    force_forward: ComplexArray
+    force_backward: ComplexArray
+    moment_forward: ComplexArray | None = None
+    moment_backward: ComplexArray | None = None
+    rotating_force: ComplexArray | complex = 0j
+    rotating_moment: ComplexArray | complex | None = None
+    roll: ComplexArray | None = None
+
+    def has(self, quantity: Quantity) -> bool:
+        """Whether the bundle holds ``quantity`` ('force' or 'moment')."""
+        return self.pair(quantity)[0] is not None
+
+    def pair(self, quantity: Quantity) -> tuple[Any, Any]:
+        """The forward and backward phasors of ``quantity`` ('force' or 'moment'), each
+        None when not computed."""
+        if quantity == "force":
+            return self.force_forward, self.force_backward
+        if quantity == "moment":
+            return self.moment_forward, self.moment_backward
+        raise ValueError(f"quantity must be one of {', '.join(QUANTITIES)}, got {quantity!r}")
+
+    def rotating(self, quantity: Quantity) -> Any:
+        """The rotating masses' order-1 forward phasor of ``quantity`` (None: not computed)."""
+        self.pair(quantity)  # checks the name
+        return self.rotating_force if quantity == "force" else self.rotating_moment
+
+    def free(self) -> Phasors:
+        r"""The whole free force and moment: the rotating masses added to order 1 forward.
+
+        :math:`P_1^{+} + P_{rot}`; the result's rotating phasors are 0 (they are inside).
+        This is the one place where "free = reciprocating + rotating at order 1" is
+        written.
+        """
+        first = (self.orders == 1).astype(np.float64)
+
+        def add(forward: Any, rotating: Any) -> Any:
+            if forward is None or rotating is None:
+                return forward
+            return forward + first * np.asarray(rotating)[..., None]
+
+        return replace(
+            self,
+            force_forward=add(self.force_forward, self.rotating_force),
+            moment_forward=add(self.moment_forward, self.rotating_moment),
+            rotating_force=np.zeros_like(np.asarray(self.rotating_force)),
+            rotating_moment=None
+            if self.rotating_moment is None
+            else np.zeros_like(np.asarray(self.rotating_moment)),
+        )
+
+    def magnitude(self, quantity: Quantity) -> FloatArray:
+        """:math:`|P^{+}|` and :math:`|P^{-}|` of ``quantity``, shape ``(..., K, 2)``."""
+        forward, backward = self._computed(quantity)
+        return np.abs(np.stack([forward, backward], axis=-1))
+
+    def peak(self, quantity: Quantity) -> FloatArray:
+        r"""Peak of ``quantity`` over a revolution, per order: :math:`|P^{+}| + |P^{-}|`
+        [N or N m].  The one place where a peak is formed."""
+        forward, backward = self._computed(quantity)
+        return np.asarray(np.abs(forward) + np.abs(backward), dtype=np.float64)
+
+    def phase(self, quantity: Quantity) -> FloatArray:
+        """Phases of :math:`P^{+}` and :math:`P^{-}` at crank angle 0 [deg], shape
+        ``(..., K, 2)`` (:func:`phase_deg`)."""
+        forward, backward = self._computed(quantity)
+        return phase_deg(np.stack([forward, backward], axis=-1))
+
+    def normalised(self, values: ArrayLike, reference: float) -> Any:
+        """``values`` (a magnitude or peak of this bundle) per ``reference`` (NaN without
+        one, :func:`safe_ratio`)."""
+        return safe_ratio(values, reference)
+
+    def scaled(self, factor: ArrayLike) -> Phasors:
+        r"""Every phasor times ``factor`` (:math:`\omega^2` for a bundle formed at unit
+        speed).  ``factor`` broadcasts against the leading axes with a trailing axis of
+        size one for the orders (its last entry along that axis scales the rotating
+        phasors)."""
+        f = np.asarray(factor, dtype=np.float64)
+        f_scalar = f[..., 0] if f.ndim else f
+
+        def times(value: Any, by: Any) -> Any:
+            return None if value is None else value * by
+
+        return replace(
+            self,
+            force_forward=times(self.force_forward, f),
+            force_backward=times(self.force_backward, f),
+            moment_forward=times(self.moment_forward, f),
+            moment_backward=times(self.moment_backward, f),
+            rotating_force=times(self.rotating_force, f_scalar),
+            rotating_moment=times(self.rotating_moment, f_scalar),
+            roll=times(self.roll, f),
+        )
+
+    def __add__(self, other: Phasors) -> Phasors:
+        """The sum of two bundles over the same orders (what is None in either is None)."""
+        if not np.array_equal(self.orders, other.orders):
+            raise ValueError("phasors of different orders cannot be added")
+
+        def plus(a: Any, b: Any) -> Any:
+            return None if a is None or b is None else a + b
+
+        return Phasors(
+            orders=self.orders,
+            force_forward=plus(self.force_forward, other.force_forward),
+            force_backward=plus(self.force_backward, other.force_backward),
+            moment_forward=plus(self.moment_forward, other.moment_forward),
+            moment_backward=plus(self.moment_backward, other.moment_backward),
+            rotating_force=plus(self.rotating_force, other.rotating_force),
+            rotating_moment=plus(self.rotating_moment, other.rotating_moment),
+            roll=plus(self.roll, other.roll),
+        )
+
+    def at(self, orders: ArrayLike) -> Phasors:
+        """The bundle at some of its orders (each must be one of :attr:`orders`)."""
+        pick = np.searchsorted(self.orders, np.asarray(orders, dtype=np.intp))
+
+        def take(value: Any) -> Any:
+            return None if value is None else value[..., pick]
+
+        return replace(
+            self,
+            orders=self.orders[pick],
+            force_forward=take(self.force_forward),
+            force_backward=take(self.force_backward),
+            moment_forward=take(self.moment_forward),
+            moment_backward=take(self.moment_backward),
+            roll=take(self.roll),
+        )
+
+    def _computed(self, quantity: Quantity) -> tuple[ComplexArray, ComplexArray]:
+        forward, backward = self.pair(quantity)
+        if forward is None or backward is None:
+            raise ValueError(f"the {quantity} was not computed")
+        return forward, backward

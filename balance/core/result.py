@@ -1,79 +1,84 @@
 """What a user asks for (:class:`Request`) and what the core answers (:class:`Result`).
 
-A :class:`Result` holds complex phasors (forward and backward per order), the proposal
-with its residual, the gas torque when the engine has a ``gas:`` section, and every
+A :class:`Result` holds the free forces, moments and roll as one
+:class:`~balance.core.phasors.Phasors` bundle, the model rung that gave them, every
 reference a view needs to normalise (so that no view recovers a reference by dividing two
-numbers).  It holds exactly what the request asked for: a quantity not asked for is None.
-Every view (:mod:`balance.views`) reads it; polar form exists only where a view prints.
+numbers), and one *part* per section the request asked for (the proposal, the gas torque,
+the bearing loads…: :mod:`balance.core.sections`).  It holds exactly what the request
+asked for.  Every view (:mod:`balance.views`) reads it; polar form exists only where a
+view prints.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-if TYPE_CHECKING:  # pragma: no cover (annotations only: each part loads when computed)
-    from balance.core.balancing import Proposal
-    from balance.core.bearings import Bearings
-    from balance.core.engine import Engine
-    from balance.core.mounts import MountsResult
-    from balance.core.plausibility import PlausibilityWarning
-    from balance.core.torque import TorqueResult
+from balance.core.phasors import Phasors
+from balance.core.sections import default_sections
 
-__all__ = ["Balanced", "Phasors", "Request", "Result"]
+if TYPE_CHECKING:  # pragma: no cover (annotations only)
+    from balance.core.engine import Engine
+    from balance.core.plausibility import PlausibilityWarning
+
+__all__ = ["FreeForces", "ModelRung", "Request", "Result"]
 
 ComplexArray = NDArray[np.complex128]
 FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
-class Phasors:
-    """Complex phasors of one analysis (SI: N, N m).
+class ModelRung:
+    """The rung of the speed/accuracy ladder that computed the phasors.
 
-    ``*_forward`` and ``*_backward`` have one entry per order; the rotating phasors are
-    scalars (order 1, forward only); ``roll`` has one entry per order.  An engine with link
-    rods also has ``link_pin_forward`` and ``link_pin_backward``, shape (cylinders, orders):
-    each link rod's link-pin mass moving relative to its crank pin (included in the force
-    and moment phasors; zero rows for the other cylinders) [N]; None otherwise.
+    Attributes
+    ----------
+    name : {'exact', 'series', 'textbook', 'time'}
+        The piston acceleration model (docs/benchmarks.md, "The model ladder").
+    terms : int
+        Binomial terms of the ``series`` model (0 for ``time``).
+    samples : int
+        Crank angles per revolution of the ``time`` model (0 for the others).
+    error_bound : float
+        Bound on the error of the normalised acceleration coefficients (force error per
+        :math:`m_{rec} r \\omega^2`) of this rung (:mod:`balance.core.accuracy`).
     """
 
-    orders: NDArray[np.intp]
-    force_forward: ComplexArray
-    force_backward: ComplexArray
-    moment_forward: ComplexArray
-    moment_backward: ComplexArray
-    rotating_force: complex
-    rotating_moment: complex
-    roll: ComplexArray
-    acceleration_coefficients: ComplexArray
-    model: str
+    name: str
     terms: int
-    reference_force: float
-    reference_z: float
-    samples: int = 0
-    error_bound: float = float("nan")
-    link_pin_forward: ComplexArray | None = None
-    link_pin_backward: ComplexArray | None = None
+    samples: int
+    error_bound: float
 
 
 @dataclass(frozen=True)
-class Balanced:
-    """A balancing proposal and the residual with every proposed mass added.
+class FreeForces:
+    """The free forces, moments and roll of one engine at its speed (SI: N, N m).
 
-    The residual phasors are per order of the analysis: reciprocating + rotating +
-    counterweights + shafts (N, N m); ``roll`` is the engine's roll plus the shafts'.
+    Attributes
+    ----------
+    phasors : Phasors
+        Reciprocating force and moment per order, the rotating masses' order-1 phasors
+        and the roll (inertia only, whole orders); the moments and the roll None when not
+        asked.
+    coefficients : ndarray of complex
+        :math:`G_k` of each cylinder's :math:`-s''/r`, shape (cylinders, orders) (a link
+        piston's in its own crank angle).
+    model : ModelRung
+        The model rung used, with its error bound.
+    link_pins : Phasors or None
+        Engines with link rods: each cylinder's link pin moving relative to its crank pin
+        (included in :attr:`phasors`), force only, shape (cylinders, orders) [N]; None
+        otherwise.
     """
 
-    proposal: Proposal
-    force_forward: ComplexArray
-    force_backward: ComplexArray
-    moment_forward: ComplexArray
-    moment_backward: ComplexArray
-    roll: ComplexArray
+    phasors: Phasors
+    coefficients: ComplexArray
+    model: ModelRung
+    link_pins: Phasors | None = None
 
 
 @dataclass(frozen=True)
@@ -95,25 +100,13 @@ class Request:
         that meets it is used.
     speed : float or None
         Crank speed [rad/s] instead of the engine's.
-    moments, roll, proposal, torque : bool
-        Whether to compute the free moments, the roll, a balancing proposal with its
-        residual (needs moments and roll), and the gas torque (engines with gas only).
-    cancel : tuple of int or None
-        Orders the proposal cancels (None: the engine's ``balance:`` section, else 1, 2).
-    strategy, balance_factor, counterweight_radius
-        Proposal settings (None: the engine's ``balance:`` section, else the defaults).
-    cancel_roll : bool
-        Place same-order shaft pairs so that they also cancel that order's roll.
-    mounts : bool
-        Compute the response of the engine on its mounts (needs :attr:`Engine.mounts`).
-    mounts_with_proposal : bool
-        Load the mounts with the residual (the proposal added) instead of the bare engine.
-    bearings : bool
-        Compute the crank-pin and main-bearing loads and the internal moments
-        (:mod:`balance.core.bearings`), without and with the proposed counterweights.
-    cylinders : bool
-        Compute each cylinder's actual stroke and top-dead-centre crank angle
-        (:func:`balance.core.links.dead_centres`).
+    moments, roll : bool
+        Whether to compute the free moments and the roll.
+    sections : mapping of str to mapping
+        The sections to compute (:mod:`balance.core.sections`), each with its options
+        (``{"proposal": {"balance_factor": 0.6}, "bearings": {}}``); by default the
+        sections that are computed unless turned off.  :func:`balance.io.request.build_request`
+        builds it from what a user gives (and what the layout's sections turn on).
     """
 
     orders: tuple[int, ...] = (1, 2, 3, 4, 5, 6, 7, 8)
@@ -124,22 +117,40 @@ class Request:
     speed: float | None = None
     moments: bool = True
     roll: bool = True
-    proposal: bool = True
-    torque: bool = True
-    cancel: tuple[int, ...] | None = None
-    strategy: str | None = None
-    balance_factor: float | None = None
-    counterweight_radius: float | None = None
-    cancel_roll: bool = False
-    mounts: bool = False
-    mounts_with_proposal: bool = False
-    bearings: bool = False
-    cylinders: bool = True
+    sections: Mapping[str, Mapping[str, Any]] = field(default_factory=default_sections)
 
     @classmethod
-    def of(cls, orders: Iterable[int], **settings: object) -> Request:
+    def of(cls, orders: Iterable[int], **settings: Any) -> Request:
         """A request for these orders (sorted, each once) and settings."""
-        return cls(orders=tuple(sorted({int(k) for k in orders})), **settings)  # type: ignore[arg-type]
+        return cls(orders=tuple(sorted({int(k) for k in orders})), **settings)
+
+    def wants(self, name: str) -> bool:
+        """Whether the request asks for the section ``name``."""
+        return name in self.sections
+
+    def options(self, name: str) -> Mapping[str, Any]:
+        """The options the request gives the section ``name`` (empty if not asked)."""
+        return self.sections.get(name, {})
+
+    def with_sections(self, **sections: Mapping[str, Any] | None) -> Request:
+        """The same request with sections added (a mapping of options) or removed (None)."""
+        new = dict(self.sections)
+        for name, options in sections.items():
+            if options is None:
+                new.pop(name, None)
+            else:
+                new[name] = dict(options)
+        return Request(
+            orders=self.orders,
+            model=self.model,
+            terms=self.terms,
+            samples=self.samples,
+            tolerance=self.tolerance,
+            speed=self.speed,
+            moments=self.moments,
+            roll=self.roll,
+            sections=new,
+        )
 
 
 @dataclass(frozen=True)
@@ -153,18 +164,18 @@ class Result:
     request : Request
         What was asked, with ``model``/``terms``/``samples`` as actually used.
     phasors : Phasors
-        Free force, moment, rotating and roll phasors per order
-        (:class:`Phasors`); moments and roll NaN when not asked.
-    balanced : Balanced or None
-        The proposal and the residual phasors (:class:`Balanced`).
-    torque : TorqueResult or None
-        Forces and torque over the cycle with gas forces (:mod:`balance.core.torque`).
+        Free force, moment, rotating and roll phasors per order (the roll: inertia only,
+        whole orders); moments and roll None when not asked.
+    coefficients : ndarray of complex
+        Acceleration coefficients :math:`G_k` per cylinder and order
+        (:attr:`FreeForces.coefficients`).
+    model : ModelRung
+        The model rung used and its error bound.
     roll_orders : ndarray
         Orders of :attr:`roll` (halves for a four-stroke with gas).
     roll : ndarray of complex or None
-        Roll phasors on the block per roll order, with gas forces when given [N m].
-    residual_roll : ndarray of complex or None
-        :attr:`roll` with the proposed shafts' roll added [N m].
+        Roll phasors on the block per roll order, with gas forces when the engine has them
+        [N m]; None when not asked.
     reference_force : float
         :math:`F_1 = m_{rec} r \\omega^2` with engine means [N].
     pitch : float
@@ -173,44 +184,34 @@ class Result:
         :math:`F_1 a` [N m] (NaN without a pitch).
     reference_roll : float
         :math:`m_{rec} r^2 \\omega^2` with engine means [N m].
-    mounts : MountsResult or None
-        Modes and response of the engine on its mounts (:mod:`balance.core.mounts`), when
-        asked.
-    bearings : Bearings or None
-        Crank-pin and main-bearing loads and internal moments, without and with the
-        proposed counterweights (:class:`balance.core.bearings.Bearings`), when asked.
+    link_pins : Phasors or None
+        Each link pin's motion relative to its crank pin (:attr:`FreeForces.link_pins`).
+    parts : mapping of str to object
+        One part per section computed, in section order (:mod:`balance.core.sections`).
     warnings : tuple of PlausibilityWarning
         Inputs far outside piston-engine practice (:mod:`balance.core.plausibility`);
         they change no number.
-    cylinder_stroke : ndarray or None
-        Each cylinder's piston travel between its dead centres [m], when asked.
-    cylinder_tdc : ndarray or None
-        Crank angle :math:`\\theta` in :math:`[0, 2\\pi)` at which each piston is farthest
-        from the crank axis [rad], when asked.
     """
 
     engine: Engine
     request: Request
     phasors: Phasors
-    balanced: Balanced | None
-    torque: TorqueResult | None
+    coefficients: ComplexArray
+    model: ModelRung
     roll_orders: FloatArray
     roll: ComplexArray | None
-    residual_roll: ComplexArray | None
     reference_force: float
     pitch: float
     reference_moment: float
     reference_roll: float
-    mounts: MountsResult | None = None
-    bearings: Bearings | None = None
+    link_pins: Phasors | None = None
+    parts: Mapping[str, Any] = field(default_factory=dict)
     warnings: tuple[PlausibilityWarning, ...] = ()
-    cylinder_stroke: FloatArray | None = None
-    cylinder_tdc: FloatArray | None = None
 
     @property
     def orders(self) -> NDArray[np.intp]:
         """The orders of the force and moment phasors."""
-        return np.asarray(self.request.orders, dtype=np.intp)
+        return self.phasors.orders
 
     @property
     def speed(self) -> float:
@@ -220,9 +221,20 @@ class Result:
     @property
     def has_moments(self) -> bool:
         """Whether the moments were computed."""
-        return self.request.moments
+        return self.phasors.has("moment")
 
     @property
     def has_roll(self) -> bool:
         """Whether the roll was computed."""
         return self.roll is not None
+
+    def part(self, name: str) -> Any:
+        """The part of the section ``name``, or None when it was not computed."""
+        return self.parts.get(name)
+
+    def with_part(self, name: str, part: Any, **changes: Any) -> Result:
+        """The result with the part of section ``name`` added (and fields changed: the
+        gas torque's section changes the roll)."""
+        from dataclasses import replace
+
+        return replace(self, parts={**self.parts, name: part}, **changes)

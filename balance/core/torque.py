@@ -56,11 +56,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from balance.core import phasors
+from balance.core.catalogue import Output
 from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.core.gas import pressure_at
@@ -316,3 +318,148 @@ def _with_links(
     power[j] = share * (m.dpin_y * m.d2pin_y + m.dpin_x * m.d2pin_x)
     roll[j] = share * pin_roll(m)
     return (*out, power, roll)
+
+
+# --------------------------------------------------------------------------- the section
+
+
+def torque_part(engine: Engine, request: Any, result: Any) -> Any:
+    """The ``torque`` section (:mod:`balance.core.sections`): the forces and torque over the
+    cycle of an engine with gas forces (:func:`compute_torque`), and the roll with them
+    (half orders for a four-stroke) in place of the inertia roll.  Without a ``gas:``
+    section the result is returned as it is."""
+    if engine.gas is None:
+        return result
+    torque = compute_torque(engine, result.phasors.orders)
+    if result.roll is None:  # the roll was not asked for
+        return result.with_part("torque", torque)
+    return result.with_part("torque", torque, roll_orders=torque.roll_orders, roll=torque.roll)
+
+
+def _torque(result: Any) -> TorqueResult:
+    part: TorqueResult = result.part("torque")
+    return part
+
+
+def _over_cycle(name: str, units: str, long_name: str) -> Output:
+    return Output(
+        name, ("cylinder", "crank_angle"), units, long_name, lambda r: getattr(_torque(r), name)
+    )
+
+
+def _summary(name: str, attribute: str, units: str, long_name: str) -> Output:
+    return Output(name, (), units, long_name, lambda r: getattr(_torque(r), attribute))
+
+
+#: The outputs of the ``torque`` section.
+OUTPUTS: tuple[Output, ...] = (
+    Output(
+        "gas_pressure",
+        ("cylinder", "crank_angle"),
+        "Pa",
+        "absolute cylinder pressure",
+        lambda r: _torque(r).pressure,
+    ),
+    _over_cycle("gas_force", "N", "gas force (p - p0) A on the piston, to the crank"),
+    _over_cycle(
+        "inertia_force", "N", "reciprocating inertia force on the piston pin, to the crank"
+    ),
+    Output(
+        "piston_force",
+        ("cylinder", "crank_angle"),
+        "N",
+        "total force P along the bore on the piston pin, to the crank",
+        lambda r: _torque(r).piston_force,
+    ),
+    _over_cycle(
+        "side_thrust",
+        "N",
+        "side thrust N of the piston on the wall (P tan psi and the rod's inertia couple)",
+    ),
+    Output(
+        "rod_force",
+        ("cylinder", "crank_angle"),
+        "N",
+        "rod force S along the rod at the piston pin (compression +)",
+        lambda r: _torque(r).rod_force,
+    ),
+    _over_cycle("tangential_force", "N", "tangential force T on the crank pin (with rotation +)"),
+    _over_cycle("radial_force", "N", "radial force K on the crank pin (to the axis +)"),
+    _over_cycle("cylinder_torque", "N m", "torque T r of one cylinder"),
+    Output(
+        "engine_torque",
+        ("crank_angle",),
+        "N m",
+        "engine torque on the crankshaft (sum)",
+        lambda r: _torque(r).engine_torque,
+    ),
+    Output(
+        "roll_torque",
+        ("crank_angle",),
+        "N m",
+        "roll torque on the block with gas forces, positive in the direction of rotation",
+        lambda r: _torque(r).roll_torque,
+    ),
+    Output(
+        "firing_tdc",
+        ("cylinder",),
+        "deg",
+        "crank angle of the cylinder's firing TDC",
+        lambda r: _torque(r).firing_tdc,
+    ),
+    _summary("torque_mean", "mean", "N m", "mean engine torque over the cycle"),
+    _summary("torque_max", "maximum", "N m", "largest engine torque over the cycle"),
+    _summary("torque_min", "minimum", "N m", "smallest engine torque over the cycle"),
+    _summary(
+        "torque_nonuniformity",
+        "nonuniformity",
+        "1",
+        "torque non-uniformity (M_max - M_min) / M_mean",
+    ),
+    _summary(
+        "excess_work",
+        "excess_work",
+        "J",
+        "largest excess work: max - min of the integral of M - M_mean",
+    ),
+    _summary(
+        "speed_fluctuation",
+        "speed_fluctuation",
+        "1",
+        "speed fluctuation (w_max - w_min) / w_mean",
+    ),
+    _summary(
+        "flywheel_inertia",
+        "flywheel_inertia",
+        "kg m2",
+        "moment of inertia of the rotating assembly",
+    ),
+    Output(
+        "indicated_work",
+        (),
+        "J",
+        "indicated work of the engine per cycle (mean torque times cycle angle)",
+        lambda r: indicated_work(_torque(r)),
+    ),
+    Output(
+        "crank_angle",
+        ("crank_angle",),
+        "deg",
+        "crank angle theta over the working cycle",
+        lambda r: _torque(r).crank_angle,
+        kind="coord",
+    ),
+    Output(
+        "gas_pressure_source",
+        (),
+        "",
+        "gas_pressure_source",
+        lambda r: r.engine.gas.source,
+        kind="attr",
+    ),
+)
+
+
+def indicated_work(torque: TorqueResult) -> float:
+    """Indicated work of the engine per cycle [J]: the mean torque times the cycle angle."""
+    return torque.mean * 2.0 * math.pi * torque.cycle_deg / 360.0

@@ -473,8 +473,11 @@ def _build(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         balance=_balance_settings(spec.balance),
         gas=gas,
         mass_parts=_mass_parts(part_rows) if part_rows else None,
-        mounts=mounts,
-        mains=mains,
+        sections={
+            key: value
+            for key, value in (("mounts", mounts), ("bearings", mains))
+            if value is not None
+        },
         links=links,
         **arrays,
     )
@@ -1049,8 +1052,9 @@ def expand_layout(source: str | Path) -> str:
     if spec.mounts is not None:
         out["mounts"] = spec.mounts  # as written (validated in _build)
     if spec.bearings is not None:  # the mains used: the section's, or the defaults
-        assert layout.mains is not None
-        out["bearings"] = {"mains": [_fmt(z, "mm", 1e3) for z in layout.mains]}
+        mains = layout.section("bearings")
+        assert mains is not None
+        out["bearings"] = {"mains": [_fmt(z, "mm", 1e3) for z in mains]}
 
     class _Dumper(yaml.SafeDumper):
         pass

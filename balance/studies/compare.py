@@ -18,8 +18,9 @@ from numpy.typing import NDArray
 from balance.core.analysis import compute
 from balance.core.engine import Engine
 from balance.core.errors import InputError
-from balance.core.result import Request, Result
+from balance.core.result import Result
 from balance.io.fields import parse_orders
+from balance.io.request import build_request
 
 __all__ = ["Compared", "compare_results", "scale_layout"]
 
@@ -91,7 +92,8 @@ def compare_results(
     model: str = "exact",
     terms: int = 3,
 ) -> list[Compared]:
-    """Analyse several layouts the same way (with a balancing proposal each).
+    """Analyse several layouts the same way (with a balancing proposal each, and on its
+    mounts where a layout has a ``mounts:`` section).
 
     Parameters
     ----------
@@ -116,22 +118,6 @@ def compare_results(
     if not layouts:
         raise InputError("compare: give at least one layout")
     ks = parse_orders(orders)
-    request = Request.of(
-        ks,
-        model=model,
-        terms=terms,
-        samples=None,
-        tolerance=None,
-        speed=speed,
-        moments=True,
-        roll=True,
-        proposal=True,
-        cancel=None,
-        strategy=None,
-        balance_factor=None,
-        counterweight_radius=None,
-        cancel_roll=False,
-    )
     labels = list(names) if names is not None else [lay.name for lay in layouts]
     taken: set[str] = set()
     out = []
@@ -144,5 +130,8 @@ def compare_results(
                 )
             factor = (displacement / layout.displacement) ** (1.0 / 3.0)
             layout = scale_layout(layout, factor)
+        # what the comparison shows: the free forces, the proposal, and the engine on its
+        # mounts where the layout has a mounts: section (no bearing loads)
+        request = build_request(layout, ks, speed=speed, model=model, terms=terms, bearings=False)
         out.append(Compared(_label(given, taken), factor, compute(layout, request)))
     return out

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -26,10 +26,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core import kinematics
-from balance.core.analysis import FreePhasors, engine_cylinders, free_phasors_of, speed_squared
+from balance.core.analysis import engine_cylinders, free_phasors_of
+from balance.core.catalogue import BASE, Output
 from balance.core.engine import Engine
 from balance.core.errors import AnalysisError, InputError
-from balance.core.speed import rad_per_s_to_rpm
+from balance.core.phasors import Phasors
+from balance.core.result import FreeForces
+from balance.core.speed import rad_per_s_to_rpm, speed_squared
 from balance.io.fields import (
     Vary,
     check_varies,
@@ -181,7 +184,7 @@ def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
     return params
 
 
-def _unit_phasors(plan: _Plan, p: dict[str, Any]) -> FreePhasors:
+def _unit_phasors(plan: _Plan, p: dict[str, Any]) -> FreeForces:
     """The unit-speed phasor sums over a chunk's grid of the fields other than speed."""
     try:
         return free_phasors_of(
@@ -199,7 +202,7 @@ def _unit_phasors(plan: _Plan, p: dict[str, Any]) -> FreePhasors:
 
 
 def _chunk(
-    plan: _Plan, where: tuple[slice, ...], cache: dict[Any, FreePhasors] | None = None
+    plan: _Plan, where: tuple[slice, ...], cache: dict[Any, FreeForces] | None = None
 ) -> dict[str, FloatArray]:
     r"""The sweep's variables over one chunk of the grid (full chunk shape leading).
 
@@ -211,7 +214,6 @@ def _chunk(
     in-process run keeps the last ones).
     """
     p = _grid_parameters(plan, where)
-    ks = plan.orders
     chunk_shape = tuple(s.stop - s.start for s in where)
     key = tuple(
         (s.start, s.stop)
@@ -224,12 +226,7 @@ def _chunk(
         if cache is not None:
             cache.clear()
             cache[key] = unit
-    values = unit.scaled(speed_squared(p["speed"]))
-
-    def magnitude(name: str) -> FloatArray:
-        value = values[name]
-        assert value is not None
-        return np.abs(value)
+    chunk = _Chunk(unit.phasors.scaled(speed_squared(p["speed"])))
 
     def full(a: FloatArray, tail: tuple[int, ...] = ()) -> FloatArray:
         lead = a.shape[: a.ndim - len(tail)]
@@ -238,60 +235,54 @@ def _chunk(
             np.broadcast_to(a.reshape(lead + tail), chunk_shape + tail), dtype=np.float64
         )
 
-    K = ks.size
-    out: dict[str, FloatArray] = {}
-    pairs = [("force", "reciprocating_force")]
-    if plan.moments:
-        pairs.append(("moment", "reciprocating_moment"))
-    for what, name in pairs:
-        forward = magnitude(f"{what}_forward")
-        backward = magnitude(f"{what}_backward")
-        out[f"{name}_magnitude"] = full(np.stack([forward, backward], axis=-1), (K, 2))
-        out[f"{name}_peak"] = full(forward + backward, (K,))
-        out[f"rotating_{what}_magnitude"] = full(magnitude(f"rotating_{what}"))
-    if plan.roll:
-        out["roll_amplitude"] = full(magnitude("roll"), (K,))
-    return out
+    tails = _tails(plan)
+    return {
+        output.name: full(
+            np.asarray(output.get(chunk), dtype=np.float64),
+            tuple(tails[d] for d in output.dims),
+        )
+        for output in _outputs(plan)
+    }
 
 
-# variable -> (trailing dims, units, long_name)
-_VARIABLES: dict[str, tuple[tuple[str, ...], str, str]] = {
-    "reciprocating_force_magnitude": (
-        ("order", "rotation"),
-        "N",
-        "magnitude of the reciprocating inertia force phasor",
-    ),
-    "reciprocating_force_peak": (
-        ("order",),
-        "N",
-        "peak reciprocating inertia force over a revolution",
-    ),
-    "rotating_force_magnitude": (
-        (),
-        "N",
-        "magnitude of the rotating (centrifugal) force, order 1 forward",
-    ),
-    "reciprocating_moment_magnitude": (
-        ("order", "rotation"),
-        "N m",
-        "magnitude of the reciprocating inertia moment phasor about reference_z",
-    ),
-    "reciprocating_moment_peak": (
-        ("order",),
-        "N m",
-        "peak reciprocating inertia moment over a revolution",
-    ),
-    "rotating_moment_magnitude": (
-        (),
-        "N m",
-        "magnitude of the rotating (centrifugal) moment about reference_z, order 1 forward",
-    ),
-    "roll_amplitude": (
-        ("roll_order",),
-        "N m",
-        "amplitude of the roll torque on the block",
-    ),
-}
+@dataclass(frozen=True)
+class _Chunk:
+    """What the catalogue's per-variant outputs read of one chunk of a sweep: its phasors
+    (the grid's axes in front) and its roll; a sweep has no sections."""
+
+    phasors: Phasors | None
+    parts: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def roll(self) -> ComplexArray | None:
+        return None if self.phasors is None else self.phasors.roll
+
+
+def _outputs(plan: _Plan) -> list[Output]:
+    """The outputs a sweep writes: the catalogue's per-variant ones
+    (:attr:`balance.core.catalogue.Output.per_variant`) of what the plan computes."""
+    return [
+        output
+        for output in BASE
+        if output.per_variant
+        and (plan.moments or "moment" not in output.name)
+        and (plan.roll or "roll_order" not in output.dims)
+    ]
+
+
+def _tails(plan: _Plan) -> dict[str, int]:
+    """The size of each dimension an output has after the grid's."""
+    K = plan.orders.size
+    return {"order": K, "rotation": 2, "roll_order": K}
+
+
+def _variables(plan: _Plan) -> dict[str, tuple[tuple[str, ...], str, str]]:
+    """Each variable of a sweep with its dimensions after the grid's, unit and
+    ``long_name`` (a sweep's, which has no gas forces)."""
+    return {
+        output.name: (output.dims, output.units, output.describe(_Chunk(None)))
+        for output in _outputs(plan)
+    }
 
 
 def _plan(
@@ -307,23 +298,6 @@ def _plan(
         raise InputError(f"--model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
     ks = parse_orders(orders)
     return _Plan(layout, tuple(_as_varies(layout, vary)), ks, model, terms, moments, roll)
-
-
-def _variables(plan: _Plan) -> list[str]:
-    names = [
-        "reciprocating_force_magnitude",
-        "reciprocating_force_peak",
-        "rotating_force_magnitude",
-    ]
-    if plan.moments:
-        names += [
-            "reciprocating_moment_magnitude",
-            "reciprocating_moment_peak",
-            "rotating_moment_magnitude",
-        ]
-    if plan.roll:
-        names.append("roll_amplitude")
-    return names
 
 
 def _coords(plan: _Plan) -> dict[str, tuple[tuple[str, ...], Any, dict[str, str]]]:
@@ -403,7 +377,7 @@ def _run_chunks(
 
     def results() -> Iterator[tuple[tuple[slice, ...], dict[str, FloatArray]]]:
         if client is None:
-            cache: dict[Any, FreePhasors] = {}
+            cache: dict[Any, FreeForces] = {}
             for where in chunks:
                 yield where, _chunk(plan, where, cache)
             return
@@ -468,13 +442,12 @@ def sweep_arrays(
     """
     plan = _plan(layout, vary, orders, model, terms, moments, roll)
     chunks = chunk_slices(plan.shape, chunk_size)
-    K = plan.orders.size
-    tails = {"order": K, "rotation": 2, "roll_order": K}
+    tails = _tails(plan)
     arrays: dict[str, FloatArray] | None = None
     if sink is None:
         arrays = {
-            name: np.empty(plan.shape + tuple(tails[d] for d in _VARIABLES[name][0]))
-            for name in _variables(plan)
+            name: np.empty(plan.shape + tuple(tails[d] for d in dims))
+            for name, (dims, _, _) in _variables(plan).items()
         }
     for where, result in _run_chunks(plan, chunks, client, progress):
         if sink is not None:
@@ -562,11 +535,12 @@ def sweep(
     options = _options(model, terms, moments, roll, chunk_size, client, progress)
     plan, arrays = sweep_arrays(layout, vary, orders, **options)
     assert arrays is not None
+    meta = _variables(plan)
     data = {
         name: (
-            plan.dims + _VARIABLES[name][0],
+            plan.dims + meta[name][0],
             values,
-            {"units": _VARIABLES[name][1], "long_name": _VARIABLES[name][2]},
+            {"units": meta[name][1], "long_name": meta[name][2]},
         )
         for name, values in arrays.items()
     }
@@ -681,8 +655,7 @@ def _write_netcdf(plan: _Plan, target: Path, run: _Runner, force: bool) -> Path:
                 var.setncatts(attrs)
             variables = {}
             auxiliary = _auxiliary(plan)
-            for name in _variables(plan):
-                tail, units, long_name = _VARIABLES[name]
+            for name, (tail, units, long_name) in _variables(plan).items():
                 var = nc.createVariable(name, "f8", plan.dims + tail)
                 var.setncatts({"units": units, "long_name": long_name, "coordinates": auxiliary})
                 var.set_auto_mask(False)
@@ -710,8 +683,7 @@ def _write_zarr(
 
     from balance.io.atomic import checkpoint, write_atomic_directory
 
-    K = plan.orders.size
-    tails = {"order": K, "rotation": 2, "roll_order": K}
+    tails = _tails(plan)
     grid_chunk = tuple(s.stop - s.start for s in chunks[0])
 
     def write(tmp: Path) -> None:
@@ -729,8 +701,7 @@ def _write_zarr(
             array[...] = data
         arrays = {}
         auxiliary = _auxiliary(plan)
-        for name in _variables(plan):
-            tail, units, long_name = _VARIABLES[name]
+        for name, (tail, units, long_name) in _variables(plan).items():
             tail_shape = tuple(tails[d] for d in tail)
             arrays[name] = group.create_array(
                 name,

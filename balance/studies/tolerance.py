@@ -27,16 +27,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.core.analysis import (
-    balance_engine,
-    compute_phasors,
-    engine_cylinders,
-    free_phasors_of,
-    speed_squared,
-)
+from balance.core.analysis import compute_phasors, engine_cylinders, free_phasors_of
 from balance.core.balancing import proposal_phasors
 from balance.core.engine import Engine
 from balance.core.errors import AnalysisError, InputError
+from balance.core.proposal import balance_engine
+from balance.core.speed import speed_squared
 from balance.io.fields import Scatter, parse_orders, parse_scatter
 from balance.studies.changes import LINK_GEOMETRY, Change, apply_changes
 
@@ -136,13 +132,11 @@ def tolerance(
         raise InputError("--samples: must be at least 1")
     ks = parse_orders(orders)
     nominal = compute_phasors(layout, ks, model=model, roll=False)
-    balanced = balance_engine(layout, nominal)
-    added = proposal_phasors(balanced.proposal, layout, ks)
+    added = proposal_phasors(balance_engine(layout, nominal).proposal, layout, ks)
     rng = np.random.default_rng(seed)
     n = layout.n_cylinders
     # moments about the nominal reference: the scatter does not move the block's
     fixed = replace(layout, reference_z_given=True)
-    first = ks == 1
     w2 = speed_squared(layout.speed)
     out = {
         f"{w}_{k}": np.empty((samples, ks.size))
@@ -179,20 +173,13 @@ def tolerance(
             raise InputError(
                 f"--scatter: some samples have an impossible geometry: {exc}"
             ) from None
-        v = unit.scaled(w2)
-        f_fwd = _given(v["force_forward"]) + first * _given(v["rotating_force"])[:, None]
-        m_fwd = _given(v["moment_forward"]) + first * _given(v["rotating_moment"])[:, None]
-        f_bwd = _given(v["force_backward"])
-        m_bwd = _given(v["moment_backward"])
+        free = unit.phasors.scaled(w2).free()
+        balanced = free + added
         sl = slice(lo, lo + m)
-        out["force_free"][sl] = np.abs(f_fwd) + np.abs(f_bwd)
-        out["moment_free"][sl] = np.abs(m_fwd) + np.abs(m_bwd)
-        out["force_balanced"][sl] = np.abs(f_fwd + added.force_forward) + np.abs(
-            f_bwd + added.force_backward
-        )
-        out["moment_balanced"][sl] = np.abs(m_fwd + added.moment_forward) + np.abs(
-            m_bwd + added.moment_backward
-        )
+        out["force_free"][sl] = free.peak("force")
+        out["moment_free"][sl] = free.peak("moment")
+        out["force_balanced"][sl] = balanced.peak("force")
+        out["moment_balanced"][sl] = balanced.peak("moment")
     return ToleranceResult(
         orders=ks,
         samples=samples,
@@ -208,8 +195,3 @@ def tolerance(
 _CG_BEYOND_ROD = (
     "--scatter: the scatter puts a conrod's centre of gravity beyond its small end; reduce it"
 )
-
-
-def _given(value: ComplexArray | None) -> ComplexArray:
-    assert value is not None
-    return value

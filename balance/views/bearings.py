@@ -1,10 +1,12 @@
-"""Views of the bearing loads (:class:`balance.core.bearings.Bearings`, CONTRACT §6).
+"""Views of the ``bearings`` section: crank-pin and main-bearing loads
+(:class:`balance.core.bearings.Bearings`, docs/bearings.md).
 
-Every function reads a :class:`~balance.core.result.Result` (or its ``bearings``) and
-nothing else: the JSON block, the rich tables, the Dataset variables (``units`` and
-``long_name`` on each), the three figures (crank-pin load in the crank-fixed frame, each
-main's load in the engine frame, internal moment along the crank), the report section and
-the side-by-side comparison of the two counterweight strategies.
+Every function reads a :class:`~balance.core.result.Result` (or the loads of its section)
+and nothing else: the JSON block, the rich tables, the three figures (crank-pin load in
+the crank-fixed frame, each main's load in the engine frame, internal moment along the
+crank), the report section and the side-by-side comparison of the two counterweight
+strategies.  The Dataset variables are in the output catalogue
+(:data:`balance.core.bearings.OUTPUTS`).
 """
 
 from __future__ import annotations
@@ -19,7 +21,6 @@ from balance.core.bearings import Bearings
 from balance.views.polar import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
-    import xarray as xr
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from rich.console import RenderableType
@@ -27,19 +28,29 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
 
 __all__ = [
-    "bearings_dataset_variables",
+    "PLOTS",
+    "REPORT_TITLE",
     "bearings_json",
     "bearings_report_section",
     "bearings_tables",
+    "json_block",
     "plot_internal_moment",
     "plot_main_loads",
     "plot_pin_load",
     "printed",
+    "report_section",
     "strategy_table",
+    "tables",
 ]
 
-#: What to add to a command for the bearing loads.
-ASK = "give --bearings (or a bearings: section in the layout)"
+#: What to add to an analysis for the bearing loads.
+ASK = "ask for them (or give the layout a bearings: section)"
+
+
+def _loads(result: Result) -> Bearings | None:
+    """The loads of the result's section (None when it has none)."""
+    part = result.part("bearings")
+    return None if part is None else part.loads
 
 
 def _mm(value: float) -> str:
@@ -125,8 +136,15 @@ def _records(columns: dict[str, Any]) -> list[dict[str, Any]]:
     ]
 
 
+def json_block(result: Result) -> dict[str, Any]:
+    """The section's part of the analysis JSON: ``bearings`` (:func:`bearings_json`)."""
+    loads = _loads(result)
+    assert loads is not None
+    return {"bearings": bearings_json(loads)}
+
+
 def bearings_json(b: Bearings) -> dict[str, Any]:
-    """The ``"bearings"`` block of the JSON result, exactly as CONTRACT §6."""
+    """The ``"bearings"`` block of the JSON result (docs/bearings.md)."""
     return {
         "crank_pins": _records(
             {"z_m": b.pin_z, "cylinders": b.pin_cylinders, "max_N": b.pin_max, "mean_N": b.pin_mean}
@@ -151,6 +169,16 @@ def bearings_json(b: Bearings) -> dict[str, Any]:
 
 
 # --------------------------------------------------------------------------- tables
+
+
+def tables(result: Result) -> list[RenderableType]:
+    """The section's tables: the loads (:func:`bearings_tables`) and, when the strategies
+    were compared, :func:`strategy_table`."""
+    part = result.part("bearings")
+    out = bearings_tables(part.loads)
+    if part.strategies:
+        out += strategy_table(part.strategies)
+    return out
 
 
 def bearings_tables(b: Bearings) -> list[RenderableType]:
@@ -249,111 +277,6 @@ def strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType]
     return [table]
 
 
-# --------------------------------------------------------------------------- Dataset
-
-
-def bearings_dataset_variables(b: Bearings) -> tuple[dict[str, xr.Variable], dict[str, Any]]:
-    """Dataset variables (``units`` and ``long_name`` on each) and coordinates.
-
-    Curves are stored as their ``y`` and ``x`` components (netCDF has no complex numbers).
-    """
-    import xarray as xr
-
-    def var(dims: tuple[str, ...], data: Any, units: str, long_name: str) -> xr.Variable:
-        return xr.Variable(dims, np.asarray(data), attrs={"units": units, "long_name": long_name})
-
-    pin, main = ("crank_pin",), ("main_bearing",)
-    pin_curve, main_curve = (
-        ("crank_pin", "bearing_crank_angle"),
-        ("main_bearing", "bearing_crank_angle"),
-    )
-    moment_curve = ("main_bearing", "moment_crank_angle")
-    gas = " (with gas forces)" if b.gas else ""
-    data = {
-        "crank_pin_z": var(pin, b.pin_z, "m", "axial position of the crank pin"),
-        "crank_pin_cylinders": var(
-            pin,
-            [" ".join(map(str, c)) for c in b.pin_cylinders],
-            "1",
-            "cylinders whose rods act on the crank pin",
-        ),
-        "crank_pin_max_load": var(pin, b.pin_max, "N", f"largest crank-pin load{gas}"),
-        "crank_pin_mean_load": var(
-            pin, b.pin_mean, "N", f"mean magnitude of the crank-pin load{gas}"
-        ),
-        "crank_pin_max_angle": var(
-            pin, np.degrees(b.pin_max_angle), "deg", "crank angle of the largest crank-pin load"
-        ),
-        "main_bearing_z": var(main, b.main_z, "m", "axial position of the main bearing"),
-        "main_bearing_max_load": var(main, b.main_max, "N", f"largest main-bearing load{gas}"),
-        "main_bearing_mean_load": var(
-            main, b.main_mean, "N", f"mean magnitude of the main-bearing load{gas}"
-        ),
-        "main_bearing_max_load_with_proposal": var(
-            main,
-            b.main_max_with_proposal,
-            "N",
-            f"largest main-bearing load with the proposed counterweights{gas}",
-        ),
-        "main_bearing_mean_load_with_proposal": var(
-            main,
-            b.main_mean_with_proposal,
-            "N",
-            f"mean magnitude of the main-bearing load with the proposed counterweights{gas}",
-        ),
-        "internal_moment_max": var(
-            main,
-            b.moment_max,
-            "N m",
-            "largest internal bending moment of the crankshaft at the main",
-        ),
-        "internal_moment_max_with_proposal": var(
-            main,
-            b.moment_max_with_proposal,
-            "N m",
-            "largest internal bending moment at the main with the proposed counterweights",
-        ),
-    }
-    for name, curve, dims, units, what in (
-        ("crank_pin_load", b.pin_load, pin_curve, "N", "crank-pin load"),
-        ("main_bearing_load", b.main_load, main_curve, "N", "main-bearing load"),
-        (
-            "main_bearing_load_with_proposal",
-            b.main_load_with_proposal,
-            main_curve,
-            "N",
-            "main-bearing load with the proposed counterweights",
-        ),
-        ("internal_moment", b.internal_moment, moment_curve, "N m", "internal moment"),
-        (
-            "internal_moment_with_proposal",
-            b.internal_moment_with_proposal,
-            moment_curve,
-            "N m",
-            "internal moment with the proposed counterweights",
-        ),
-    ):
-        data[f"{name}_y"] = var(dims, curve.real, units, f"{what}, y component (engine frame)")
-        data[f"{name}_x"] = var(dims, curve.imag, units, f"{what}, x component (engine frame)")
-    coords = {
-        "crank_pin": var(pin, np.arange(1, b.pin_z.size + 1), "1", "crank pin number"),
-        "main_bearing": var(main, np.arange(1, b.main_z.size + 1), "1", "main bearing number"),
-        "bearing_crank_angle": var(
-            ("bearing_crank_angle",),
-            np.degrees(b.theta),
-            "deg",
-            "crank angle theta of the bearing-load curves",
-        ),
-        "moment_crank_angle": var(
-            ("moment_crank_angle",),
-            np.degrees(b.moment_theta),
-            "deg",
-            "crank angle theta of the internal-moment curves",
-        ),
-    }
-    return data, coords
-
-
 # --------------------------------------------------------------------------- figures
 
 
@@ -397,9 +320,9 @@ def _polar_diagram(
 def plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``pin_load``: polar diagram of each crank-pin load in the crank-fixed frame
     (up: outwards along the throw; right: in the direction of rotation), the textbook chart."""
-    if result.bearings is None:
+    b = _loads(result)
+    if b is None:
         return _not_computed(result, "pin_load", title)
-    b = result.bearings
     crank = b.pin_load_crank_frame
     # pins with the same diagram (a V's or an inline's equal throws) are drawn once
     shown: list[int] = []
@@ -438,9 +361,9 @@ def plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
 def plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``main_loads``: polar diagram of each main bearing's load in the engine
     frame (up: +y, right: +x), without and with the proposed counterweights."""
-    if result.bearings is None:
+    b = _loads(result)
+    if b is None:
         return _not_computed(result, "main_loads", title)
-    b = result.bearings
     n = b.main_z.size
     ncols = min(4, n)
     fig, axes = _figure(n, (3.6 * ncols, 3.6 * math.ceil(n / ncols)), ncols)
@@ -465,9 +388,9 @@ def plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
 def plot_internal_moment(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``internal_moment``: the largest internal bending moment at each main along
     the crank, without and with the proposed counterweights, and the throw planes."""
-    if result.bearings is None:
+    b = _loads(result)
+    if b is None:
         return _not_computed(result, "internal_moment", title)
-    b = result.bearings
     fig, (ax,) = _figure(1, (7.0, 4.2), 1)
     z = b.main_z * 1e3
     ax.plot(z, b.moment_max, "C0o-", label="without counterweights")
@@ -484,6 +407,38 @@ def plot_internal_moment(result: Result, *, title: str | None = None) -> Figure:
 
 
 # --------------------------------------------------------------------------- report
+
+
+#: The figure kinds of the section.
+PLOTS = {
+    "pin_load": plot_pin_load,
+    "main_loads": plot_main_loads,
+    "internal_moment": plot_internal_moment,
+}
+
+#: The heading of the section in the HTML report.
+REPORT_TITLE = "Crank-pin and main-bearing loads"
+
+
+def report_section(result: Result, figures: bool) -> str:
+    """HTML of the report's bearings section, with its three figures."""
+    from balance.views.report import escape, html_figure, html_table
+
+    loads = _loads(result)
+    assert loads is not None
+    html = bearings_report_section(loads, html_table, escape)
+    if figures:
+        html += "\n" + "\n".join(
+            html_figure(result, kind, caption, 95 + n)
+            for n, (kind, caption) in enumerate(
+                (
+                    ("pin_load", "Crank-pin load in the crank-fixed frame"),
+                    ("main_loads", "Main-bearing loads in the engine frame"),
+                    ("internal_moment", "Internal moment of the crankshaft at the mains"),
+                )
+            )
+        )
+    return html
 
 
 def bearings_report_section(

@@ -13,9 +13,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from balance.core.catalogue import speed_rpm
 from balance.core.speed import rad_per_s_to_rpm
 from balance.views.json import order_entries
-from balance.views.polar import json_number, speed_rpm
+from balance.views.polar import json_number
 from balance.views.table import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -96,7 +97,7 @@ def comparison_dataset(
             ),
             "n_shafts": (int(ds.sizes.get("shaft", 0)), "1", "number of proposed balance shafts"),
             "mount_force_max": (
-                _largest_mount_force(result),
+                _scalar(ds, "mount_force_max"),
                 "N",
                 "largest mount force of any order at the layout's speed (NaN without mounts)",
             ),
@@ -131,14 +132,10 @@ def comparison_dataset(
     return out
 
 
-def _largest_mount_force(result: Result) -> float:
-    """The largest force of any mount and order [N] (NaN when the engine has no mounts)."""
-    if result.engine.mounts is None:
-        return float("nan")
-    from balance.core.mount_loads import mounts_of
-
-    mounts = result.mounts if result.mounts is not None else mounts_of(result)
-    return float(np.max(mounts.largest_force))
+def _scalar(ds: xr.Dataset, name: str) -> float:
+    """A scalar output of an analysis, NaN where the analysis has none (a section it did
+    not compute)."""
+    return float(ds[name]) if name in ds else float("nan")
 
 
 def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], list[list[str]]]:

@@ -1,4 +1,8 @@
-"""CSV view of a :class:`~balance.core.result.Result`: one row per order (no xarray)."""
+"""CSV view of a :class:`~balance.core.result.Result`: one row per order (no xarray).
+
+The columns are the per-order outputs of the catalogue (:data:`balance.core.catalogue.BASE`),
+each read through its getter.
+"""
 
 from __future__ import annotations
 
@@ -7,9 +11,7 @@ import io
 import math
 from typing import TYPE_CHECKING
 
-import numpy as np
-
-from balance.views.polar import phase_deg, safe_ratio
+from balance.core.catalogue import BASE
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
@@ -27,34 +29,33 @@ def to_csv(result: Result) -> str:
     Columns carry their units in brackets, e.g. ``force_forward_magnitude [N]``.  Roll is
     joined on the same order where the roll orders match the orders.
     """
-    p = result.phasors
-    parts = [("force", "N", p.force_forward, p.force_backward, result.reference_force)]
+    values = {output.name: output for output in BASE}
+    parts = [("force", "N")]
     if result.has_moments:
-        parts.append(
-            ("moment", "N m", p.moment_forward, p.moment_backward, result.reference_moment)
-        )
+        parts.append(("moment", "N m"))
     header = ["order"]
     blocks = []
-    for what, unit, forward, backward, reference in parts:
-        both = np.stack([forward, backward], axis=-1)
-        magnitude = np.abs(both)
-        phase = phase_deg(both)
-        peak = magnitude[..., 0] + magnitude[..., 1]
+    for what, unit in parts:
+        magnitude = values[f"reciprocating_{what}_magnitude"].get(result)
+        phase = values[f"reciprocating_{what}_phase"].get(result)
         for j, rotation in enumerate(("forward", "backward")):
             header += [f"{what}_{rotation}_magnitude [{unit}]", f"{what}_{rotation}_phase [deg]"]
             blocks += [magnitude[:, j], phase[:, j]]
         header += [f"{what}_peak [{unit}]", f"{what}_peak_normalised [1]"]
-        blocks += [peak, safe_ratio(peak, reference)]
+        blocks += [
+            values[f"reciprocating_{what}_peak"].get(result),
+            values[f"reciprocating_{what}_peak_normalised"].get(result),
+        ]
     roll_at: dict[float, int] = {}
     if result.roll is not None:
         header += ["roll_amplitude [N m]", "roll_phase [deg]"]
         roll_at = {float(k): i for i, k in enumerate(result.roll_orders)}
-        roll_amplitude = np.abs(result.roll)
-        roll_phase = phase_deg(result.roll)
+        roll_amplitude = values["roll_amplitude"].get(result)
+        roll_phase = values["roll_phase"].get(result)
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(header)
-    for i, k in enumerate(p.orders):
+    for i, k in enumerate(result.orders):
         row = [str(int(k))] + [_cell(float(block[i])) for block in blocks]
         at = roll_at.get(float(k))
         if at is not None:

@@ -1,44 +1,35 @@
-"""The contract JSON (``schema: balance.analysis/1``) of a :class:`~balance.core.result.Result`.
+"""The analysis JSON (``schema: balance.analysis/1``) of a :class:`~balance.core.result.Result`.
 
-Reads the Result's complex phasors and stored references directly (magnitudes with
-``np.abs``, phases with :func:`balance.views.polar.phase_deg`); no xarray.
+The free forces are read through the one phasor type
+(:class:`~balance.core.phasors.Phasors`: magnitudes, phases and peaks each formed once);
+each section the result holds adds its block (:mod:`balance.views.sections`).  No xarray.
+The shape is that of docs/conventions.md, "The JSON result".
 """
 
 from __future__ import annotations
 
 import json
-import math
-from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from balance.views.polar import (
-    SCHEMA,
-    json_number,
-    order_value,
-    phase_deg,
-    safe_ratio,
-    speed_rpm,
-)
+from balance.core.catalogue import SCHEMA, speed_rpm
+from balance.core.phasors import Phasors, Quantity, phase_deg, safe_ratio
+from balance.views.polar import json_number, order_value
+from balance.views.sections import views_of
 
 if TYPE_CHECKING:  # pragma: no cover
-    from balance.core.balancing import Proposal
     from balance.core.result import Result
-    from balance.core.torque import TorqueResult
 
 __all__ = [
-    "cylinder_entries",
-    "json_number",
     "order_entries",
+    "phasor_entries",
+    "roll_entries",
     "to_dict",
     "to_json",
     "warnings_json",
 ]
-
-ComplexArray = NDArray[np.complex128]
-
 
 _num = json_number  # the short name this module uses
 
@@ -68,17 +59,21 @@ def order_entries(
     ]
 
 
-def _phasor_orders(
-    orders: ArrayLike, forward: ComplexArray, backward: ComplexArray, reference: float
-) -> list[dict[str, Any]]:
-    """Per-order entries of forward and backward phasors; peak ``|P+| + |P-|``."""
-    both = np.stack([forward, backward], axis=-1)
-    magnitude = np.abs(both)
-    peak = magnitude[..., 0] + magnitude[..., 1]
-    return order_entries(orders, magnitude, phase_deg(both), peak, safe_ratio(peak, reference))
+def phasor_entries(phasors: Phasors, quantity: Quantity, reference: float) -> list[dict[str, Any]]:
+    """Per-order entries of a force or moment: forward and backward magnitude and phase,
+    peak ``|P+| + |P-|`` and peak per ``reference``."""
+    peak = phasors.peak(quantity)
+    return order_entries(
+        phasors.orders,
+        phasors.magnitude(quantity),
+        phasors.phase(quantity),
+        peak,
+        safe_ratio(peak, reference),
+    )
 
 
-def _roll(orders: ArrayLike, roll: ComplexArray) -> list[dict[str, Any]]:
+def roll_entries(orders: ArrayLike, roll: Any) -> list[dict[str, Any]]:
+    """Per-order entries of a roll: amplitude and phase (half orders as floats)."""
     amplitude = np.abs(roll)
     phase = phase_deg(roll)
     return [
@@ -87,7 +82,8 @@ def _roll(orders: ArrayLike, roll: ComplexArray) -> list[dict[str, Any]]:
     ]
 
 
-def _rotating(phasor: complex, reference: float) -> dict[str, Any]:
+def _rotating(phasors: Phasors, quantity: Quantity, reference: float) -> dict[str, Any]:
+    phasor = phasors.rotating(quantity)
     magnitude = np.abs(phasor)
     return {
         "forward": {"magnitude": _num(magnitude), "phase_deg": _num(phase_deg(phasor))},
@@ -96,34 +92,27 @@ def _rotating(phasor: complex, reference: float) -> dict[str, Any]:
     }
 
 
-def to_dict(result: Result, factor_study: Mapping[str, Any] | None = None) -> dict[str, Any]:
-    """The result as plain data in the contract's JSON shape (SI units, degrees), with
-    the plausibility warnings as ``warnings`` (:func:`warnings_json`).
-
-    ``factor_study``: a balance-factor study (:func:`balance.studies.factor.factor_study_dataset`,
-    or any mapping of its variable names to arrays), reported as ``balance_factor_study``.
-    """
+def to_dict(result: Result) -> dict[str, Any]:
+    """The result as plain data in the JSON shape of docs/conventions.md (SI units,
+    degrees): the free forces, moments and roll, a block per section the result holds, and
+    the plausibility warnings as ``warnings`` (:func:`warnings_json`)."""
     p = result.phasors
-    ks = p.orders
-    rotating = {"force": _rotating(p.rotating_force, result.reference_force)}
-    reciprocating = {
-        "force": _phasor_orders(ks, p.force_forward, p.force_backward, result.reference_force)
-    }
+    rotating = {"force": _rotating(p, "force", result.reference_force)}
+    reciprocating = {"force": phasor_entries(p, "force", result.reference_force)}
     if result.has_moments:
-        rotating["moment"] = _rotating(p.rotating_moment, result.reference_moment)
-        reciprocating["moment"] = _phasor_orders(
-            ks, p.moment_forward, p.moment_backward, result.reference_moment
-        )
+        rotating["moment"] = _rotating(p, "moment", result.reference_moment)
+        reciprocating["moment"] = phasor_entries(p, "moment", result.reference_moment)
+    model = result.model
     out: dict[str, Any] = {
         "schema": SCHEMA,
         "layout": result.engine.name,
         "speed_rpm": speed_rpm(result.engine.speed),
         "reference_z_m": float(result.engine.reference_z),
-        "model": p.model,
+        "model": model.name,
         "accuracy": {
-            "error_bound": _num(p.error_bound),
-            "series_terms": int(p.terms if p.model == "series" else 0),
-            "time_samples": int(p.samples),
+            "error_bound": _num(model.error_bound),
+            "series_terms": int(model.terms if model.name == "series" else 0),
+            "time_samples": int(model.samples),
         },
         "normalisation": {
             "force_N": _num(result.reference_force),
@@ -134,31 +123,11 @@ def to_dict(result: Result, factor_study: Mapping[str, Any] | None = None) -> di
         "rotating": rotating,
     }
     if result.roll is not None:
-        out["roll"] = _roll(result.roll_orders, result.roll)
-    if result.cylinder_stroke is not None:
-        out["cylinders"] = cylinder_entries(result)
-    if result.torque is not None:
-        out.update(_torque(result.torque))
-    if result.balanced is not None:
-        assert result.residual_roll is not None  # a proposal needs the roll
-        b = result.balanced
-        out["proposal"] = _proposal(b.proposal) | {
-            "residual": {
-                "force": _residual(ks, b.force_forward, b.force_backward, result.reference_force),
-                "moment": _residual(
-                    ks, b.moment_forward, b.moment_backward, result.reference_moment
-                ),
-                "roll": _roll(result.roll_orders, result.residual_roll),
-            }
-        }
-    if factor_study is not None:
-        out["balance_factor_study"] = _factor_study(factor_study)
-    if result.mounts is not None:
-        out["mounts"] = _mounts(result)
-    if result.bearings is not None:
-        from balance.views.bearings import bearings_json
-
-        out["bearings"] = bearings_json(result.bearings)
+        out["roll"] = roll_entries(result.roll_orders, result.roll)
+    for _, views in views_of(result):
+        block = getattr(views, "json_block", None)
+        if block is not None:
+            out.update(block(result))
     out["warnings"] = warnings_json(result)
     return out
 
@@ -169,132 +138,6 @@ def warnings_json(result: Result) -> list[dict[str, str]]:
     return [{"rule": w.rule, "field": w.field, "message": w.message} for w in result.warnings]
 
 
-def cylinder_entries(result: Result) -> list[dict[str, Any]]:
-    """The ``cylinders`` list (CONTRACT §5): number, actual stroke [m], TDC crank angle
-    [deg] in [0, 360); a link cylinder also gets its ``link`` (master, pin and rod)."""
-    assert result.cylinder_stroke is not None and result.cylinder_tdc is not None
-    links = result.engine.links
-    entries = []
-    for i, (stroke, tdc) in enumerate(
-        zip(result.cylinder_stroke, np.degrees(result.cylinder_tdc), strict=True)
-    ):
-        entry: dict[str, Any] = {
-            "number": i + 1,
-            "stroke_m": _num(stroke),
-            "tdc_crank_deg": _num(tdc),
-        }
-        if links is not None and links.master[i] >= 0:
-            entry["link"] = {
-                "master": int(links.master[i]) + 1,
-                "pin_radius_m": _num(links.pin_radius[i]),
-                "pin_angle_deg": _num(math.degrees(float(links.pin_angle[i]))),
-                "length_m": _num(result.engine.conrod_length[i]),
-            }
-        entries.append(entry)
-    return entries
-
-
-def _mounts(result: Result) -> dict[str, Any]:
-    """The ``mounts`` block (CONTRACT §7), from :mod:`balance.views.mounts`."""
-    from balance.views.mounts import mounts_json
-
-    assert result.mounts is not None
-    return mounts_json(result.mounts)
-
-
-def _torque(t: TorqueResult) -> dict[str, Any]:
-    return {
-        "torque": {
-            "mean_Nm": _num(t.mean),
-            "max_Nm": _num(t.maximum),
-            "min_Nm": _num(t.minimum),
-            "speed_fluctuation": _num(t.speed_fluctuation),
-            "flywheel_inertia_kgm2": _num(t.flywheel_inertia),
-        },
-        "gas": {
-            "indicated_work_J": _num(t.mean * 2.0 * math.pi * t.cycle_deg / 360.0),
-            "torque_nonuniformity": _num(t.nonuniformity),
-            "excess_work_J": _num(t.excess_work),
-            "firing_tdc_deg": [_num(v) for v in np.asarray(t.firing_tdc)],
-        },
-    }
-
-
-def _residual(
-    orders: ArrayLike, forward: ComplexArray, backward: ComplexArray, reference: float
-) -> list[dict[str, Any]]:
-    peak = np.abs(np.stack([forward, backward], axis=-1)).sum(axis=-1)
-    normalised = safe_ratio(peak, reference)
-    return [
-        {"order": int(k), "peak": _num(peak[i]), "peak_normalised": _num(normalised[i])}
-        for i, k in enumerate(np.asarray(orders))
-    ]
-
-
-def _proposal(proposal: Proposal) -> dict[str, Any]:
-    counterweights = [
-        {
-            "z_m": _num(c.z),
-            "mass_kg": _num(c.mass),
-            "radius_m": _num(c.radius),
-            "angle_deg": _num(c.angle_deg),
-        }
-        for c in proposal.counterweights
-    ]
-    shafts = []
-    for s in proposal.shafts:
-        unbalance = np.array([u for _, u in s.planes], dtype=np.complex128)
-        angle = phase_deg(unbalance)
-        planes = [
-            {
-                "z_m": float(z),
-                "unbalance_kgm": _num(np.abs(unbalance[j])),
-                "angle_deg": _num(angle[j]),
-            }
-            for j, (z, _) in enumerate(s.planes)
-        ]
-        shafts.append(
-            {
-                "speed_ratio": int(s.speed_ratio),
-                "x_m": _num(s.x),
-                "y_m": _num(s.y),
-                "position_from": {"x": s.x_from, "y": s.y_from},
-                "planes": planes,
-            }
-        )
-    factor = proposal.balance_factor
-    return {
-        "strategy": proposal.strategy,
-        "orders": [int(k) for k in proposal.orders],
-        "balance_factor": None if factor is None else float(factor),
-        "cancel_roll": bool(proposal.cancel_roll),
-        "notes": [n for n in proposal.notes if n],
-        "counterweights": counterweights,
-        "balance_shafts": shafts,
-    }
-
-
-def _factor_study(study: Mapping[str, Any]) -> dict[str, Any]:
-    factors = np.asarray(study["study_factor"])
-    vertical = np.asarray(study["study_vertical_peak"])
-    horizontal = np.asarray(study["study_horizontal_peak"])
-    moment = np.asarray(study["study_moment_peak"])
-    return {
-        "optimal_factor": _num(np.asarray(study["optimal_balance_factor"])),
-        "factors": [
-            {
-                "factor": float(f),
-                "vertical_peak": _num(vertical[i]),
-                "horizontal_peak": _num(horizontal[i]),
-                "moment_peak": _num(moment[i]),
-            }
-            for i, f in enumerate(factors)
-        ],
-    }
-
-
-def to_json(
-    result: Result, indent: int | None = 2, factor_study: Mapping[str, Any] | None = None
-) -> str:
-    """The contract JSON text of a result."""
-    return json.dumps(to_dict(result, factor_study), indent=indent, allow_nan=False) + "\n"
+def to_json(result: Result, indent: int | None = 2) -> str:
+    """The analysis JSON text of a result (:func:`to_dict`)."""
+    return json.dumps(to_dict(result), indent=indent, allow_nan=False) + "\n"

@@ -1,7 +1,8 @@
-"""Views of the engine on its mounts (``CONTRACT`` §7): JSON, tables, Dataset, figure, report.
+"""Views of the ``mounts`` section, the engine on its mounts (docs/mounts.md): JSON,
+tables, figure, report.
 
-Everything here reads a :class:`~balance.core.mounts.MountsResult` (``result.mounts``, or a
-speed sweep from :func:`balance.core.mounts.speed_sweep`).  Amplitudes are magnitudes of
+Everything here reads a :class:`~balance.core.mounts.MountsResult` (the section's part, or
+its speed sweep from :func:`balance.core.mounts.speed_sweep`).  Amplitudes are magnitudes of
 complex amplitudes; the "largest force" of a mount is the largest magnitude of its force
 vector over a cycle (:func:`balance.core.mounts.peak_force`).
 """
@@ -18,23 +19,27 @@ from balance.views.fitted import Column, NumberTable
 from balance.views.polar import format_number, json_number, order_value
 
 if TYPE_CHECKING:  # pragma: no cover
-    import xarray as xr
     from matplotlib.figure import Figure
     from rich.console import RenderableType
 
+    from balance.core.mount_loads import MountsPart
     from balance.core.result import Result
 
 __all__ = [
+    "PLOTS",
+    "REPORT_TITLE",
     "crossing_entries",
-    "mounts_dataset_variables",
+    "json_block",
     "mounts_json",
     "mounts_report_section",
     "mounts_tables",
     "plot_mount_sweep",
     "plot_mounts",
+    "report_section",
     "sweep_csv",
     "sweep_json",
     "sweep_tables",
+    "tables",
 ]
 
 
@@ -52,8 +57,13 @@ def _share(value: float) -> str:
 # JSON
 
 
+def json_block(result: Result) -> dict[str, Any]:
+    """The section's part of the analysis JSON: ``mounts`` (:func:`mounts_json`)."""
+    return {"mounts": mounts_json(_part(result).response)}
+
+
 def mounts_json(m: MountsResult) -> dict[str, Any]:
-    """The ``mounts`` block of the contract JSON (``CONTRACT`` §7), with extras."""
+    """The ``mounts`` block of the analysis JSON (docs/mounts.md), with extras."""
     modes = [
         {
             "frequency_Hz": json_number(m.modes.frequency[j]),
@@ -167,6 +177,11 @@ def _modes_table(m: MountsResult) -> NumberTable:
         ],
         rows,
     )
+
+
+def tables(result: Result) -> list[RenderableType]:
+    """The section's tables (:func:`mounts_tables`)."""
+    return mounts_tables(_part(result).response)
 
 
 def mounts_tables(m: MountsResult) -> list[RenderableType]:
@@ -311,95 +326,12 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
 
 
 # ---------------------------------------------------------------------------------------
-# Dataset
-
-
-def mounts_dataset_variables(m: MountsResult) -> tuple[dict[str, xr.Variable], dict[str, Any]]:
-    """Dataset variables (with ``units`` and ``long_name``) and coordinates of a response."""
-    import xarray as xr
-
-    def var(dims: tuple[str, ...], data: Any, units: str, long_name: str) -> xr.Variable:
-        return xr.Variable(dims, np.asarray(data), attrs={"units": units, "long_name": long_name})
-
-    coords = {
-        "mount_mode": xr.IndexVariable(
-            ("mount_mode",),
-            np.arange(1, 7),
-            attrs={"units": "1", "long_name": "rigid-body mode number"},
-        ),
-        "mount_coordinate": xr.IndexVariable(
-            ("mount_coordinate",),
-            list(COORDINATES),
-            attrs={"units": "1", "long_name": "CG coordinate"},
-        ),
-        "mount_order": xr.IndexVariable(
-            ("mount_order",),
-            np.asarray(m.orders),
-            attrs={"units": "1", "long_name": "order of the mount response"},
-        ),
-        "mount": xr.IndexVariable(
-            ("mount",),
-            np.arange(1, m.system.n_mounts + 1),
-            attrs={"units": "1", "long_name": "mount number"},
-        ),
-        "axis": xr.IndexVariable(
-            ("axis",), ["x", "y", "z"], attrs={"units": "1", "long_name": "engine axis"}
-        ),
-    }
-    data = {
-        "mount_mode_frequency": var(
-            ("mount_mode",),
-            m.modes.frequency,
-            "Hz",
-            "undamped rigid-body mode frequency on the mounts",
-        ),
-        "mount_mode_energy_share": var(
-            ("mount_mode", "mount_coordinate"),
-            m.modes.energy_share,
-            "1",
-            "share of the mode's kinetic energy per CG coordinate",
-        ),
-        "mount_cg_translation": var(
-            ("mount_order", "axis"), m.translation, "m", "amplitude of the CG translation"
-        ),
-        "mount_rotation": var(
-            ("mount_order", "axis"),
-            m.rotation,
-            "rad",
-            "amplitude of the rotation about axes through the CG",
-        ),
-        "mount_force": var(
-            ("mount_order", "mount", "axis"),
-            m.force_amplitude,
-            "N",
-            "amplitude of the force each mount passes on, engine axes",
-        ),
-        "mount_force_peak": var(
-            ("mount_order", "mount"),
-            m.force_peak,
-            "N",
-            "largest magnitude of each mount's force over a cycle",
-        ),
-        "torque_roll_axis": var(
-            ("axis",), m.roll_axis, "1", "direction of the torque-roll axis through the CG"
-        ),
-        "mount_distance_to_torque_roll_axis": var(
-            ("mount",), m.axis_distance, "m", "distance of each mount from the torque-roll axis"
-        ),
-    }
-    return data, coords
-
-
-# ---------------------------------------------------------------------------------------
 # figure
 
 
-def _sweep_of(result: Result) -> MountsResult:
-    from balance.core.mounts import speed_sweep
-
-    assert result.mounts is not None
-    w0 = float(result.engine.speed)
-    return speed_sweep(result.mounts, np.linspace(0.15 * w0, 1.3 * w0, 231))
+def _part(result: Result) -> MountsPart:
+    part: MountsPart = result.part("mounts")
+    return part
 
 
 def plot_mount_sweep(m: MountsResult, *, title: str | None = None, layout: str = "") -> Figure:
@@ -444,10 +376,13 @@ def plot_mount_sweep(m: MountsResult, *, title: str | None = None, layout: str =
 
 
 def plot_mounts(result: Result, *, title: str | None = None) -> Figure:
-    """Plot kind ``mounts``: mount force against speed (0.15 to 1.3 times the analysis
-    speed) with the mode lines.  Without mounts in the result the figure says so (like the
-    other kinds without what they draw)."""
-    if result.mounts is None:
+    """Plot kind ``mounts``: mount force against speed (over the speeds the mounts section
+    was asked for; the figure's are :func:`balance.core.mount_loads.figure_speeds`, 0.15 to
+    1.3 times the analysis speed) with the mode lines.  Without mounts in the result, or
+    without their speed sweep, the figure says so (like the other kinds without what they
+    draw)."""
+    part = result.part("mounts")
+    if part is None or part.sweep is None:
         from matplotlib.figure import Figure
 
         fig = Figure(figsize=(8.0, 5.0), layout="constrained")
@@ -456,18 +391,40 @@ def plot_mounts(result: Result, *, title: str | None = None) -> Figure:
         ax.text(
             0.5,
             0.5,
-            "no mounts in this analysis: give a mounts: section or --mounts FILE",
+            "no mounts in this analysis: give a mounts: section or a mounts file"
+            if part is None
+            else "the mounts were analysed at one speed only: no speed sweep to draw",
             ha="center",
             va="center",
             transform=ax.transAxes,
         )
         fig.suptitle(title if title is not None else f"{result.engine.name}: mounts")
         return fig
-    return plot_mount_sweep(_sweep_of(result), title=title, layout=str(result.engine.name))
+    return plot_mount_sweep(part.sweep, title=title, layout=str(result.engine.name))
+
+
+#: The figure kinds of the section.
+PLOTS = {"mounts": plot_mounts}
 
 
 # ---------------------------------------------------------------------------------------
 # report
+
+
+#: The heading of the section in the HTML report.
+REPORT_TITLE = "The engine on its mounts"
+
+
+def report_section(result: Result, figures: bool) -> str:
+    """HTML of the report's mounts section, with the mount-force figure."""
+    from balance.views.report import escape, html_figure, html_table
+
+    html = mounts_report_section(_part(result).response, html_table, escape)
+    if figures:
+        html += "\n" + html_figure(
+            result, "mounts", "Largest mount force against speed, with the mode lines", 90
+        )
+    return html
 
 
 def mounts_report_section(m: MountsResult, table: Any, escape: Any) -> str:

@@ -68,12 +68,12 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
 
 __all__ = [
-    "BEARING_KINDS",
     "FORMATS",
     "GAS_KINDS",
     "PHASOR_COLUMNS",
     "PLOT_KINDS",
     "STYLE",
+    "all_kinds",
     "applicable_kinds",
     "figure_bytes",
     "phasor_panels",
@@ -81,6 +81,7 @@ __all__ = [
     "plot_crank_angle",
     "plot_crank_star",
     "plot_forces",
+    "plot_kind",
     "plot_locus",
     "plot_phasors",
     "plot_roll",
@@ -88,6 +89,7 @@ __all__ = [
     "plot_torque",
     "proposal_summary",
     "save_plots",
+    "section_kinds",
 ]
 
 #: Matplotlib settings every figure is drawn and saved with.
@@ -1339,9 +1341,10 @@ def plot_balance(
 
 def proposal_summary(result: Result) -> str:
     """One line describing the proposal of a result (strategy, orders, masses)."""
-    if result.balanced is None:
+    part = result.part("proposal")
+    if part is None:
         return "no balancing proposal"
-    proposal = result.balanced.proposal
+    proposal = part.proposal
     n_cw = len(proposal.counterweights)
     n_shaft = len(proposal.shafts)
     parts = [
@@ -1388,7 +1391,7 @@ def plot_torque(result: Result, *, ax: AxesArg = None, title: str | None = None)
     -------
     matplotlib.figure.Figure
     """
-    torque = result.torque
+    torque = result.part("torque")
     if torque is None:
         return _no_gas(result, ax, "torque", title)
     theta = np.asarray(torque.crank_angle)
@@ -1452,7 +1455,7 @@ def plot_forces(
     -------
     matplotlib.figure.Figure
     """
-    torque = result.torque
+    torque = result.part("torque")
     if torque is None:
         return _no_gas(result, ax, "forces", title)
     n_cylinders = result.engine.n_cylinders
@@ -1490,34 +1493,6 @@ def plot_forces(
         return _finish(fig, owned, title, f"{_layout_name(result)}: forces on cylinder {cylinder}")
 
 
-def _plot_mounts(result: Result, **options: Any) -> Figure:
-    """Mount force against speed with the mode lines (:mod:`balance.views.mounts`)."""
-    from balance.views.mounts import plot_mounts
-
-    return plot_mounts(result, **options)
-
-
-def _plot_pin_load(result: Result, **options: Any) -> Figure:
-    """Crank-pin load in the crank-fixed frame (:mod:`balance.views.bearings`)."""
-    from balance.views.bearings import plot_pin_load
-
-    return plot_pin_load(result, **options)
-
-
-def _plot_main_loads(result: Result, **options: Any) -> Figure:
-    """Each main bearing's load in the engine frame (:mod:`balance.views.bearings`)."""
-    from balance.views.bearings import plot_main_loads
-
-    return plot_main_loads(result, **options)
-
-
-def _plot_internal_moment(result: Result, **options: Any) -> Figure:
-    """Internal moment along the crank (:mod:`balance.views.bearings`)."""
-    from balance.views.bearings import plot_internal_moment
-
-    return plot_internal_moment(result, **options)
-
-
 #: Every figure kind and the function that draws it.
 PLOT_KINDS: dict[str, Callable[..., Figure]] = {
     "crank_star": plot_crank_star,
@@ -1529,17 +1504,40 @@ PLOT_KINDS: dict[str, Callable[..., Figure]] = {
     "balance": plot_balance,
     "torque": plot_torque,
     "forces": plot_forces,
-    "mounts": _plot_mounts,
-    "pin_load": _plot_pin_load,
-    "main_loads": _plot_main_loads,
-    "internal_moment": _plot_internal_moment,
 }
-
-#: Plot kinds that need the bearing loads (``Request.bearings``).
-BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
 
 #: Plot kinds that need gas forces (a ``gas:`` section); asked for without, they say so.
 GAS_KINDS = ("torque", "forces")
+
+
+def section_kinds() -> dict[str, tuple[str, Callable[..., Figure]]]:
+    """The figure kinds the sections draw (:mod:`balance.views.sections`): each kind with
+    its section's name and function."""
+    from balance.core.sections import names
+    from balance.views.sections import VIEWS, view
+
+    out: dict[str, tuple[str, Callable[..., Figure]]] = {}
+    for name in names():
+        if name in VIEWS:
+            for kind, draw in getattr(view(name), "PLOTS", {}).items():
+                out[kind] = (name, draw)
+    return out
+
+
+def plot_kind(kind: str) -> Callable[..., Figure]:
+    """The function that draws figure ``kind`` (:data:`PLOT_KINDS` or a section's)."""
+    if kind in PLOT_KINDS:
+        return PLOT_KINDS[kind]
+    sections = section_kinds()
+    if kind not in sections:
+        known = [*PLOT_KINDS, *sections]
+        raise InputError(f"plot kind {kind!r}: expected one of {', '.join(known)}")
+    return sections[kind][1]
+
+
+def all_kinds() -> list[str]:
+    """Every figure kind: :data:`PLOT_KINDS`, then the sections'."""
+    return [*PLOT_KINDS, *section_kinds()]
 
 
 def _metadata(fmt: str) -> dict[str, Any]:
@@ -1595,17 +1593,16 @@ def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
 
 
 def applicable_kinds(result: Result) -> list[str]:
-    """The kinds of :data:`PLOT_KINDS` that have something to draw for ``result``, in order:
-    ``balance`` with a proposal, ``mounts`` with mounts, the :data:`BEARING_KINDS` with
-    bearing loads and the :data:`GAS_KINDS` with gas forces; the others always."""
-    return [
+    """The figure kinds that have something to draw for ``result``, in order: those of
+    :data:`PLOT_KINDS` (``balance`` with a proposal, the :data:`GAS_KINDS` with gas forces,
+    the others always), then those of every section the result holds."""
+    own = [
         k
         for k in PLOT_KINDS
         if (k != "balance" or synthesis.has_proposal(result))
-        and (k != "mounts" or result.mounts is not None)
-        and (k not in BEARING_KINDS or result.bearings is not None)
-        and (k not in GAS_KINDS or result.torque is not None)
+        and (k not in GAS_KINDS or result.part("torque") is not None)
     ]
+    return own + [k for k, (name, _) in section_kinds().items() if name in result.parts]
 
 
 def save_plots(
@@ -1656,15 +1653,14 @@ def save_plots(
         chosen = applicable_kinds(result)
     else:
         chosen = list(kinds)
-        unknown = [k for k in chosen if k not in PLOT_KINDS]
-        if unknown:
-            raise InputError(f"plot kind {unknown[0]!r}: expected one of {', '.join(PLOT_KINDS)}")
+        for kind in chosen:
+            plot_kind(kind)  # refuses an unknown kind, naming the known ones
     target_dir = Path(directory)
     target_dir.mkdir(parents=True, exist_ok=True)
     targets = [target_dir / f"{prefix}{kind}.{fmt}" for kind in chosen]
     for target in targets:  # fail before any figure is drawn
         check_target(target, force)
     for kind, target in zip(chosen, targets, strict=True):
-        data = figure_bytes(PLOT_KINDS[kind](result), fmt)
+        data = figure_bytes(plot_kind(kind)(result), fmt)
         write_atomic(target, data, force)
     return targets

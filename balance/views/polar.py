@@ -1,7 +1,9 @@
-"""Polar form for the views that print: phases in degrees, safe normalisation, rpm.
+"""Numbers as the views print them: JSON numbers, orders, compact formatting, and zero
+where rounding cannot tell a value from zero.
 
 numpy and the standard library only, so that the JSON, CSV and table views need no
-xarray (:mod:`balance.views.dataset` imports these for the Dataset as well).
+xarray.  Phases and normalised values are formed by the phasor type
+(:func:`balance.core.phasors.phase_deg`, :func:`balance.core.phasors.safe_ratio`).
 """
 
 from __future__ import annotations
@@ -13,56 +15,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core.phasors import rounding_threshold
-from balance.core.speed import rad_per_s_to_rpm
 
 __all__ = [
-    "CONVENTIONS",
-    "SCHEMA",
     "format_number",
     "json_number",
     "order_value",
-    "phase_deg",
-    "safe_ratio",
-    "speed_rpm",
     "zero_below_rounding",
 ]
-
-#: Schema name of the analysis JSON and the result Dataset.
-SCHEMA = "balance.analysis/1"
-
-#: The frame and sign conventions, as the result Dataset's ``conventions`` attribute and
-#: the report state them.
-CONVENTIONS = (
-    "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
-    "direction of rotation; (x, y) as y + i x"
-)
-
-
-def phase_deg(phasor: ArrayLike) -> NDArray[np.float64]:
-    """Phase of complex phasors in degrees, in [0, 360), to 1e-9 deg; 0 where the magnitude is 0."""
-    z = np.asarray(phasor, dtype=np.complex128)
-    # rounded to 1e-9 deg so that rounding noise (1e-14 deg) does not show as a phase
-    deg = np.round(np.mod(np.degrees(np.angle(z)), 360.0), 9)
-    deg = np.where(deg >= 360.0, 0.0, deg)
-    deg = np.where(np.abs(z) == 0.0, 0.0, deg)
-    deg = np.where(np.isnan(z), np.nan, deg)
-    return np.asarray(deg + 0.0, dtype=np.float64)  # + 0.0 turns -0.0 into 0.0
-
-
-def safe_ratio(values: Any, scale: float) -> Any:
-    """``values / scale``: NaN where the scale is zero or not finite, and inf (without a
-    warning) where the ratio lies beyond the float range (a normalising force of a few
-    1e-300 N, as a layout with a 1e-308 kg piston has)."""
-    if not math.isfinite(scale) or scale == 0.0:
-        return np.full(np.shape(values), np.nan)
-    with np.errstate(over="ignore"):
-        return np.asarray(values) / scale
-
-
-def speed_rpm(speed: float) -> float:
-    """Crank speed [rad/s] in rpm as reported, to 12 significant digits (8000 rpm read from
-    a file stays 8000, not 7999.999999999999)."""
-    return float(f"{rad_per_s_to_rpm(speed):.12g}")
 
 
 def json_number(value: Any) -> float | None:

@@ -23,25 +23,40 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from balance.core.catalogue import CONVENTIONS, SCHEMA, speed_rpm
 from balance.core.kinematics import offset_ratio, rod_ratio
+from balance.core.phasors import phase_deg, safe_ratio
+from balance.core.sections import names
 from balance.views import signals as synthesis
-from balance.views.polar import CONVENTIONS, SCHEMA, phase_deg, safe_ratio, speed_rpm
+from balance.views.polar import format_number
+from balance.views.sections import VIEWS, view
 from balance.views.signals import Quantity
-from balance.views.table import NO_PITCH, format_number, format_ratio, pitch_text
+from balance.views.table import NO_PITCH, format_ratio, pitch_text
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
 
-__all__ = ["SECTIONS", "accuracy_statement", "render_report", "svg_fragment", "write_report"]
+__all__ = [
+    "SECTIONS",
+    "accuracy_statement",
+    "escape",
+    "html_figure",
+    "html_table",
+    "proposal_section",
+    "render_report",
+    "svg_fragment",
+    "write_report",
+]
 
-#: Section ids and headings of the report, in order.
+#: Section ids and headings of the report that every analysis has, in order; the
+#: sections of the analysis (the proposal, the mounts, the bearing loads…) come between
+#: the roll and the model (:mod:`balance.views.sections`).
 SECTIONS: tuple[tuple[str, str], ...] = (
     ("layout", "Layout and assumptions"),
     ("forces", "Free forces"),
     ("moments", "Free moments"),
     ("rotating", "Rotating force and couple"),
     ("roll", "Roll torque"),
-    ("proposal", "Balancing proposal and residual"),
     ("model", "Model and accuracy"),
 )
 
@@ -74,7 +89,7 @@ footer { margin-top: 3em; color: #666; font-size: 0.85em; }
 """
 
 
-def _e(text: object) -> str:
+def escape(text: object) -> str:
     return html.escape(str(text), quote=True)
 
 
@@ -88,7 +103,7 @@ def _ratio(value: Any, reference: float) -> str:
     return format_ratio(float(value), float(reference))
 
 
-def _table(
+def html_table(
     headers: Sequence[str],
     rows: Iterable[Sequence[str]],
     caption: str = "",
@@ -100,30 +115,30 @@ def _table(
     groups of columns (an empty label leaves its columns unlabelled)."""
     out = ["<table>"]
     if caption:
-        out.append(f"<caption>{_e(caption)}</caption>")
+        out.append(f"<caption>{escape(caption)}</caption>")
     out.append("<thead>")
     if groups:
         spans = "".join(
-            f'<th colspan="{n}" class="group">{_e(label)}</th>'
+            f'<th colspan="{n}" class="group">{escape(label)}</th>'
             if n > 1
-            else f"<th>{_e(label)}</th>"
+            else f"<th>{escape(label)}</th>"
             for label, n in groups
         )
         out.append(f"<tr>{spans}</tr>")
-    out.append("<tr>" + "".join(f"<th>{_e(h)}</th>" for h in headers) + "</tr></thead>")
+    out.append("<tr>" + "".join(f"<th>{escape(h)}</th>" for h in headers) + "</tr></thead>")
     out.append("<tbody>")
     for row in rows:
         cells = []
         for cell in row:
             css = "num zero" if cell in ("0", "-", "n/a") else "num"
-            cells.append(f'<td class="{css}">{_e(cell)}</td>')
+            cells.append(f'<td class="{css}">{escape(cell)}</td>')
         out.append("<tr>" + "".join(cells) + "</tr>")
     out.append("</tbody></table>")
     return "\n".join(out)
 
 
 def _facts(items: Iterable[tuple[str, str]]) -> str:
-    body = "".join(f"<dt>{_e(k)}</dt><dd>{_e(v)}</dd>" for k, v in items)
+    body = "".join(f"<dt>{escape(k)}</dt><dd>{escape(v)}</dd>" for k, v in items)
     return f'<dl class="facts">{body}</dl>'
 
 
@@ -169,17 +184,16 @@ def svg_fragment(svg: str, prefix: str) -> str:
     return text[start:].strip()
 
 
-def _figure(result: Result, kind: str, caption: str, number: int) -> str:
-    from balance.views.plots import PLOT_KINDS, figure_bytes
+def html_figure(result: Result, kind: str, caption: str, number: int) -> str:
+    from balance.views.plots import figure_bytes, plot_kind
 
-    fig = PLOT_KINDS[kind](result)
+    fig = plot_kind(kind)(result)
     svg = figure_bytes(fig, "svg").decode("utf-8")
     fragment = svg_fragment(svg, f"f{number}-")
-    label = f'role="img" aria-label="{_e(caption)}" '
+    label = f'role="img" aria-label="{escape(caption)}" '
     fragment = fragment.replace("<svg ", f"<svg {label}", 1)
-    return (
-        f'<figure id="figure-{_e(kind)}">{fragment}<figcaption>{_e(caption)}</figcaption></figure>'
-    )
+    caption_html = f"<figcaption>{escape(caption)}</figcaption>"
+    return f'<figure id="figure-{escape(kind)}">{fragment}{caption_html}</figure>'
 
 
 def accuracy_statement(result: Result) -> str:
@@ -198,9 +212,8 @@ def accuracy_statement(result: Result) -> str:
     str
         Plain text.
     """
-    phasors = result.phasors
     engine = result.engine
-    model = str(phasors.model)
+    model = str(result.model.name)
     radius = np.asarray(engine.crank_radius, dtype=np.float64)
     rod = np.asarray(engine.conrod_length, dtype=np.float64)
     offset = np.asarray(engine.offset, dtype=np.float64)
@@ -216,7 +229,7 @@ def accuracy_statement(result: Result) -> str:
             "brute-force crank-angle computation)."
         )
     elif model == "series":
-        terms = int(phasors.terms)
+        terms = int(result.model.terms)
         text = (
             f"Binomial series of the conrod term in λ = r/l truncated after {terms} terms "
             f"(highest power λ^{2 * terms - 1}), with λ(1 + |e|/r) = {x:.4g}; the error "
@@ -229,7 +242,7 @@ def accuracy_statement(result: Result) -> str:
             "orders 4, 6, ... and every effect of an offset are missing."
         )
     elif model == "time":
-        samples = int(phasors.samples)
+        samples = int(result.model.samples)
         text = (
             f"Crank-angle model: forces, moments and roll sampled at {samples} crank angles "
             "per revolution, summed as vectors and transformed by FFT; orders above half the "
@@ -245,7 +258,7 @@ def accuracy_statement(result: Result) -> str:
             "and leaves out the link pins' motion (the idealised radial); its bound "
             "includes what that leaves out."
         )
-    bound = float(phasors.error_bound)
+    bound = float(result.model.error_bound)
     if math.isfinite(bound):
         force = bound * float(result.reference_force)
         text += (
@@ -260,6 +273,21 @@ def accuracy_statement(result: Result) -> str:
     return text
 
 
+def _contents(result: Result) -> list[tuple[str, str]]:
+    """The report's sections, ids and headings, in order: those every analysis has, with
+    the analysis' sections (:mod:`balance.views.sections`) before the model: each one the
+    result holds, and those that say what their absence means (``REPORT_ABSENT``: a
+    design review without a proposal says so)."""
+    own = []
+    for ident in names():
+        views = view(ident) if ident in VIEWS else None
+        if views is None or getattr(views, "report_section", None) is None:
+            continue
+        if ident in result.parts or getattr(views, "REPORT_ABSENT", None) is not None:
+            own.append((ident, views.REPORT_TITLE))
+    return [*SECTIONS[:-1], *own, SECTIONS[-1]]
+
+
 def _version() -> str:
     from balance._version import __version__
 
@@ -270,13 +298,13 @@ def _header(result: Result) -> str:
     engine = result.engine
     meta = (
         f"{engine.n_cylinders} cylinders, {speed_rpm(engine.speed):g} "
-        f"rpm, {engine.cycle}; model {result.phasors.model}; "
+        f"rpm, {engine.cycle}; model {result.model.name}; "
         f"balance {_version()}, schema {SCHEMA}"
     )
-    toc = "".join(f'<li><a href="#{i}">{_e(t)}</a></li>' for i, t in SECTIONS)
+    toc = "".join(f'<li><a href="#{i}">{escape(t)}</a></li>' for i, t in _contents(result))
     return (
-        f"<header><h1>Balance design review: {_e(engine.name)}</h1>"
-        f'<p class="meta">{_e(meta)}</p></header>'
+        f"<header><h1>Balance design review: {escape(engine.name)}</h1>"
+        f'<p class="meta">{escape(meta)}</p></header>'
         f'<nav aria-label="contents"><ol>{toc}</ol></nav>'
     )
 
@@ -310,8 +338,9 @@ def _layout_section(result: Result, figures: bool) -> str:
         "m_rot [kg]",
         "rod inertia corr. [kg m²]",
     ]
-    stroke = result.cylinder_stroke
-    tdc = None if result.cylinder_tdc is None else np.degrees(result.cylinder_tdc)
+    dead_centres = result.part("cylinders")
+    stroke = None if dead_centres is None else dead_centres.stroke
+    tdc = None if dead_centres is None else np.degrees(dead_centres.tdc)
     links = engine.links
     if stroke is not None:
         headers += ["actual stroke [mm]", "TDC at [deg]"]
@@ -358,16 +387,16 @@ def _layout_section(result: Result, figures: bool) -> str:
         "+y; a transverse vector (x, y) is the complex number y + i x.",
         f"Orders {_orders_text(result.orders)} are reported; higher ones are left out.",
     ]
-    items = "".join(f"<li>{_e(a)}</li>" for a in assumptions)
+    items = "".join(f"<li>{escape(a)}</li>" for a in assumptions)
     out = [
         _facts(facts),
         "<h3>Cylinders</h3>",
-        _table(headers, rows),
+        html_table(headers, rows),
         f"<h3>Assumptions</h3><ul>{items}</ul>",
     ]
     if figures:
         out.append(
-            _figure(
+            html_figure(
                 result,
                 "crank_star",
                 "Crank star seen from the front (+y up, +x right, crank turning clockwise): "
@@ -451,15 +480,15 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
         else f"n/a: pitch a = {NO_PITCH}"
     )
     out = [
-        f"<p>{_e(what)}. Forward phasors turn with the crank, backward ones against it; "
+        f"<p>{escape(what)}. Forward phasors turn with the crank, backward ones against it; "
         f"the peak over a revolution is |forward| + |backward|. The free {quantity} adds "
         f"the centrifugal {quantity} of the rotating masses to order 1 (forward); the "
-        f"figures draw the free {quantity}. {_e(per)} = {_e(reference_text)}.</p>",
-        _table(headers, rows, groups=groups),
+        f"figures draw the free {quantity}. {escape(per)} = {escape(reference_text)}.</p>",
+        html_table(headers, rows, groups=groups),
     ]
     if figures and quantity == "force":
         out.append(
-            _figure(
+            html_figure(
                 result,
                 "spectrum",
                 "Peak free force and moment per order (reciprocating + rotating).",
@@ -467,7 +496,7 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
             )
         )
         out.append(
-            _figure(
+            html_figure(
                 result,
                 "locus",
                 "Path of the free force and moment vectors over a revolution, seen from the "
@@ -478,7 +507,7 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
     # the phasor and crank-angle figures go with the moments, or with the forces without them
     if figures and (quantity == "moment" or not synthesis.has_moments(result)):
         out.append(
-            _figure(
+            html_figure(
                 result,
                 "phasors",
                 "Phasors at crank angle 0 (0° up, clockwise = direction of rotation) of the "
@@ -488,7 +517,7 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
             )
         )
         out.append(
-            _figure(
+            html_figure(
                 result,
                 "crank_angle",
                 "Free force components and pitch/yaw couples over a revolution, total and "
@@ -513,10 +542,10 @@ def _rotating_section(result: Result) -> str:
         rows.append(
             [
                 "moment [N m]",
-                _num(abs(p.rotating_moment)),
-                _num(phase_deg(p.rotating_moment)),
+                _num(abs(p.rotating("moment"))),
+                _num(phase_deg(p.rotating("moment"))),
                 _ratio(
-                    safe_ratio(abs(p.rotating_moment), result.reference_moment),
+                    safe_ratio(abs(p.rotating("moment")), result.reference_moment),
                     float(result.reference_moment),
                 ),
             ]
@@ -525,7 +554,7 @@ def _rotating_section(result: Result) -> str:
         [
             "<p>Centrifugal force of the rotating masses (order 1, forward only): a mass turning "
             "with the crank (a counterweight) can cancel it.</p>",
-            _table(
+            html_table(
                 ["quantity [unit]", "magnitude", "phase [deg]", "per F1 (force) / F1 a (moment)"],
                 rows,
             ),
@@ -561,17 +590,16 @@ def _roll_section(result: Result, figures: bool) -> str:
         "<p>Torque about the crank axis that the block receives from the inertia of the "
         "pistons and conrods, positive in the direction of rotation: Σ a_k cos(k θ + phase_k)."
         "</p>",
-        _table(headers, rows),
+        html_table(headers, rows),
     ]
     if figures:
-        out.append(_figure(result, "roll", "Roll torque over a revolution and per order.", 6))
+        out.append(html_figure(result, "roll", "Roll torque over a revolution and per order.", 6))
     return "\n".join(out)
 
 
-def _proposal_section(result: Result, figures: bool) -> str:
-    if result.balanced is None:
-        return '<p class="note">No balancing proposal in this result (analysed without one).</p>'
-    proposal = result.balanced.proposal
+def proposal_section(result: Result, figures: bool) -> str:
+    """HTML of the proposal's section: its settings, notes, masses and the residual."""
+    proposal = result.part("proposal").proposal
     factor = proposal.balance_factor
     facts = [
         ("strategy", str(proposal.strategy)),
@@ -582,7 +610,7 @@ def _proposal_section(result: Result, figures: bool) -> str:
     out = [_facts(facts)]
     notes = [note for note in proposal.notes if note]
     if notes:  # the proposal's remarks, one per line
-        items = "".join(f"<li>{_e(note)}</li>" for note in notes)
+        items = "".join(f"<li>{escape(note)}</li>" for note in notes)
         out.append(f'<ul class="note notes">{items}</ul>')
     out.append("<h3>Counterweights (turn with the crank)</h3>")
     if proposal.counterweights:
@@ -597,7 +625,7 @@ def _proposal_section(result: Result, figures: bool) -> str:
             for c in proposal.counterweights
         ]
         out.append(
-            _table(
+            html_table(
                 ["z [mm]", "mass [kg]", "radius [mm]", "angle at θ = 0 [deg]", "m R [kg mm]"],
                 rows,
             )
@@ -622,7 +650,7 @@ def _proposal_section(result: Result, figures: bool) -> str:
                     ]
                 )
         out.append(
-            _table(
+            html_table(
                 [
                     "shaft",
                     "speed ratio",
@@ -673,7 +701,7 @@ def _proposal_section(result: Result, figures: bool) -> str:
         "balance shafts.</p>"
     )
     out.append(
-        _table(
+        html_table(
             [
                 "order",
                 "force before [N]",
@@ -690,7 +718,7 @@ def _proposal_section(result: Result, figures: bool) -> str:
     )
     if figures:
         out.append(
-            _figure(
+            html_figure(
                 result,
                 "balance",
                 "Before (free: reciprocating + rotating) and after the proposal (residual).",
@@ -701,16 +729,16 @@ def _proposal_section(result: Result, figures: bool) -> str:
 
 
 def _model_section(result: Result) -> str:
-    model = str(result.phasors.model)
+    model = str(result.model.name)
     facts = [("piston acceleration model", model)]
     if model == "series":
-        facts.append(("series terms", str(int(result.phasors.terms))))
+        facts.append(("series terms", str(int(result.model.terms))))
     facts += [
         ("conventions", CONVENTIONS),
         ("result schema", SCHEMA),
         ("balance version", _version()),
     ]
-    return f"{_facts(facts)}\n<p>{_e(accuracy_statement(result))}</p>"
+    return f"{_facts(facts)}\n<p>{escape(accuracy_statement(result))}</p>"
 
 
 def render_report(result: Result, *, figures: bool = True) -> str:
@@ -729,55 +757,35 @@ def render_report(result: Result, *, figures: bool = True) -> str:
         An HTML5 document: inline CSS and SVG, no script, no external resource.
     """
     name = str(result.engine.name)
+    shown = _contents(result)
     bodies = {
         "layout": _layout_section(result, figures),
         "forces": _phasor_section(result, "force", figures),
         "moments": _phasor_section(result, "moment", figures),
         "rotating": _rotating_section(result),
         "roll": _roll_section(result, figures),
-        "proposal": _proposal_section(result, figures),
         "model": _model_section(result),
     }
-    if result.mounts is not None:
-        from balance.views.mounts import mounts_report_section
-
-        bodies["mounts"] = mounts_report_section(result.mounts, _table, _e)
-        if figures:
-            bodies["mounts"] += "\n" + _figure(
-                result, "mounts", "Largest mount force against speed, with the mode lines", 90
+    for ident, _ in shown:
+        if ident not in bodies:
+            views = view(ident)
+            bodies[ident] = (
+                views.report_section(result, figures)
+                if ident in result.parts
+                else f'<p class="note">{escape(views.REPORT_ABSENT)}</p>'
             )
-    if result.bearings is not None:
-        from balance.views.bearings import bearings_report_section
-
-        bodies["bearings"] = bearings_report_section(result.bearings, _table, _e)
-        if figures:
-            bodies["bearings"] += "\n" + "\n".join(
-                _figure(result, kind, caption, 95 + n)
-                for n, (kind, caption) in enumerate(
-                    (
-                        ("pin_load", "Crank-pin load in the crank-fixed frame"),
-                        ("main_loads", "Main-bearing loads in the engine frame"),
-                        ("internal_moment", "Internal moment of the crankshaft at the mains"),
-                    )
-                )
-            )
-    shown = list(SECTIONS)
-    if "mounts" in bodies:  # only when asked: before the model section
-        shown.insert(len(shown) - 1, ("mounts", "The engine on its mounts"))
-    if "bearings" in bodies:  # only when asked: before the model section
-        shown.insert(len(shown) - 1, ("bearings", "Crank-pin and main-bearing loads"))
     sections = "\n".join(
-        f'<section id="{ident}">\n<h2>{n}. {_e(heading)}</h2>\n{bodies[ident]}\n</section>'
+        f'<section id="{ident}">\n<h2>{n}. {escape(heading)}</h2>\n{bodies[ident]}\n</section>'
         for n, (ident, heading) in enumerate(shown, start=1)
     )
     return (
         "<!DOCTYPE html>\n"
         '<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
-        f"<title>Balance design review: {_e(name)}</title>\n"
+        f"<title>Balance design review: {escape(name)}</title>\n"
         f"<style>{_CSS}</style>\n</head>\n<body>\n"
         f"{_header(result)}\n<main>\n{sections}\n</main>\n"
-        f"<footer>Generated by balance {_e(_version())} from the "
+        f"<footer>Generated by balance {escape(_version())} from the "
         "analysis result; all values in SI units unless stated, angles in degrees.</footer>\n"
         "</body>\n</html>\n"
     )

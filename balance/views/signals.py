@@ -193,7 +193,7 @@ def couple_components(moment_signal: ArrayLike) -> tuple[FloatArray, FloatArray]
 
 def has_proposal(result: Result) -> bool:
     """Whether the result holds a balancing proposal and its residual."""
-    return result.balanced is not None
+    return result.part("proposal") is not None
 
 
 def has_moments(result: Result) -> bool:
@@ -237,33 +237,22 @@ def phasors_of(
         raise ValueError(f"quantity must be one of {', '.join(QUANTITIES)}, got {quantity!r}")
     if source not in SOURCES:
         raise ValueError(f"source must be one of {', '.join(SOURCES)}, got {source!r}")
-    p = result.phasors
-    orders = np.asarray(p.orders, dtype=np.intp)
+    orders = np.asarray(result.phasors.orders, dtype=np.intp)
     if source == "residual":
-        if result.balanced is None:
+        part = result.part("proposal")
+        if part is None:
             raise ValueError(
                 "this result has no balancing proposal (no residual); "
-                "analyse with the proposal asked for (Request(proposal=True), with moments "
-                "and roll)"
+                "analyse with the proposal asked for (with moments and roll)"
             )
-        b = result.balanced
-        pair = (
-            (b.force_forward, b.force_backward)
-            if quantity == "force"
-            else (b.moment_forward, b.moment_backward)
-        )
+        bundle = part.residual
+    elif source == "free":
+        bundle = result.phasors.free()
     else:
-        pair = (
-            (p.force_forward, p.force_backward)
-            if quantity == "force"
-            else (p.moment_forward, p.moment_backward)
-        )
-    forward = np.asarray(pair[0], dtype=np.complex128)
-    backward = np.asarray(pair[1], dtype=np.complex128)
-    if source == "free":
-        rotating = complex(p.rotating_force if quantity == "force" else p.rotating_moment)
-        forward = forward + np.where(orders == 1, rotating, 0.0)
-    # NaN phasors (moments not computed) stay NaN
+        bundle = result.phasors
+    forward, backward = bundle.pair(quantity)
+    if forward is None or backward is None:  # moments not computed: NaN phasors
+        forward = backward = np.full(orders.size, np.nan + 0j)
     return orders, np.asarray(forward, np.complex128), np.asarray(backward, np.complex128)
 
 
@@ -325,9 +314,10 @@ def roll_of(result: Result, residual: bool = False) -> tuple[FloatArray, Complex
     ValueError
         For ``residual`` without a proposal.
     """
-    if residual and result.balanced is None:
+    part = result.part("proposal")
+    if residual and part is None:
         raise ValueError("this result has no balancing proposal (no residual roll)")
-    roll = result.residual_roll if residual else result.roll
+    roll = part.residual_roll if residual else result.roll
     if roll is None:
         return np.zeros(0, dtype=np.float64), np.zeros(0, dtype=np.complex128)
     return (

@@ -1,0 +1,664 @@
+"""The proposal and the balance-factor study as sections of an analysis.
+
+:func:`proposal_part` proposes counterweights and balance shafts for an analysed engine
+(:func:`balance.core.balancing.propose`) and forms the residual: the free forces with
+every proposed mass added.  :func:`factor_study_part` traces the residual first-order
+force against the balance factor (:func:`balance.core.balancing.balance_factor_study`).
+Both are sections (:mod:`balance.core.sections`); their outputs are :data:`OUTPUTS` and
+:data:`STUDY_OUTPUTS`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from balance.core import kinematics
+from balance.core.analysis import compute_phasors
+from balance.core.balancing import (
+    Proposal,
+    balance_factor_study,
+    optimal_balance_factor,
+    proposal_phasors,
+    propose,
+    shaft_roll_phasors,
+)
+from balance.core.catalogue import Output
+from balance.core.engine import Engine, ShaftPosition
+from balance.core.phasors import Phasors, cancel_to_zero, phase_deg, rounding_threshold, safe_ratio
+from balance.core.result import FreeForces, Result
+from balance.core.speed import speed_squared
+
+__all__ = [
+    "OUTPUTS",
+    "STUDY_OUTPUTS",
+    "FactorStudy",
+    "ProposalResult",
+    "balance_engine",
+    "factor_study",
+    "factor_study_part",
+    "first_order_parts",
+    "proposal_part",
+    "residual",
+]
+
+ComplexArray = NDArray[np.complex128]
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class ProposalResult:
+    """A balancing proposal and what remains with it.
+
+    Attributes
+    ----------
+    proposal : Proposal
+        The counterweights and balance shafts (:class:`balance.core.balancing.Proposal`).
+    residual : Phasors
+        Per order of the analysis: reciprocating + rotating + counterweights + shafts
+        [N, N m], and the roll (inertia, whole orders) with the shafts' roll added.
+    residual_roll : ndarray of complex or None
+        The roll as the analysis reports it (per :attr:`Result.roll_orders`, with gas
+        forces where the engine has them) with the shafts' roll added [N m]; None
+        without the roll.
+    """
+
+    proposal: Proposal
+    residual: Phasors
+    residual_roll: ComplexArray | None
+
+
+def balance_engine(
+    layout: Engine,
+    free: FreeForces,
+    *,
+    cancel: Iterable[int] | None = None,
+    strategy: str | None = None,
+    balance_factor: float | None = None,
+    counterweight_radius: float | None = None,
+    cancel_roll: bool = False,
+    fixed_shafts: Sequence[ShaftPosition] | None = None,
+) -> ProposalResult:
+    """Propose counterweights and shafts for an analysed layout and form the residual.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    free : FreeForces
+        Its free forces (:func:`balance.core.analysis.compute_phasors`); the orders to
+        cancel are computed again with the same model where they are not among them.
+    cancel, strategy, balance_factor, counterweight_radius, cancel_roll, fixed_shafts
+        Proposal settings (:func:`balance.core.balancing.propose`).  Those not given here
+        come from the layout's ``balance:`` section (``fixed_shafts``: its ``shafts``),
+        then from the defaults of :func:`balance.core.balancing.propose` (orders 1 and 2,
+        two-plane counterweights at the crank ends, counterweight radius = crank radius,
+        shafts where they are needed at their default places).
+
+    Returns
+    -------
+    ProposalResult
+        The proposal, the residual per order of ``free`` (:func:`residual`), and its roll
+        (inertia, whole orders; :func:`proposal_part` puts the roll with gas forces in its
+        place).
+    """
+    settings = layout.balance
+    if cancel is None and settings is not None and settings.orders is not None:
+        cancel = settings.orders
+    wanted = sorted({int(k) for k in (cancel if cancel is not None else (1, 2))})
+    if strategy is None:
+        strategy = settings.strategy if settings is not None else "two-plane"
+    if balance_factor is None and settings is not None:
+        balance_factor = settings.balance_factor
+    if counterweight_radius is None and settings is not None:
+        counterweight_radius = settings.counterweight_radius
+    if fixed_shafts is None and settings is not None:
+        fixed_shafts = settings.shafts
+    # the phasors of the orders to cancel (computed again only if not already there)
+    p = free.phasors
+    needed = np.asarray(wanted, dtype=np.intp)
+    source = free
+    if not (np.all(np.isin(needed, p.orders)) and p.has("moment") and p.roll is not None):
+        source = compute_phasors(
+            layout,
+            needed,
+            model=free.model.name,
+            terms=free.model.terms,
+            samples=free.model.samples or None,
+        )
+    picked = source.phasors.at(needed)
+    assert picked.moment_forward is not None and picked.moment_backward is not None
+    assert picked.roll is not None
+    first_order = (
+        source.coefficients[:, int(np.searchsorted(source.phasors.orders, 1))]
+        if 1 in wanted
+        else np.ones(layout.n_cylinders, dtype=np.complex128)
+    )
+    if 1 in wanted and source.link_pins is not None:
+        first_order = first_order + _link_pin_first_order(layout, source.link_pins)
+    proposal = propose(
+        layout,
+        first_order,
+        picked.force_forward,
+        picked.force_backward,
+        picked.moment_forward,
+        picked.moment_backward,
+        needed,
+        cancel=wanted,
+        strategy=strategy,
+        balance_factor=balance_factor,
+        counterweight_radius=counterweight_radius,
+        fixed_shafts=fixed_shafts,
+        cancel_roll=cancel_roll,
+        roll=picked.roll,
+    )
+    after = residual(layout, proposal, p)
+    return ProposalResult(proposal, after, after.roll)
+
+
+def residual(layout: Engine, proposal: Proposal, p: Phasors) -> Phasors:
+    """The free phasors with the proposed masses added, each sum cleaned of rounding
+    noise against the terms that meet in it (:func:`balance.core.phasors.cancel_to_zero`).
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    proposal : Proposal
+        Its proposal (:func:`balance_engine`).
+    p : Phasors
+        Its free forces, moments and roll [N, N m].
+
+    Returns
+    -------
+    Phasors
+        Reciprocating + rotating + every proposed mass, per order of ``p``; the roll with
+        the shafts' roll.
+    """
+    total = p.free() + proposal_phasors(proposal, layout, p.orders)
+    w2 = float(speed_squared(layout.speed))
+    lever = np.abs(layout.z - layout.reference_z)
+    # scale of the terms that meet in each residual sum, for the zero-by-symmetry threshold
+    force_scale = float(
+        np.sum((layout.reciprocating_mass + layout.rotating_mass) * layout.crank_radius) * w2
+    )
+    force_scale += sum(abs(c.unbalance) for c in proposal.counterweights) * w2
+    force_scale += sum(abs(u) * s.speed_ratio**2 for s in proposal.shafts for _, u in s.planes) * w2
+    span = float(
+        max(
+            lever.max(),
+            *(abs(c.z - layout.reference_z) for c in proposal.counterweights),
+            *(abs(z - layout.reference_z) for s in proposal.shafts for z, _ in s.planes),
+            0.0,
+        )
+    )
+    n_terms = 2 * layout.n_cylinders + len(proposal.counterweights) + 2 * len(proposal.shafts)
+
+    def clean(values: Any, scale: float) -> ComplexArray:
+        return cancel_to_zero(values, scale, n_terms)
+
+    roll_scale = float(np.sum(layout.reciprocating_mass * layout.crank_radius**2) * w2)
+    roll_scale += float(np.sum(np.abs(layout.conrod_inertia_correction)) * w2)
+    roll_scale += sum(  # each shaft's own roll: a placed pair's two cancel each other
+        float(np.abs(shaft_roll_phasors([s], layout.speed, [abs(s.speed_ratio)])[0]))
+        for s in proposal.shafts
+    )
+
+    def cleaned(values: Any, scale: float) -> Any:
+        return None if values is None else clean(values, scale)
+
+    return replace(
+        total,
+        force_forward=clean(total.force_forward, force_scale),
+        force_backward=clean(total.force_backward, force_scale),
+        moment_forward=cleaned(total.moment_forward, force_scale * span),
+        moment_backward=cleaned(total.moment_backward, force_scale * span),
+        roll=cleaned(total.roll, roll_scale),
+    )
+
+
+def _link_pin_first_order(layout: Engine, pins: Phasors) -> ComplexArray:
+    r"""What each link pin's relative motion adds to its cylinder's :math:`G_1` as the
+    counterweights see it: :math:`2P^{+}_1/(m_{rec} r\omega^2 e^{i\varphi})`, so that the
+    counterweight targets (:func:`balance.core.balancing.counterweight_targets`) hold the
+    whole forward first order of every cylinder."""
+    at = int(np.searchsorted(pins.orders, 1))
+    carrier = (
+        layout.reciprocating_mass
+        * layout.crank_radius
+        * speed_squared(layout.speed)
+        * np.exp(1j * layout.throw)
+    )
+    return np.asarray(2.0 * pins.force_forward[:, at] / carrier, dtype=np.complex128)
+
+
+def _with_shafts_roll(result: Result, residual: Phasors) -> ComplexArray:
+    """The reported roll with the proposed shafts' roll added.
+
+    Without gas forces the roll is the inertia roll of whole orders and this is the
+    residual's.  With them (half orders for a four-stroke), the shafts' roll, which has
+    whole orders only, is added to the orders it has.
+    """
+    assert result.roll is not None and residual.roll is not None
+    if result.part("torque") is None:
+        return residual.roll
+    assert result.phasors.roll is not None
+    ks = result.roll_orders
+    roll = result.roll
+    out = roll.copy()
+    shafts = residual.roll - result.phasors.roll  # the shafts' roll, whole orders only
+    for j, k in enumerate(result.phasors.orders):
+        at = np.flatnonzero(np.isclose(ks, float(k)))
+        if at.size:
+            out[at[0]] += shafts[j]
+    scale = float(np.sum(np.abs(roll)) + np.sum(np.abs(shafts)))
+    return cancel_to_zero(out, scale, 64)
+
+
+def proposal_part(
+    engine: Engine,
+    request: Any,
+    result: Result,
+    *,
+    cancel: Iterable[int] | None = None,
+    strategy: str | None = None,
+    balance_factor: float | None = None,
+    counterweight_radius: float | None = None,
+    cancel_roll: bool = False,
+) -> Result:
+    """The ``proposal`` section: the proposal and the residual (:class:`ProposalResult`).
+
+    A proposal needs the moments and the roll; without them the result is returned as it
+    is.  Settings as :func:`balance_engine`.
+    """
+    if not result.has_moments or result.roll is None:
+        return result
+    proposed = balance_engine(
+        engine,
+        FreeForces(result.phasors, result.coefficients, result.model, result.link_pins),
+        cancel=cancel,
+        strategy=strategy,
+        balance_factor=balance_factor,
+        counterweight_radius=counterweight_radius,
+        cancel_roll=cancel_roll,
+    )
+    part = replace(proposed, residual_roll=_with_shafts_roll(result, proposed.residual))
+    return result.with_part("proposal", part)
+
+
+# --------------------------------------------------------------------------- factor study
+
+
+@dataclass(frozen=True)
+class FactorStudy:
+    """Residual first-order force and moment against the balance factor.
+
+    Attributes
+    ----------
+    factor : ndarray
+        Balance factors [1].
+    vertical_peak, horizontal_peak : ndarray
+        Peak residual first-order force along y and x per factor [N].
+    moment_peak : ndarray
+        Peak residual first-order moment per factor [N m].
+    optimal : float
+        The factor that makes the larger of the two force peaks smallest.
+    largest_main_load, largest_internal_moment : ndarray or None
+        With the crank-pin and main-bearing loads asked for: the largest main-bearing
+        load [N] and internal moment [N m] with each factor's proposed counterweights.
+    """
+
+    factor: FloatArray
+    vertical_peak: FloatArray
+    horizontal_peak: FloatArray
+    moment_peak: FloatArray
+    optimal: float
+    largest_main_load: FloatArray | None = None
+    largest_internal_moment: FloatArray | None = None
+
+
+def first_order_parts(
+    layout: Engine,
+) -> tuple[ComplexArray, tuple[ComplexArray, ComplexArray] | None]:
+    r"""What the balance-factor study needs of each cylinder's first order, from one
+    analysis.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+
+    Returns
+    -------
+    g1 : ndarray of complex
+        :math:`G_1` of each cylinder's :math:`-s''/r` (exact; a link piston's in
+        :math:`\beta_j`).
+    pins : tuple of ndarray of complex, or None
+        Forward and backward first-order phasors of each cylinder's link pin moving relative
+        to its crank pin, at the engine's speed [N] (None without link rods).
+    """
+    if not layout.has_links:
+        r = layout.crank_radius
+        ratio = kinematics.rod_ratio(r, layout.conrod_length)
+        eps = kinematics.offset_ratio(layout.offset, r)
+        return np.asarray(kinematics.acceleration_coefficients(ratio, eps, [1])[..., 0]), None
+    free = compute_phasors(layout, [1], moments=False, roll=False)
+    assert free.link_pins is not None
+    g1 = np.asarray(free.coefficients[:, 0])
+    return g1, (free.link_pins.force_forward[:, 0], free.link_pins.force_backward[:, 0])
+
+
+def factor_study(layout: Engine, factors: ArrayLike | None = None) -> FactorStudy:
+    """Residual first-order force against balance factor.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    factors : array_like, optional
+        Balance factors [1]; default 0 to 1 in steps of 0.05.
+
+    Returns
+    -------
+    FactorStudy
+        The peaks per factor, those that rounding cannot tell from zero set to 0, and the
+        factor that makes the larger of the two force peaks smallest.
+    """
+    f = np.linspace(0.0, 1.0, 21) if factors is None else np.asarray(factors, dtype=np.float64)
+    g1, pins = first_order_parts(layout)  # pins: the link rods' (None without link rods)
+    study = _zero_below_rounding(balance_factor_study(layout, g1, f, pins), layout, g1, f)
+    return FactorStudy(
+        factor=f,
+        vertical_peak=study["vertical_peak"],
+        horizontal_peak=study["horizontal_peak"],
+        moment_peak=study["moment_peak"],
+        optimal=optimal_balance_factor(layout, g1, pins),
+    )
+
+
+def _zero_below_rounding(
+    study: dict[str, FloatArray],
+    layout: Engine,
+    first_order: ComplexArray,
+    factors: FloatArray,
+) -> dict[str, FloatArray]:
+    r"""The study with the peaks that rounding cannot tell from zero set to 0.
+
+    The rule of :func:`balance.core.phasors.cancel_to_zero`, which every phasor sum of an
+    analysis follows: a residual peak is a sum of the :math:`2n` forward and backward
+    terms of the n cylinders, whose magnitudes add up to
+    :math:`S = \sum_i m_{rec,i} r_i \omega^2 (|g_{1,i}| + f)` for the force (times
+    :math:`|z_i - z_{ref}|` for the moment); a peak at most
+    :func:`balance.core.phasors.rounding_threshold` of :math:`S` and :math:`2n` terms is 0
+    (an inline-4 prints 0, not 3.96e-12 N, at every factor).
+    """
+    rec = np.asarray(layout.reciprocating_mass * layout.crank_radius) * float(
+        speed_squared(layout.speed)
+    )
+    size = rec[None, :] * (np.abs(first_order)[None, :] + factors[:, None])
+    lever = np.abs(np.asarray(layout.z) - layout.reference_z)
+    n_terms = 2 * layout.n_cylinders
+    force_limit = rounding_threshold(size.sum(axis=1), n_terms)
+    moment_limit = rounding_threshold((size * lever[None, :]).sum(axis=1), n_terms)
+    out = dict(study)
+    for name, bound in (
+        ("vertical_peak", force_limit),
+        ("horizontal_peak", force_limit),
+        ("moment_peak", moment_limit),
+    ):
+        out[name] = np.where(study[name] <= bound, 0.0, study[name])
+    return out
+
+
+def factor_study_part(
+    engine: Engine, request: Any, result: Result, *, factors: ArrayLike | None = None
+) -> Result:
+    """The ``factor_study`` section: :func:`factor_study` of the analysed engine."""
+    return result.with_part("factor_study", factor_study(engine, factors))
+
+
+# --------------------------------------------------------------------------- outputs
+
+
+def _proposal(result: Any) -> ProposalResult:
+    part: ProposalResult = result.part("proposal")
+    return part
+
+
+def _residual_roll(result: Any) -> ComplexArray:
+    roll = _proposal(result).residual_roll
+    assert roll is not None  # a proposal is made with the roll
+    return roll
+
+
+def _planes(result: Any) -> tuple[FloatArray, ComplexArray]:
+    """Each shaft's planes as arrays (shafts, planes): z [m] and unbalance [kg m], NaN
+    where a shaft has fewer planes than the most."""
+    shafts = _proposal(result).proposal.shafts
+    n_planes = max((len(s.planes) for s in shafts), default=0)
+    plane_z = np.full((len(shafts), n_planes), np.nan)
+    plane_u = np.full((len(shafts), n_planes), np.nan + 0j)
+    for i, shaft in enumerate(shafts):
+        for j, (z, u) in enumerate(shaft.planes):
+            plane_z[i, j] = z
+            plane_u[i, j] = u
+    return plane_z, plane_u
+
+
+def _counterweights(attribute: str) -> Any:
+    return lambda r: [getattr(c, attribute) for c in _proposal(r).proposal.counterweights]
+
+
+def _shafts(attribute: str) -> Any:
+    return lambda r: [getattr(s, attribute) for s in _proposal(r).proposal.shafts]
+
+
+def _gas_and(result: Any) -> str:
+    return "gas forces and " if result.part("torque") is not None else ""
+
+
+def _residual_outputs(quantity: str) -> tuple[Output, ...]:
+    unit = "N" if quantity == "force" else "N m"
+    per = "m_rec r omega^2" if quantity == "force" else "m_rec r omega^2 a"
+
+    def peak(r: Any) -> Any:
+        return _proposal(r).residual.peak(quantity)  # type: ignore[arg-type]
+
+    def reference(r: Any) -> float:
+        return float(r.reference_force if quantity == "force" else r.reference_moment)
+
+    return (
+        Output(
+            f"residual_{quantity}_magnitude",
+            ("order", "rotation"),
+            unit,
+            f"residual {quantity} phasor magnitude with the proposal",
+            lambda r: _proposal(r).residual.magnitude(quantity),  # type: ignore[arg-type]
+        ),
+        Output(
+            f"residual_{quantity}_phase",
+            ("order", "rotation"),
+            "deg",
+            f"residual {quantity} phasor phase at crank angle 0",
+            lambda r: _proposal(r).residual.phase(quantity),  # type: ignore[arg-type]
+        ),
+        Output(
+            f"residual_{quantity}_peak",
+            ("order",),
+            unit,
+            f"peak residual {quantity} (reciprocating + rotating + proposal)",
+            peak,
+        ),
+        Output(
+            f"residual_{quantity}_peak_normalised",
+            ("order",),
+            "1",
+            f"peak residual {quantity} per {per}",
+            lambda r: safe_ratio(peak(r), reference(r)),
+        ),
+    )
+
+
+def _attr(name: str, get: Any, **options: Any) -> Output:
+    return Output(name, (), "", name, get, kind="attr", **options)
+
+
+#: The outputs of the ``proposal`` section.
+OUTPUTS: tuple[Output, ...] = (
+    Output(
+        "counterweight_z",
+        ("counterweight",),
+        "m",
+        "axial plane of the proposed counterweight",
+        _counterweights("z"),
+    ),
+    Output(
+        "counterweight_mass",
+        ("counterweight",),
+        "kg",
+        "counterweight mass at counterweight_radius",
+        _counterweights("mass"),
+    ),
+    Output(
+        "counterweight_radius",
+        ("counterweight",),
+        "m",
+        "radius of the counterweight's centre of gravity",
+        _counterweights("radius"),
+    ),
+    Output(
+        "counterweight_angle",
+        ("counterweight",),
+        "deg",
+        "counterweight angle at crank angle 0, turning with the crank",
+        _counterweights("angle_deg"),
+    ),
+    Output(
+        "counterweight_unbalance",
+        ("counterweight",),
+        "kg m",
+        "counterweight mass times radius",
+        lambda r: np.abs(
+            np.array(
+                [c.unbalance for c in _proposal(r).proposal.counterweights], dtype=np.complex128
+            )
+        ),
+    ),
+    Output(
+        "shaft_speed_ratio",
+        ("shaft",),
+        "1",
+        "balance shaft speed over crank speed (negative: against it)",
+        _shafts("speed_ratio"),
+    ),
+    Output("shaft_x", ("shaft",), "m", "balance shaft axis, x", _shafts("x")),
+    Output("shaft_y", ("shaft",), "m", "balance shaft axis, y", _shafts("y")),
+    Output(
+        "shaft_plane_z",
+        ("shaft", "shaft_plane"),
+        "m",
+        "axial plane of the shaft's eccentric mass",
+        lambda r: _planes(r)[0],
+    ),
+    Output(
+        "shaft_plane_unbalance",
+        ("shaft", "shaft_plane"),
+        "kg m",
+        "eccentric mass times eccentricity",
+        lambda r: np.abs(_planes(r)[1]),
+    ),
+    Output(
+        "shaft_plane_angle",
+        ("shaft", "shaft_plane"),
+        "deg",
+        "eccentric angle at crank angle 0 (it sits at angle + speed_ratio * theta)",
+        lambda r: phase_deg(_planes(r)[1]),
+    ),
+    *_residual_outputs("force"),
+    *_residual_outputs("moment"),
+    Output(
+        "residual_roll_amplitude",
+        ("roll_order",),
+        "N m",
+        lambda r: f"roll torque amplitude with {_gas_and(r)}the proposed shafts",
+        lambda r: np.abs(_residual_roll(r)),
+    ),
+    Output(
+        "residual_roll_phase",
+        ("roll_order",),
+        "deg",
+        lambda r: f"roll torque phase with {_gas_and(r)}the proposed shafts",
+        lambda r: phase_deg(_residual_roll(r)),
+    ),
+    _attr("proposal_strategy", lambda r: _proposal(r).proposal.strategy),
+    _attr(
+        "proposal_orders",
+        lambda r: np.asarray(_proposal(r).proposal.orders, dtype=np.int64),
+    ),
+    _attr("proposal_cancel_roll", lambda r: int(_proposal(r).proposal.cancel_roll)),
+    _attr("proposal_notes", lambda r: "; ".join(_proposal(r).proposal.notes)),
+    _attr(
+        "proposal_balance_factor",  # a number, present only when a balance factor was given
+        lambda r: float(_proposal(r).proposal.balance_factor or 0.0),
+        when=lambda r: _proposal(r).proposal.balance_factor is not None,
+    ),
+)
+
+
+def _study(result: Any) -> FactorStudy:
+    part: FactorStudy = result.part("factor_study")
+    return part
+
+
+def _study_output(name: str, units: str, long_name: str, attribute: str) -> Output:
+    return Output(
+        name,
+        ("study_factor",),
+        units,
+        long_name,
+        lambda r: getattr(_study(r), attribute),
+        when=lambda r: getattr(_study(r), attribute) is not None,
+    )
+
+
+#: The outputs of the ``factor_study`` section.
+STUDY_OUTPUTS: tuple[Output, ...] = (
+    _study_output(
+        "study_largest_main_load",
+        "N",
+        "largest main-bearing load with the proposed counterweights",
+        "largest_main_load",
+    ),
+    _study_output(
+        "study_largest_internal_moment",
+        "N m",
+        "largest internal moment with the proposed counterweights",
+        "largest_internal_moment",
+    ),
+    _study_output(
+        "study_vertical_peak", "N", "peak residual first-order force along y", "vertical_peak"
+    ),
+    _study_output(
+        "study_horizontal_peak", "N", "peak residual first-order force along x", "horizontal_peak"
+    ),
+    _study_output("study_moment_peak", "N m", "peak residual first-order moment", "moment_peak"),
+    Output(
+        "optimal_balance_factor",
+        (),
+        "1",
+        "balance factor minimising the larger first-order force peak",
+        lambda r: _study(r).optimal,
+    ),
+    Output(
+        "study_factor",
+        ("study_factor",),
+        "1",
+        "share of reciprocating mass on the crank",
+        lambda r: _study(r).factor,
+        kind="coord",
+    ),
+)

@@ -1,0 +1,80 @@
+"""Views of the ``factor_study`` section: the residual first order against the balance
+factor (:func:`balance.core.proposal.factor_study`)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from balance.views.fitted import Column, NumberTable
+from balance.views.polar import format_number, json_number
+
+if TYPE_CHECKING:  # pragma: no cover
+    from rich.console import RenderableType
+
+    from balance.core.proposal import FactorStudy
+    from balance.core.result import Result
+
+__all__ = ["json_block", "render_factor_study", "tables"]
+
+
+def _part(result: Result) -> FactorStudy:
+    part: FactorStudy = result.part("factor_study")
+    return part
+
+
+def json_block(result: Result) -> dict[str, Any]:
+    """The section's part of the analysis JSON: ``balance_factor_study``."""
+    study = _part(result)
+    return {
+        "balance_factor_study": {
+            "optimal_factor": json_number(study.optimal),
+            "factors": [
+                {
+                    "factor": float(f),
+                    "vertical_peak": json_number(study.vertical_peak[i]),
+                    "horizontal_peak": json_number(study.horizontal_peak[i]),
+                    "moment_peak": json_number(study.moment_peak[i]),
+                }
+                for i, f in enumerate(np.asarray(study.factor))
+            ],
+        }
+    }
+
+
+def render_factor_study(study: FactorStudy) -> list[RenderableType]:
+    """Rich renderables of a balance-factor study: the peaks per factor (and, with the
+    bearing loads, the largest main load and internal moment) and the best factor."""
+    from rich.text import Text
+
+    columns = [
+        Column("balance factor", "%", key=True),
+        Column("vertical peak", "N"),
+        Column("horizontal peak", "N"),
+        Column("moment peak", "N m"),
+    ]
+    values = [study.vertical_peak, study.horizontal_peak, study.moment_peak]
+    if study.largest_main_load is not None and study.largest_internal_moment is not None:
+        columns += [
+            Column("largest main load", "N"),
+            Column("largest internal moment", "N m"),
+        ]
+        values += [study.largest_main_load, study.largest_internal_moment]
+    rows = [
+        [f"{100 * f:.4g}", *(format_number(float(column[i])) for column in values)]
+        for i, f in enumerate(np.asarray(study.factor))
+    ]
+    return [
+        NumberTable(
+            "Balance factor study: residual first order (rotating masses balanced in full)",
+            columns,
+            rows,
+        ),
+        Text(f"Factor minimising the larger force peak: {float(study.optimal):.1%}"),
+    ]
+
+
+def tables(result: Result) -> list[RenderableType]:
+    """The section's tables: :func:`render_factor_study`."""
+    return render_factor_study(_part(result))

@@ -1,0 +1,50 @@
+"""How each section shows itself: the registry of the section views.
+
+Every section of an analysis (:mod:`balance.core.sections`) has one module of views here,
+named in :data:`VIEWS`.  Such a module may define
+
+- ``json_block(result) -> dict``: the keys it adds to the analysis JSON;
+- ``tables(result) -> list``: its rich renderables in the table view;
+- ``REPORT_TITLE`` and ``report_section(result, figures) -> str``: its section of the HTML
+  design review;
+- ``PLOTS``: a mapping of the figure kinds it draws to their functions
+  (``function(result, **options) -> Figure``).
+
+The writers (:mod:`balance.views.json`, :mod:`balance.views.table`,
+:mod:`balance.views.report`, :mod:`balance.views.plots`) loop over :func:`views_of` and
+never name a section.  A module is imported only when a result holds its section.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from importlib import import_module
+from types import ModuleType
+from typing import Any
+
+from balance.core.sections import names
+
+__all__ = ["VIEWS", "view", "views_of"]
+
+#: The views module of each section, by the section's name.
+VIEWS: dict[str, str] = {
+    "cylinders": "balance.views.cylinders",
+    "torque": "balance.views.torque",
+    "proposal": "balance.views.proposal",
+    "factor_study": "balance.views.factor_study",
+    "mounts": "balance.views.mounts",
+    "bearings": "balance.views.bearings",
+}
+
+
+def view(name: str) -> ModuleType:
+    """The views module of section ``name``."""
+    return import_module(VIEWS[name])
+
+
+def views_of(result: Any, only: tuple[str, ...] | None = None) -> Iterator[tuple[str, Any]]:
+    """``(name, module)`` of each section the result holds (or of ``only`` those), in
+    section order (:func:`balance.core.sections.names`)."""
+    for name in names():
+        if name in result.parts and (only is None or name in only):
+            yield name, view(name)
