@@ -1394,7 +1394,7 @@ def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool
     loads = analysis_bearings(engine, counterweights_of(proposal.proposal if proposal else None))
     by_strategy: list[tuple[str, Bearings]] = []
     if strategies:
-        asked = request.with_sections(bearings=None, mounts=None, factor_study=None, torque=None)
+        asked = request.only("proposal")
         for strategy in STRATEGIES:
             options = {**asked.options("proposal"), "strategy": strategy}
             other = replace(asked.with_sections(proposal=options), roll=True)
