@@ -45,15 +45,20 @@ the crank pin and the main journals, the polar diagram of the crank-pin load, ga
 
 from __future__ import annotations
 
-import functools
-import itertools
 import math
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core._numerics import (
+    GAUSS_NODES,
+    gauss_panels,
+    node_stats,
+    series_on_grid,
+    series_stats,
+)
 from balance.core.balancing import Proposal, group_least, throw_groups
 from balance.core.engine import Engine
 from balance.core.gas import pressure_tables
@@ -89,30 +94,9 @@ _EPS = float(np.finfo(np.float64).eps)
 SERIES_START = 128
 #: Largest such grid (a geometry within a hair of l = r + |e| may need it).
 SERIES_MAX = 2**14
-#: Uniform grid of the mean of a magnitude (trapezoidal rule), checked on twice as many.
-START_GRID = 1024
-#: Change of a mean between the two grids, relative to the quantity's maximum, below which
-#: the trapezoidal rule has converged; otherwise the graded rule integrates that quantity.
-MEAN_TOLERANCE = 1e-13
-#: Newton iterations of a maximum (or minimum) from the sampled one.
-NEWTON_ITERATIONS = 8
-#: Newton step [rad] after which an extremum has converged (quadratic convergence: the
-#: next step would be of the order of its square).
-NEWTON_DONE = 1e-9
-#: Graded Gauss–Legendre rule of a near-singular mean: nodes per panel, ratio, levels.
-GRADED_NODES = 16
-GRADED_RATIO = 0.25
-GRADED_LEVELS = 26
-#: Sampled local minima of a slow quantity below this share of its maximum are graded to.
-GRADE_BELOW = 0.1
-#: Gauss–Legendre nodes per interval between the kinks of an interpolated pressure trace.
-GAUSS_NODES = 4
-#: Largest interval of the gas grid [deg].
+#: Largest interval of the gas grid [deg] (each interval between the kinks of the
+#: interpolated pressure traces gets :data:`balance.core._numerics.GAUSS_NODES` nodes).
 GAS_MAX_STEP_DEG = 0.5
-#: Candidate local maxima refined per quantity.
-CANDIDATES = 3
-#: Golden-section iterations (bracket shrinks by 0.618 each).
-GOLDEN_ITERATIONS = 64
 
 
 # --------------------------------------------------------------------------- geometry
@@ -677,14 +661,14 @@ def bearing_loads(
     * the **mean** of :math:`|F|` is the trapezoidal rule on a uniform periodic grid
       (geometric convergence for a smooth periodic integrand), evaluated by zero-padded
       inverse FFT on 1024 (at least four times the terms) and twice as many points; it has
-      converged when the two differ by less than :data:`MEAN_TOLERANCE` of the quantity's
-      maximum.  A load that passes through (or very near) zero makes :math:`|F|` (nearly)
-      non-smooth there and the uniform rule slow; such a quantity is integrated instead
-      between its minima of :math:`|F|` (found by
-      the same Newton iteration; every sampled local minimum below a tenth of the maximum)
-      over the period with 16-point Gauss–Legendre panels, short enough for the series'
-      highest order and graded geometrically (ratio 1/4) towards those points, which
-      converges geometrically whatever the distance to the zero.
+      converged when the two differ by less than
+      :data:`~balance.core._numerics.MEAN_TOLERANCE` of the quantity's maximum.  A load that
+      passes through (or very near) zero makes :math:`|F|` (nearly) non-smooth there and
+      the uniform rule slow; such a quantity is integrated instead between its minima of
+      :math:`|F|` (found by the same Newton iteration; every sampled local minimum below a
+      tenth of the maximum) over the period with 16-point Gauss–Legendre panels, short
+      enough for the series' highest order and graded geometrically (ratio 1/4) towards
+      those points, which converges geometrically whatever the distance to the zero.
 
     *With gas* the pressure is linear between the trace's points, so the loads are smooth
     only between its kinks (each trace angle shifted by each cylinder's firing TDC): the
@@ -695,6 +679,10 @@ def bearing_loads(
     graded towards it; the maximum is refined from the best sampled local maxima by
     golden-section search between the neighbouring nodes (64 steps), which converges for
     any continuous function unimodal in the bracket, a kink at the peak included.
+
+    These searches and rules are the generic ones of :mod:`balance.core._numerics`
+    (:func:`~balance.core._numerics.series_stats` and
+    :func:`~balance.core._numerics.node_stats`).
     """
     cws = tuple((float(z), complex(u)) for z, u in counterweights)
     zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
@@ -703,9 +691,9 @@ def bearing_loads(
     n_pins, n_mains = model.pin_z.size, zm.size
 
     k, coeffs = model.inertia_series()  # pins, mains, moments stacked
-    inertia = _spectral_stats(k, coeffs)
+    inertia = series_stats(k, coeffs)
     theta_rev = 2.0 * np.pi * np.arange(curve_samples) / curve_samples
-    moment_curve = _grid_values(k, coeffs[n_pins + n_mains :], curve_samples)
+    moment_curve = series_on_grid(k, coeffs[n_pins + n_mains :], curve_samples)
     p_m = slice(0, n_pins)
     m_m = slice(n_pins, n_pins + n_mains)
     t_m = slice(n_pins + n_mains, None)
@@ -713,7 +701,7 @@ def bearing_loads(
         assert engine.gas is not None
         cycle = math.radians(engine.gas.cycle_deg)
         nodes, weights, edges = _gas_nodes(engine, model)
-        stats = _weighted_stats(
+        stats = node_stats(
             lambda t: _magnitudes(model.cycle_loads(t)), nodes, weights, edges, cycle
         )
         maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
@@ -726,7 +714,7 @@ def bearing_loads(
         maximum, mean, argmax = inertia.maximum, inertia.mean, inertia.argmax
         samples = inertia.samples
         theta = theta_rev
-        curves = _grid_values(k, coeffs[: n_pins + n_mains], curve_samples)
+        curves = series_on_grid(k, coeffs[: n_pins + n_mains], curve_samples)
         pin_curve, main_curve = curves[p_m], curves[m_m]
     return BearingLoads(
         theta=theta,
@@ -895,7 +883,7 @@ def analysis_bearings(
             if not has_cw
             else np.concatenate([series[b1:b2], series[moments_with]], axis=0)
         )
-        moment_stats = _spectral_stats(k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool))
+        moment_stats = series_stats(k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool))
         moment_max = moment_stats.maximum[:n_mains]
         moment_max_with = moment_stats.maximum[n_mains:] if has_cw else moment_max
         cycle = math.radians(engine.gas.cycle_deg)
@@ -908,7 +896,7 @@ def analysis_bearings(
             return pins, main, main + cw_main[:, None] * np.exp(1j * t)[None, :]
 
         nodes, weights, edges = _gas_nodes(engine, model)
-        stats = _weighted_stats(lambda t: _magnitudes(loads(t)), nodes, weights, edges, cycle)
+        stats = node_stats(lambda t: _magnitudes(loads(t)), nodes, weights, edges, cycle)
         n_curve = round(curve_samples * engine.gas.cycle_deg / 360.0)
         theta = cycle * np.arange(n_curve) / n_curve
         curves = loads(theta)
@@ -921,19 +909,19 @@ def analysis_bearings(
         mean_wanted = np.zeros(series.shape[0], dtype=bool)
         mean_wanted[:b1] = True
         mean_wanted[mains_with] = True
-        stats = _spectral_stats(k, series, mean_wanted)
+        stats = series_stats(k, series, mean_wanted)
         maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
         cycle = 2.0 * np.pi
         theta = theta_rev
-        curves_all = _grid_values(k, series, curve_samples)
+        curves_all = series_on_grid(k, series, curve_samples)
         pin_curve, main_curve = curves_all[:b0], curves_all[b0:b1]
         main_curve_with = curves_all[mains_with]
         moment_max = maximum[b1:b2]
         moment_max_with = maximum[moments_with]
         main_max_with, main_mean_with = maximum[mains_with], mean[mains_with]
-    moment_curves = _grid_values(k, series[b1:b2], curve_samples)
+    moment_curves = series_on_grid(k, series[b1:b2], curve_samples)
     moment_curves_with = (
-        _grid_values(k, series[moments_with], curve_samples) if has_cw else moment_curves
+        series_on_grid(k, series[moments_with], curve_samples) if has_cw else moment_curves
     )
     by_z = np.argsort(model.pin_z, kind="stable")  # pins in the order of their planes
     return Bearings(
@@ -1008,14 +996,14 @@ def largest_loads(
             return np.abs(main[None] + cw_main[:, :, None] * turning).reshape(-1, t.size)
 
         nodes, weights, edges = _gas_nodes(engine, model)
-        main_max = _weighted_stats(loads, nodes, weights, edges, cycle, mean_wanted=False).maximum
-        moment_max = _spectral_stats(
+        main_max = node_stats(loads, nodes, weights, edges, cycle, mean_wanted=False).maximum
+        moment_max = series_stats(
             k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool)
         ).maximum
     else:
         main_rows = (mains_c[None] + cw_main[:, :, None] * one).reshape(-1, k.size)
         rows = np.concatenate([main_rows, moment_rows], axis=0)
-        stats = _spectral_stats(k, rows, np.zeros(rows.shape[0], dtype=bool))
+        stats = series_stats(k, rows, np.zeros(rows.shape[0], dtype=bool))
         main_max, moment_max = (
             stats.maximum[: main_rows.shape[0]],
             stats.maximum[main_rows.shape[0] :],
@@ -1029,313 +1017,8 @@ def largest_loads(
 # --------------------------------------------------------------------------- statistics
 
 
-@dataclass(frozen=True)
-class _Stats:
-    maximum: FloatArray
-    argmax: FloatArray
-    mean: FloatArray
-    samples: int
-
-
 def _magnitudes(parts: tuple[ComplexArray, ...]) -> FloatArray:
     return np.abs(np.concatenate(parts, axis=0))
-
-
-def _series_values(k: NDArray[np.intp], coeffs: ComplexArray, theta: ArrayLike) -> ComplexArray:
-    """:math:`\\sum_k c_k e^{ik\\theta}` of each row of ``coeffs`` at the angles ``theta``.
-
-    ``theta`` has shape (angles,) (every row at every angle) or (rows, ...) (each row at its
-    own angles); Horner's scheme in :math:`e^{i\\theta}` over the orders k (consecutive).
-    """
-    th = np.asarray(theta, dtype=np.float64)
-    order = np.argsort(k)
-    ks, cs = k[order], coeffs[:, order]
-    if th.ndim == 1:
-        z = np.exp(1j * th)[None, :]
-        cs = cs[:, :, None]
-    else:
-        z = np.exp(1j * th)
-        cs = cs.reshape(cs.shape[:2] + (1,) * (th.ndim - 1))
-    acc = np.zeros(np.broadcast_shapes(z.shape, cs[:, 0].shape), dtype=np.complex128)
-    for j in range(ks.size - 1, -1, -1):
-        acc = acc * z + cs[:, j]
-    return np.asarray(acc * z ** int(ks[0]))
-
-
-def _grid_values(k: NDArray[np.intp], coeffs: ComplexArray, n: int) -> ComplexArray:
-    """The series on the uniform grid of ``n`` points per revolution (inverse FFT)."""
-    spectrum = np.zeros((coeffs.shape[0], n), dtype=np.complex128)
-    np.add.at(spectrum.T, k % n, coeffs.T)
-    return np.asarray(np.fft.ifft(spectrum, axis=1) * n)
-
-
-def _newton_extremum(
-    k: NDArray[np.intp], coeffs: ComplexArray, theta: FloatArray, step: float
-) -> tuple[FloatArray, FloatArray]:
-    """Stationary points of :math:`|F|^2` near ``theta`` (one row of angles per quantity).
-
-    Newton on :math:`g = \\mathrm{Re}(\\bar F F')`, each step limited to ``step``; returns
-    the angles and :math:`|F|` there.
-    """
-    th = np.array(theta, dtype=np.float64)
-    ik = 1j * k
-    c0 = coeffs.reshape(coeffs.shape[:1] + (1,) * (th.ndim - 1) + coeffs.shape[1:])
-    c1, c2 = ik * c0, ik * ik * c0
-    for _ in range(NEWTON_ITERATIONS):
-        # each row at its own few angles: the terms directly (cheaper than Horner here)
-        e = np.exp(1j * th[..., None] * k)
-        f, d1, d2 = (e * c0).sum(axis=-1), (e * c1).sum(axis=-1), (e * c2).sum(axis=-1)
-        g = np.real(np.conj(f) * d1)
-        dg = np.abs(d1) ** 2 + np.real(np.conj(f) * d2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            delta = np.clip(np.nan_to_num(np.where(dg != 0.0, g / dg, 0.0)), -step, step)
-        th = th - delta
-        # quadratic convergence: after a step this small the next one is below rounding
-        if np.max(np.abs(delta), initial=0.0) <= NEWTON_DONE:
-            break
-    return th, np.abs((np.exp(1j * th[..., None] * k) * c0).sum(axis=-1))
-
-
-def _spectral_stats(
-    k: NDArray[np.intp], coeffs: ComplexArray, mean_wanted: NDArray[np.bool_] | None = None
-) -> _Stats:
-    """Refined maximum and mean of :math:`|F|` for each row of Fourier coefficients.
-
-    ``mean_wanted`` (a mask over the rows, default all) names the rows whose mean is
-    reported; the others get the sampled mean only, without the graded refinement near a
-    zero of :math:`|F|` (internal moments report their maximum alone).
-    """
-    n_q = coeffs.shape[0]
-    n = max(START_GRID, 4 * k.size)
-    values = np.abs(_grid_values(k, coeffs, n))
-    mean = values.mean(axis=1)
-    top = values.max(axis=1)
-    # the trapezoidal rule converges geometrically: when the rule on every other point
-    # agrees with the full one, the full one is converged further still
-    coarser = values[:, ::2].mean(axis=1)
-    converged = np.abs(coarser - mean) <= MEAN_TOLERANCE * top
-    # maximum: Newton from the best sampled local maxima (a parabola through the three
-    # samples around each for the start, so that two or three steps reach rounding)
-    theta = 2.0 * np.pi * np.arange(n) / n
-    before, after = np.roll(values, 1, axis=1), np.roll(values, -1, axis=1)
-    peaks = (values >= before) & (values >= after)
-    ranked = np.where(peaks, values, -np.inf)
-    cand = np.argsort(-ranked, axis=1)[:, :CANDIDATES]
-    h = 2.0 * np.pi / n
-    f0, fm, fp = (np.take_along_axis(v, cand, 1) for v in (values, before, after))
-    curvature = fm - 2.0 * f0 + fp
-    with np.errstate(divide="ignore", invalid="ignore"):
-        shift = np.where(curvature < 0.0, 0.5 * (fm - fp) / curvature, 0.0)
-    start = theta[cand] + h * np.clip(np.nan_to_num(shift), -0.5, 0.5)
-    # fewer local maxima than candidates: the spare ones repeat the best (a start that is
-    # no peak would wander, limited to a step per iteration, and never converge)
-    start = np.where(np.take_along_axis(peaks, cand, 1), start, start[:, :1])
-    th, val = _newton_extremum(k, coeffs, start, h)
-    sampled = np.take_along_axis(values, cand, 1)
-    val = np.where(val >= sampled, val, sampled)
-    th = np.where(val >= sampled, th, theta[cand])
-    pick = np.argmax(val, axis=1)
-    rows = np.arange(n_q)
-    maximum, argmax = val[rows, pick], np.mod(th[rows, pick], 2.0 * np.pi)
-    # near-singular quantities: graded Gauss-Legendre from the minimum of |F|
-    wanted = np.ones(n_q, dtype=bool) if mean_wanted is None else mean_wanted
-    slow = np.flatnonzero(~converged & (top > 0) & wanted)
-    dips = (values <= np.roll(values, 1, axis=1)) & (values <= np.roll(values, -1, axis=1))
-    top_order = int(np.max(np.abs(k)))
-    for row in slow:
-        near = np.flatnonzero(dips[row] & (values[row] <= GRADE_BELOW * top[row]))
-        if near.size == 0:
-            near = np.array([int(np.argmin(values[row]))])
-        starts = theta[near][None, :]
-        th_min, f_min = _newton_extremum(k, coeffs[row : row + 1], starts, h)
-        # |F| is smooth on the scale m/|F'| around a minimum m; |F'| <= k_max max|F|
-        # (Bernstein), so grading down to that scale (two levels more) is enough
-        scale = max(float(np.min(f_min)), _EPS * top[row]) / (max(top_order, 1) * top[row])
-        depth = math.ceil(math.log(scale * max(top_order, 1) / 8.0) / math.log(GRADED_RATIO))
-        t, w = _graded_rule(th_min[0], top_order, min(GRADED_LEVELS, max(4, depth + 2)))
-        f = np.abs(_series_values(k, coeffs[row : row + 1], t[None, :]))[0]
-        mean[row] = f @ w / (2.0 * np.pi)
-    return _Stats(maximum, argmax, mean, n)
-
-
-def _graded_rule(
-    points: FloatArray, top_order: int, depth: int = GRADED_LEVELS
-) -> tuple[FloatArray, FloatArray]:
-    """Gauss–Legendre nodes and weights over one period, graded towards ``points``.
-
-    Between consecutive points (cyclically), panels no longer than :math:`h` with
-    :math:`k_{max} h \\le 8`; the panels touching a point are subdivided geometrically
-    (ratio :data:`GRADED_RATIO`, ``depth`` levels, at most :data:`GRADED_LEVELS`) towards it.
-    """
-    x, w = _gauss(GRADED_NODES)
-    p = np.sort(np.mod(points, 2.0 * np.pi))
-    p = np.concatenate([p, [p[0] + 2.0 * np.pi]])
-    h_max = 8.0 / max(top_order, 1)
-    levels = GRADED_RATIO ** np.arange(1, depth + 1)
-    edges_all = []
-    for a, b in itertools.pairwise(p):
-        length = b - a
-        if length <= 0.0:
-            continue
-        n = max(2, math.ceil(length / h_max))
-        h = length / n
-        inner = a + h * np.arange(1, n)
-        edges_all.append(np.concatenate([[a], a + h * levels[::-1], inner, b - h * levels]))
-    edges = np.concatenate([*edges_all, [p[-1]]])
-    lo, hi = edges[:-1, None], edges[1:, None]
-    return (0.5 * (lo + hi) + 0.5 * (hi - lo) * x).ravel(), (0.5 * (hi - lo) * w).ravel()
-
-
-@functools.cache
-def _gauss(n: int) -> tuple[FloatArray, FloatArray]:
-    x, w = np.polynomial.legendre.leggauss(n)
-    return np.asarray(x), np.asarray(w)
-
-
-def _weighted_stats(
-    f: Callable[[FloatArray], FloatArray],
-    nodes: FloatArray,
-    weights: FloatArray,
-    edges: FloatArray,
-    period: float,
-    mean_wanted: bool = True,
-) -> _Stats:
-    """Max and mean of the rows of ``f`` from Gauss nodes between kink ``edges``.
-
-    Where a quantity dips towards zero (a sampled local minimum below
-    :data:`GRADE_BELOW` of its maximum) its integral over the three intervals around the dip
-    is taken again, split at the refined minimum and graded towards it.  Without
-    ``mean_wanted`` (only the maximum is used) the dips are not refined and the mean is the
-    Gauss rule's alone.
-
-    ``f`` must give each angle's values independently of the other angles it is given (the
-    searches evaluate one angle per dip, the rules many at once); every dip is searched and
-    integrated at once, each exactly as it would be alone.
-    """
-    values = f(nodes)
-    integral = values @ weights
-    top = values.max(axis=1)
-    dips = (values <= np.roll(values, 1, axis=1)) & (values <= np.roll(values, -1, axis=1))
-    dips &= values <= GRADE_BELOW * top[:, None]
-    n_int = edges.size - 1
-    ext = np.concatenate([edges[-2:-1] - period, edges, edges[1:2] + period])
-    done: set[tuple[int, int]] = set()
-    found: list[tuple[int, int, int]] = []  # (row, interval, node) of each dip refined
-    for row, i in zip(*np.nonzero(dips), strict=True) if mean_wanted else ():
-        j = int(i) // GAUSS_NODES
-        if (int(row), j) in done or top[row] == 0.0:
-            continue
-        done.update((int(row), q) for q in ((j - 1) % n_int, j, (j + 1) % n_int))
-        found.append((int(row), j, int(i)))
-    if found:
-        rows = np.array([r for r, _, _ in found])
-        at = np.array([i for _, _, i in found])
-        lo_t = nodes[(at - 1) % nodes.size] - np.where(at == 0, period, 0.0)
-        hi_t = nodes[(at + 1) % nodes.size] + np.where(at == nodes.size - 1, period, 0.0)
-        t_min = _golden_min(f, rows, lo_t, hi_t)
-        pieces = []
-        for (_, j, _), t0 in zip(found, t_min, strict=True):
-            breaks = np.sort(np.array([ext[j], ext[j + 1], ext[j + 2], ext[j + 3], t0]))
-            pieces.append(_graded_segments(breaks, float(t0)))
-        graded = f(np.concatenate([t for t, _ in pieces]))
-        first = 0
-        for (row, j, _), (t, w) in zip(found, pieces, strict=True):
-            span = [(j - 1) % n_int, j, (j + 1) % n_int]
-            old = sum(
-                values[row, q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
-                @ weights[q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
-                for q in span
-            )
-            integral[row] += graded[row, first : first + t.size] @ w - old
-            first += t.size
-    maximum, argmax = _golden_max(f, nodes, values, period)
-    return _Stats(maximum, argmax, integral / period, nodes.size)
-
-
-def _golden_min(
-    f: Callable[[FloatArray], FloatArray], rows: NDArray[np.intp], lo: FloatArray, hi: FloatArray
-) -> FloatArray:
-    """Golden-section search for the minimum of row ``rows[d]`` of ``f`` in
-    ``[lo[d], hi[d]]``, for every d at once (each search the same steps as alone)."""
-    r = (math.sqrt(5.0) - 1.0) / 2.0
-    cols = np.arange(rows.size)
-
-    def g(t: FloatArray) -> FloatArray:
-        return f(t)[rows, cols]
-
-    x1, x2 = hi - r * (hi - lo), lo + r * (hi - lo)
-    g1, g2 = g(x1), g(x2)
-    for _ in range(GOLDEN_ITERATIONS):
-        left = g1 <= g2  # the minimum is in [lo, x2]: shift left, else in [x1, hi]
-        lo, hi = np.where(left, lo, x1), np.where(left, x2, hi)
-        fresh_x = np.where(left, hi - r * (hi - lo), lo + r * (hi - lo))
-        fresh = g(fresh_x)
-        x1, x2 = np.where(left, fresh_x, x2), np.where(left, x1, fresh_x)
-        g1, g2 = np.where(left, fresh, g2), np.where(left, g1, fresh)
-    return np.where(g1 <= g2, x1, x2)
-
-
-def _graded_segments(breaks: FloatArray, toward: float) -> tuple[FloatArray, FloatArray]:
-    """Gauss nodes and weights on the segments between ``breaks``, those touching
-    ``toward`` graded geometrically towards it."""
-    x, w = _gauss(GRADED_NODES)
-    levels = GRADED_RATIO ** np.arange(1, GRADED_LEVELS + 1)
-    edges = []
-    for a, b in itertools.pairwise(breaks):
-        if b <= a:
-            continue
-        if a == toward:
-            edges.append(np.concatenate([[a], a + (b - a) * levels[::-1]]))
-        elif b == toward:
-            edges.append(np.concatenate([[a], b - (b - a) * levels]))
-        else:
-            edges.append(np.array([a]))
-    e = np.concatenate([*edges, breaks[-1:]])
-    lo, hi = e[:-1, None], e[1:, None]
-    return (0.5 * (lo + hi) + 0.5 * (hi - lo) * x).ravel(), (0.5 * (hi - lo) * w).ravel()
-
-
-def _golden_max(
-    f: Callable[[FloatArray], FloatArray], theta: FloatArray, values: FloatArray, period: float
-) -> tuple[FloatArray, FloatArray]:
-    """Golden-section refinement of the best sampled local maxima of each row of ``values``.
-
-    ``theta`` is increasing over one period; row q of ``f(t)`` is quantity q at angles t.
-    """
-    n_q, n = values.shape
-    before, after = np.roll(values, 1, axis=1), np.roll(values, -1, axis=1)
-    peaks = (values >= before) & (values >= after)
-    ranked = np.where(peaks, values, -np.inf)
-    k = min(CANDIDATES, n)
-    idx = np.argsort(-ranked, axis=1)[:, :k]  # (q, k)
-    ext = np.concatenate([theta[-1:] - period, theta, theta[:1] + period])
-    lo, hi = ext[idx], ext[idx + 2]  # the neighbours (ext is shifted by one)
-    rows = np.repeat(np.arange(n_q), k)
-
-    def at(t: FloatArray) -> FloatArray:
-        # quantity q at its own angles: evaluate all quantities at all angles, keep the diagonal
-        return f(t.ravel())[rows, np.arange(rows.size)].reshape(n_q, k)
-
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-    f1, f2 = at(x1), at(x2)
-    for _ in range(GOLDEN_ITERATIONS):
-        left = f1 >= f2  # the maximum is in [lo, x2]: shift left, else in [x1, hi]
-        lo, hi = np.where(left, lo, x1), np.where(left, x2, hi)
-        x1, x2 = np.where(left, hi - g * (hi - lo), x2), np.where(left, x1, lo + g * (hi - lo))
-        f1, f2 = np.where(left, np.nan, f2), np.where(left, f1, np.nan)
-        fresh = at(np.where(left, x1, x2))
-        f1, f2 = np.where(left, fresh, f1), np.where(left, f2, fresh)
-    best_x = np.where(f1 >= f2, x1, x2)
-    best_f = np.maximum(f1, f2)
-    sampled = np.take_along_axis(values, idx, 1)
-    best_f, best_x = (
-        np.where(best_f >= sampled, best_f, sampled),
-        np.where(best_f >= sampled, best_x, theta[idx]),
-    )
-    pick = np.argmax(best_f, axis=1)
-    rows_q = np.arange(n_q)
-    return best_f[rows_q, pick], np.mod(best_x[rows_q, pick], period)
 
 
 def _gas_nodes(engine: Engine, model: _Model) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -1352,8 +1035,5 @@ def _gas_nodes(engine: Engine, model: _Model) -> tuple[FloatArray, FloatArray, F
     edges = np.concatenate([*kinks, cycle * np.arange(steps) / steps])
     edges = np.unique(np.round(edges, 9))
     edges = np.concatenate([edges, [edges[0] + cycle]])
-    x, w = _gauss(GAUSS_NODES)
-    a, b = edges[:-1, None], edges[1:, None]
-    nodes = 0.5 * (a + b) + 0.5 * (b - a) * x[None, :]
-    weights = 0.5 * (b - a) * w[None, :]
-    return np.radians(nodes.ravel()), np.radians(weights.ravel()), np.radians(edges)
+    nodes, weights = gauss_panels(edges, GAUSS_NODES)
+    return np.radians(nodes), np.radians(weights), np.radians(edges)

@@ -75,6 +75,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import phasors
+from balance.core._numerics import newton_stationary, parabola_vertex, unique_rows
 from balance.core.engine import Engine, Links
 from balance.core.kinematics import (
     conrod_angle_derivatives,
@@ -423,21 +424,6 @@ def link_reach(geometry: LinkGeometry) -> FloatArray:
     return np.asarray(lam[:, 0] * (top + curvature * (np.pi / REACH_GRID) ** 2 / 2.0))
 
 
-def _newton_extremum(geometry: LinkGeometry, start: FloatArray) -> FloatArray:
-    """Stationary points of s near ``start`` (links, points), by Newton on s'."""
-    cols = geometry.columns()
-    beta = np.array(start, dtype=np.float64)
-    done = False
-    for _ in range(DEAD_CENTRE_ITERATIONS):
-        m = link_motion(beta, *cols)
-        step = m.ds / m.d2s
-        beta = beta - step
-        if done:
-            break
-        done = bool(np.max(np.abs(step), initial=0.0) <= DEAD_CENTRE_DONE)
-    return beta
-
-
 def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""Top and bottom dead centres of link pistons.
 
@@ -461,15 +447,20 @@ def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, F
     grid = 2.0 * np.pi * np.arange(DEAD_CENTRE_GRID) / DEAD_CENTRE_GRID
     s = link_motion(grid, *cols).s
     picks = np.stack([np.argmax(s, axis=-1), np.argmin(s, axis=-1)], axis=-1)
-    # a parabola through the best sample and its neighbours: Newton then starts close
+    # a parabola through the best sample and its neighbours: Newton on s' then starts close
     h = 2.0 * np.pi / DEAD_CENTRE_GRID
     s0 = np.take_along_axis(s, picks, -1)
     s_before = np.take_along_axis(s, (picks - 1) % DEAD_CENTRE_GRID, -1)
     s_after = np.take_along_axis(s, (picks + 1) % DEAD_CENTRE_GRID, -1)
-    curvature = s_before - 2.0 * s0 + s_after
-    shift = np.where(curvature != 0.0, 0.5 * (s_before - s_after) / curvature, 0.0)
-    start = grid[picks] + h * np.clip(shift, -0.5, 0.5)
-    beta = _newton_extremum(geometry, start)
+    start = grid[picks] + h * parabola_vertex(s_before, s0, s_after)
+
+    def slopes(b: FloatArray) -> tuple[FloatArray, FloatArray]:
+        m = link_motion(b, *cols)
+        return m.ds, m.d2s
+
+    beta = newton_stationary(
+        slopes, start, DEAD_CENTRE_ITERATIONS, DEAD_CENTRE_DONE, extra_step=True
+    )
     at = link_motion(beta, *cols).s
     return np.mod(beta[:, 0], 2.0 * np.pi), at[:, 0], at[:, 1]
 
@@ -622,16 +613,6 @@ class LinkCoefficients:
     samples: int
 
 
-def _unique_rows(values: FloatArray) -> tuple[FloatArray, NDArray[np.intp]]:
-    """The distinct rows (in order of first appearance) and each row's index among them."""
-    seen: dict[tuple[float, ...], int] = {}
-    inverse = np.empty(values.shape[0], dtype=np.intp)
-    for i, row in enumerate(values.tolist()):
-        inverse[i] = seen.setdefault(tuple(row), len(seen))
-    unique = np.array(list(seen), dtype=np.float64).reshape(len(seen), values.shape[1])
-    return unique, inverse
-
-
 def link_coefficients(
     geometry: LinkGeometry,
     orders: ArrayLike,
@@ -658,9 +639,9 @@ def link_coefficients(
         rows_p[:, 5] = lam_p
         rows_p[:, 6] = np.asarray(plain[1], dtype=np.float64).ravel()
         link_params = np.concatenate([link_params, rows_p], axis=0)
-    unique_l, inverse_l = _unique_rows(link_params)
+    unique_l, inverse_l = unique_rows(link_params)
     master_params = np.stack([geometry.ratio_master, geometry.offset_master], axis=-1)
-    unique_m, inverse_m = _unique_rows(master_params)
+    unique_m, inverse_m = unique_rows(master_params)
     n_l, n_m = unique_l.shape[0], unique_m.shape[0]
     cols = tuple(unique_l[:, i : i + 1] for i in range(7))
     lam_mu = unique_m[:, :1]
