@@ -61,7 +61,12 @@ from balance.core._numerics import (
 )
 from balance.core.balancing import Proposal, group_least, throw_groups
 from balance.core.engine import Engine
-from balance.core.gas import pressure_tables
+from balance.core.gas import (
+    cylinder_pressure,
+    periodic_tables,
+    piston_gas_force,
+    pressure_tables,
+)
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 from balance.core.speed import speed_squared
 
@@ -370,55 +375,26 @@ def gas_forces(
 ) -> FloatArray:
     r"""Gas force on each piston towards the crank [N], shape (cylinders, angles).
 
-    :math:`G_i(\theta) = (p_i(\alpha) - p_0)\,\pi B^2/4` with the cycle angle
+    :math:`G_i(\theta) = (p_i(\alpha) - p_0)\,\pi B^2/4`
+    (:func:`balance.core.gas.piston_gas_force`) with the cycle angle
     :math:`\alpha = \theta - \theta_{TDC,i}` (mod the cycle), the pressure interpolated
-    linearly in the trace (or the model's table) exactly as :mod:`balance.core.torque` does.
+    linearly in the trace (or the model's table) by :func:`balance.core.gas.cylinder_pressure`,
+    as :mod:`balance.core.torque` does.
     """
     gas = engine.gas
     assert gas is not None, "gas_forces needs an engine with a gas section"
     tables = tables if tables is not None else _pressure_tables(engine)
-    return _gas_forces(engine, theta, _periodic_tables(tables, gas.cycle_deg))
-
-
-def _periodic_tables(
-    tables: list[tuple[FloatArray, FloatArray]], period: float
-) -> list[tuple[FloatArray, FloatArray]]:
-    """Each table as ``np.interp(..., period=period)`` prepares it on every call: angles
-    reduced to the period and sorted, one point repeated beyond either end.
-
-    Done once per table (a table shared by several cylinders is prepared once), so that
-    :func:`_gas_forces` interpolates with the same arithmetic and without sorting the
-    table again at every call (the searches of :func:`bearing_loads` call it many times).
-    """
-    prepared: dict[int, tuple[FloatArray, FloatArray]] = {}
-    out = []
-    for angle, pressure in tables:
-        key = id(angle) ^ (id(pressure) << 1)
-        if key not in prepared:
-            xp = np.asarray(angle, dtype=np.float64) % period
-            fp = np.asarray(pressure, dtype=np.float64)
-            order = np.argsort(xp)
-            xp, fp = xp[order], fp[order]
-            prepared[key] = (
-                np.concatenate((xp[-1:] - period, xp, xp[0:1] + period)),
-                np.concatenate((fp[-1:], fp, fp[0:1])),
-            )
-        out.append(prepared[key])
-    return out
+    return _gas_forces(engine, theta, periodic_tables(tables, gas.cycle_deg))
 
 
 def _gas_forces(
     engine: Engine, theta: ArrayLike, periodic: list[tuple[FloatArray, FloatArray]]
 ) -> FloatArray:
-    """:func:`gas_forces` from the tables of :func:`_periodic_tables`."""
+    """:func:`gas_forces` from the tables of :func:`balance.core.gas.periodic_tables`."""
     gas = engine.gas
     assert gas is not None
-    th = np.degrees(np.asarray(theta, dtype=np.float64))
-    out = np.empty((engine.n_cylinders, th.size))
-    for i, (xp, fp) in enumerate(periodic):
-        alpha = np.mod(th - gas.firing_tdc[i], gas.cycle_deg)
-        out[i] = np.interp(alpha % gas.cycle_deg, xp, fp)
-    return (out - gas.crankcase_pressure) * gas.piston_area
+    pressure = cylinder_pressure(gas, periodic, np.degrees(np.asarray(theta, dtype=np.float64)))
+    return piston_gas_force(pressure, gas)
 
 
 # --------------------------------------------------------------------------- result
@@ -521,7 +497,7 @@ class _Model:
         self.with_gas = with_gas
         self.tables = _pressure_tables(engine) if with_gas else None
         self.periodic = (
-            _periodic_tables(self.tables, engine.gas.cycle_deg)
+            periodic_tables(self.tables, engine.gas.cycle_deg)
             if self.tables is not None and engine.gas is not None
             else None
         )

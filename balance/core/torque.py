@@ -63,7 +63,12 @@ from numpy.typing import NDArray
 from balance.core import phasors
 from balance.core.engine import Engine
 from balance.core.errors import InputError
-from balance.core.gas import pressure_at
+from balance.core.gas import (
+    cylinder_pressure,
+    periodic_tables,
+    piston_gas_force,
+    pressure_tables,
+)
 from balance.core.kinematics import (
     conrod_angle_derivatives,
     normalised_slider,
@@ -163,7 +168,6 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     throw_deg = np.degrees(layout.throw)[:, None]
     bank_deg = np.degrees(layout.bank)[:, None]
     beta = np.radians(np.mod(theta[None, :] + throw_deg - bank_deg, 360.0))
-    alpha = np.mod(theta[None, :] - gas.firing_tdc[:, None], cycle_deg)
     r = layout.crank_radius[:, None]
     length = layout.conrod_length[:, None]
     e = layout.offset[:, None]
@@ -173,9 +177,10 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     from balance.core.links import piston_travels
 
     travels = piston_travels(layout)  # None for every plain cylinder
-    pressure = pressure_at(
-        gas, alpha, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle, travels
+    tables = pressure_tables(
+        gas, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle, travels
     )
+    pressure = cylinder_pressure(gas, periodic_tables(tables, cycle_deg), theta)
     _, ds, d2s = normalised_slider(beta, lam, eps)
     sin_psi = lam * (np.sin(beta) - eps)
     cos_psi = np.sqrt(1.0 - sin_psi**2)
@@ -186,7 +191,7 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         ds, d2s, sin_psi, cos_psi, dg, d2g, pin_power, pin_roll = _with_links(
             layout, beta, ds, d2s, sin_psi, cos_psi, dg, d2g
         )
-    gas_force = (pressure - gas.crankcase_pressure) * gas.piston_area
+    gas_force = piston_gas_force(pressure, gas)
     inertia_force = layout.reciprocating_mass[:, None] * w2 * r * d2s
     piston = gas_force + inertia_force
     delta_i = layout.conrod_inertia_correction[:, None]
