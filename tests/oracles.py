@@ -23,8 +23,6 @@ from balance.core.sampled import (
     _newton_euler,
     _plain_mask,
     articulated_newton_euler,
-    reciprocating_force_samples,
-    rotating_force_samples,
 )
 from balance.core.speed import speed_squared
 
@@ -178,13 +176,6 @@ def block_force_newton_euler(
     only: plain cylinders by :math:`-\sum m a` of their two-mass models, master-and-link
     groups by :func:`balance.core.sampled.articulated_newton_euler`."""
     th = np.asarray(theta, dtype=np.float64)
-    if not layout.has_links:
-        return (
-            reciprocating_force_samples(layout, th) + rotating_force_samples(layout, th),
-            reciprocating_force_samples(layout, th, lever=True)
-            + rotating_force_samples(layout, th, lever=True),
-        )
-    plain = _plain_mask(layout)
     beta = th[:, None] + layout.throw - layout.bank
     r = layout.crank_radius
     w2 = speed_squared(layout.speed)
@@ -193,8 +184,13 @@ def block_force_newton_euler(
     )
     each = -layout.reciprocating_mass * w2 * r * d2s * np.exp(1j * layout.bank)
     each = each + layout.rotating_mass * r * w2 * np.exp(1j * (th[:, None] + layout.throw))
-    each = np.where(plain, each, 0.0)
     lever = layout.z - layout.reference_z
+    if not layout.has_links:
+        return (
+            np.asarray(each.sum(axis=1), dtype=np.complex128),
+            np.asarray((each * lever).sum(axis=1), dtype=np.complex128),
+        )
+    each = np.where(_plain_mask(layout), each, 0.0)
     solution = articulated_newton_euler(layout, th, small_end_share, cg_fraction)
     return (
         np.asarray(each.sum(axis=1) + solution.block_force, dtype=np.complex128),

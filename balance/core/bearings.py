@@ -52,6 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core import crank_train
 from balance.core._numerics import (
     GAUSS_NODES,
     gauss_panels,
@@ -316,7 +317,9 @@ def big_end_forces(
     (:func:`crank_unbalance_share`).  Without :math:`\Delta I` and :math:`e`, :math:`N =
     Q_Y\tan\gamma` and the rod force is :math:`Q_Y/\cos\gamma`: Kolchin and Demidov's
     :math:`P\tan\beta` and :math:`P/\cos\beta`.  In the engine frame,
-    :math:`F = (F_Y + \mathrm{i}F_X)\,e^{\mathrm{i}\psi}`.
+    :math:`F = (F_Y + \mathrm{i}F_X)\,e^{\mathrm{i}\psi}`.  These are
+    :func:`balance.core.crank_train.side_thrust_moment_balance` and
+    :func:`balance.core.crank_train.pin_force`.
 
     With link rods (CONTRACT §5) a link cylinder's row is 0 and its master's row is the
     force of the master rod carrying its link rods
@@ -331,18 +334,15 @@ def big_end_forces(
     _, _, d2s = normalised_slider(beta, lam, e / r)
     _, d2g = conrod_angle_derivatives(beta, lam, e / r)
     w2 = float(speed_squared(engine.speed))
-    sin_b, cos_b = np.sin(beta), np.cos(beta)
-    u = lam * (sin_b - e / r)
-    d_x = -length * u
-    d_y = length * np.sqrt(1.0 - u * u)
-    q_y = col(engine.reciprocating_mass) * w2 * r * d2s
-    if gas_force is not None:
-        q_y = q_y + np.asarray(gas_force, dtype=np.float64)
-    wall = -(col(engine.conrod_inertia_correction) * w2 * d2g + d_x * q_y) / d_y
+    sin_psi, cos_psi = crank_train.rod_direction(beta, lam, e / r)
+    gas = None if gas_force is None else np.asarray(gas_force, dtype=np.float64)
+    q_y = crank_train.piston_force(
+        crank_train.reciprocating_force(col(engine.reciprocating_mass), w2, r, d2s), gas
+    )
+    delta_i = col(engine.conrod_inertia_correction)
+    wall = crank_train.side_thrust_moment_balance(q_y, sin_psi, cos_psi, length, delta_i, w2, d2g)
     m_pin = col(engine.rotating_mass - crank_unbalance_share(engine)) * w2 * r
-    f_x = wall + m_pin * sin_b
-    f_y = -q_y + m_pin * cos_b
-    forces = np.asarray((f_y + 1j * f_x) * np.exp(1j * col(engine.bank)), dtype=np.complex128)
+    forces = crank_train.pin_force(q_y, wall, m_pin, beta, col(engine.bank))
     if engine.has_links:  # master rods carry their link rods (CONTRACT §6)
         from balance.core.links import articulated_big_end_forces
 

@@ -74,7 +74,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core import phasors
+from balance.core import crank_train, phasors
 from balance.core._numerics import newton_stationary, parabola_vertex, unique_rows
 from balance.core.engine import Engine, Links
 from balance.core.kinematics import (
@@ -391,8 +391,7 @@ def _master_pin_force(
     b = np.asarray(beta_m, dtype=np.float64)
     lam_m = np.asarray(ratio_master, dtype=np.float64)
     eps_m = np.asarray(offset_master, dtype=np.float64)
-    sin_g = lam_m * (np.sin(b) - eps_m)
-    cos_g = np.sqrt(1.0 - sin_g**2)
+    sin_g, cos_g = crank_train.rod_direction(b, lam_m, eps_m)
     dg, d2g = conrod_angle_derivatives(b, lam_m, eps_m)
     return cos_g * dg**2 + sin_g * d2g, cos_g * d2g - sin_g * dg**2
 
@@ -948,13 +947,15 @@ def link_rod_forces(
     motion = link_motion(beta, *geometry.columns())
     psi_j = engine.bank[j][:, None]
     rj = r[j][:, None]
-    q = engine.reciprocating_mass[j][:, None] * w2 * rj * motion.d2s
-    if gas_force is not None:
-        q = q + np.asarray(gas_force, dtype=np.float64)[j]
-    length = engine.conrod_length[j][:, None]
-    d_x = -length * motion.sin_rod
-    d_y = length * motion.cos_rod
-    wall = -(engine.conrod_inertia_correction[j][:, None] * w2 * motion.d2rod + d_x * q) / d_y
+    gas = None if gas_force is None else np.asarray(gas_force, dtype=np.float64)[j]
+    inertia = crank_train.reciprocating_force(
+        engine.reciprocating_mass[j][:, None], w2, rj, motion.d2s
+    )
+    q = crank_train.piston_force(inertia, gas)
+    length, delta_i = engine.conrod_length[j][:, None], engine.conrod_inertia_correction[j][:, None]
+    wall = crank_train.side_thrust_moment_balance(
+        q, motion.sin_rod, motion.cos_rod, length, delta_i, w2, motion.d2rod
+    )
     on_piston = (q - 1j * wall) * np.exp(1j * psi_j)
     pin_acc = w2 * rj * motion.d2pin * np.exp(1j * psi_j)  # engine frame
     link_force = pin_masses(engine)[j][:, None] * pin_acc + on_piston
@@ -962,10 +963,10 @@ def link_rod_forces(
     crank = rj * np.exp(1j * (th + engine.throw[j][:, None]))
     pin_pos = rj * motion.pin * np.exp(1j * psi_j)
     moment = np.imag(np.conj(pin_pos - crank) * link_force)
-    # the master rod's d_Y (its length times cos gamma), at each link's angles
-    length_m = engine.conrod_length[m_idx][:, None]
-    d_y_master = length_m * motion.cos_master
-    delta_wall = moment / d_y_master
+    # the master rod carries that couple at its piston pin, across the master's bore
+    delta_wall = crank_train.couple_side_force(
+        moment, engine.conrod_length[m_idx][:, None], motion.cos_master
+    )
     on_pin = 1j * delta_wall * np.exp(1j * engine.bank[m_idx][:, None]) - link_force
     return LinkRodForces(j, m_idx, motion, wall, link_force, delta_wall, on_pin)
 
@@ -1010,7 +1011,10 @@ def articulated_big_end_forces(
     :math:`M = \sum_j \operatorname{Im}(\overline{(L_j - C)}F_{L,j})` (in the direction of
     rotation), changes the master piston's wall force by :math:`\Delta N = M/d_Y` (master
     frame), and the force on the pin becomes the plain master's plus
-    :math:`i\,\Delta N e^{i\psi_m} - \sum_j F_{L,j}` (:func:`link_rod_forces`).
+    :math:`i\,\Delta N e^{i\psi_m} - \sum_j F_{L,j}` (:func:`link_rod_forces`).  Both
+    :math:`N` and :math:`\Delta N` are the crank slider's moment balance
+    (:func:`balance.core.crank_train.side_thrust_moment_balance`,
+    :func:`balance.core.crank_train.couple_side_force`).
     """
     assert engine.links is not None
     out = np.array(forces, dtype=np.complex128, copy=True)

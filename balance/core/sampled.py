@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core import crank_train
 from balance.core.engine import Engine
 from balance.core.kinematics import (
     conrod_angle_derivatives,
@@ -455,7 +456,10 @@ def reciprocating_samples(layout: Engine, theta: ArrayLike) -> tuple[ComplexArra
         beta, rod_ratio(r, layout.conrod_length), offset_ratio(layout.offset, r)
     )
     w2 = speed_squared(layout.speed)
-    force = -layout.reciprocating_mass * w2 * r * d2s * np.exp(1j * layout.bank)
+    along = crank_train.reciprocating_force(
+        layout.reciprocating_mass, w2, r, d2s
+    )  # towards the crank
+    force = -along * np.exp(1j * layout.bank)
     moment = force * (layout.z - layout.reference_z)
     return (
         np.asarray(force.sum(axis=1), dtype=np.complex128),
@@ -478,15 +482,14 @@ def _articulated_reciprocating(
         rod_ratio(r[plain], layout.conrod_length[plain]),
         offset_ratio(layout.offset[plain], r[plain]),
     )
-    force = (
-        -layout.reciprocating_mass[plain] * w2 * r[plain] * d2s * np.exp(1j * layout.bank[plain])
-    )
+    along = crank_train.reciprocating_force(layout.reciprocating_mass[plain], w2, r[plain], d2s)
+    force = -along * np.exp(1j * layout.bank[plain])
     j = layout.links.link_indices
     groups = articulated_kinematics(layout, theta)
     link_acc = _link_piston_rows(layout, groups, theta.size)  # (links, angles)
+    m_j, r_j = layout.reciprocating_mass[j][:, None], r[j][:, None]
     pistons = (
-        -(layout.reciprocating_mass[j] * w2 * r[j])[:, None]
-        * link_acc
+        -crank_train.reciprocating_force(m_j, w2, r_j, link_acc)
         * np.exp(1j * layout.bank[j])[:, None]
     )
     each = pistons + _link_pin_forces(layout, groups, theta.size)
