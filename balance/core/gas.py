@@ -469,11 +469,11 @@ def cylinder_pressure(
     tables : sequence of (ndarray, ndarray)
         Each cylinder's pressure table as :func:`periodic_tables` prepares it.
     theta_deg : array_like
-        Crank angles :math:`	heta` [deg], shape (angles,).
+        Crank angles :math:`\theta` [deg], shape (angles,).
 
     Notes
     -----
-    Cylinder i is at its cycle angle :math:`lpha = 	heta - 	heta_{TDC,i}` (mod the
+    Cylinder i is at its cycle angle :math:`\alpha = \theta - \theta_{TDC,i}` (mod the
     cycle); its pressure is interpolated linearly in its table, periodic over the cycle.
     """
     th = np.asarray(theta_deg, dtype=np.float64)
