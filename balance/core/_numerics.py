@@ -106,6 +106,46 @@ def series_values(k: NDArray[np.intp], coeffs: ComplexArray, theta: ArrayLike) -
     return np.asarray(acc * z ** int(ks[0]))
 
 
+def fourier_series(
+    f: Callable[[FloatArray], ComplexArray], start: int, largest: int
+) -> tuple[NDArray[np.intp], ComplexArray]:
+    r"""Orders k and coefficients :math:`c_k` of the rows of a smooth periodic
+    :math:`f(\theta) = \sum_k c_k e^{ik\theta}` (period :math:`2\pi`).
+
+    FFT of ``f`` on a uniform grid of ``start`` points, doubled (up to ``largest``) until
+    the top quarter of the spectrum is below :math:`16\varepsilon` of its largest
+    coefficient; the orders :math:`|k| < n/4` are kept (the rest is below rounding: the
+    coefficients of an analytic function fall geometrically).
+    """
+    n = start
+    while True:
+        theta = 2.0 * np.pi * np.arange(n) / n
+        spectrum = np.fft.fft(f(theta), axis=1) / n
+        k = np.rint(np.fft.fftfreq(n) * n).astype(np.intp)
+        mag = np.abs(spectrum)
+        scale = float(mag.max()) if mag.size else 0.0
+        tail = float(mag[:, np.abs(k) >= n // 4].max()) if mag.size else 0.0
+        if tail <= 16.0 * _EPS * scale or n >= largest:
+            break
+        n *= 2
+    keep = np.abs(k) < n // 4  # the rest is below rounding
+    return k[keep], spectrum[:, keep]
+
+
+def ordered_combination(shares: FloatArray, values: ComplexArray) -> ComplexArray:
+    r""":math:`\sum_j S_{mj} F_j` at every column, shape (rows of ``shares``, columns).
+
+    Summed row of ``values`` by row, in order, so that a column's result has the same bits
+    whatever other columns are evaluated with it (a matrix product's kernel, and so its
+    rounding, depends on the number of columns): a search that evaluates one angle at a time
+    then compares exactly with the values on a grid.
+    """
+    out = np.zeros((shares.shape[0], values.shape[1]), dtype=np.complex128)
+    for j in range(shares.shape[1]):
+        out += shares[:, j : j + 1] * values[j]
+    return out
+
+
 def series_on_grid(k: NDArray[np.intp], coeffs: ComplexArray, n: int) -> ComplexArray:
     """The series on the uniform grid of ``n`` points per revolution (inverse FFT)."""
     spectrum = np.zeros((coeffs.shape[0], n), dtype=np.complex128)
@@ -206,6 +246,32 @@ def parabola_vertex(before: ArrayLike, at: ArrayLike, after: ArrayLike) -> Float
     with np.errstate(divide="ignore", invalid="ignore"):
         shift = np.where(curvature != 0.0, 0.5 * (fm - fp) / curvature, 0.0)
     return np.asarray(np.clip(np.nan_to_num(shift), -0.5, 0.5))
+
+
+def sampled_max_bound(values: FloatArray, second: FloatArray) -> FloatArray:
+    r"""Bound of :math:`\max|f|` over one period from :math:`f` and :math:`f''` sampled on a
+    uniform grid of :math:`N` points (last axis): :math:`\max|f_j| + \max|f''_j|\,
+    (\pi/N)^2/2`.
+
+    Between two samples :math:`h = 2\pi/N` apart, :math:`|f|` exceeds the larger of them by
+    at most :math:`\max|f''|\,h^2/8` (the error of linear interpolation).
+    """
+    n = values.shape[-1]
+    top = np.max(np.abs(values), axis=-1)
+    curvature = np.max(np.abs(second), axis=-1)
+    return np.asarray(top + curvature * (np.pi / n) ** 2 / 2.0)
+
+
+def sampled_vertex(values: FloatArray, picks: NDArray[np.intp]) -> FloatArray:
+    r"""Where the extrema that samples ``picks`` stand for lie, by :func:`parabola_vertex`:
+    ``values`` on the uniform grid :math:`2\pi j/n` of one period (last axis), ``picks``
+    indices into it (along the last axis); returns angles [rad], the shape of ``picks``."""
+    n = values.shape[-1]
+    grid = 2.0 * np.pi * np.arange(n) / n
+    before = np.take_along_axis(values, (picks - 1) % n, -1)
+    after = np.take_along_axis(values, (picks + 1) % n, -1)
+    at = np.take_along_axis(values, picks, -1)
+    return np.asarray(grid[picks] + 2.0 * np.pi / n * parabola_vertex(before, at, after))
 
 
 def _best_peaks(values: FloatArray, count: int) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
@@ -383,11 +449,9 @@ def series_stats(
     # maximum: Newton from the best sampled local maxima (a parabola through the three
     # samples around each for the start, so that two or three steps reach rounding)
     theta = 2.0 * np.pi * np.arange(n) / n
-    before, after = np.roll(values, 1, axis=1), np.roll(values, -1, axis=1)
     cand, is_peak = _best_peaks(values, CANDIDATES)
     h = 2.0 * np.pi / n
-    f0, fm, fp = (np.take_along_axis(v, cand, 1) for v in (values, before, after))
-    start = theta[cand] + h * parabola_vertex(fm, f0, fp)
+    start = sampled_vertex(values, cand)
     # fewer local maxima than candidates: the spare ones repeat the best (a start that is
     # no peak would wander, limited to a step per iteration, and never converge)
     start = np.where(is_peak, start, start[:, :1])

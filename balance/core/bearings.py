@@ -55,8 +55,10 @@ from numpy.typing import ArrayLike, NDArray
 from balance.core import crank_train
 from balance.core._numerics import (
     GAUSS_NODES,
+    fourier_series,
     gauss_panels,
     node_stats,
+    ordered_combination,
     series_on_grid,
     series_stats,
 )
@@ -93,8 +95,6 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
-
-_EPS = float(np.finfo(np.float64).eps)
 
 #: Crank angles per revolution of the first grid for the Fourier series of the pin loads.
 SERIES_START = 128
@@ -511,11 +511,11 @@ class _Model:
 
     def mains_of(self, throws: ComplexArray, theta: FloatArray) -> ComplexArray:
         turning = np.exp(1j * theta)[None, :]
-        return _combine(self.main_pins, throws) + self.main_cw[:, None] * turning
+        return ordered_combination(self.main_pins, throws) + self.main_cw[:, None] * turning
 
     def moments_of(self, throws: ComplexArray, theta: FloatArray) -> ComplexArray:
         turning = np.exp(1j * theta)[None, :]
-        return _combine(self.moment_pins, throws) + self.moment_cw[:, None] * turning
+        return ordered_combination(self.moment_pins, throws) + self.moment_cw[:, None] * turning
 
     def cycle_loads(self, theta: FloatArray) -> tuple[ComplexArray, ComplexArray]:
         """Pin and main loads (with gas if asked)."""
@@ -525,39 +525,13 @@ class _Model:
     def inertia_series(self) -> tuple[NDArray[np.intp], ComplexArray]:
         """Orders k and Fourier coefficients of the inertia-only pins, mains and moments,
         stacked in that order (rows), each row :math:`F(\\theta) = \\sum c_k e^{ik\\theta}`."""
-        n = SERIES_START
-        while True:
-            theta = 2.0 * np.pi * np.arange(n) / n
-            spectrum = np.fft.fft(self.pins(theta, False), axis=1) / n
-            k = np.rint(np.fft.fftfreq(n) * n).astype(np.intp)
-            mag = np.abs(spectrum)
-            scale = float(mag.max()) if mag.size else 0.0
-            tail = float(mag[:, np.abs(k) >= n // 4].max()) if mag.size else 0.0
-            if tail <= 16.0 * _EPS * scale or n >= SERIES_MAX:
-                break
-            n *= 2
-        keep = np.abs(k) < n // 4  # the rest is below rounding
-        k, pins = k[keep], spectrum[:, keep]
+        k, pins = fourier_series(lambda t: self.pins(t, False), SERIES_START, SERIES_MAX)
         one = np.zeros(k.size)
         one[k == 1] = 1.0
         throws = pins + self.throw_extra[:, None] * one
         mains = self.main_pins @ throws + self.main_cw[:, None] * one
         moments = self.moment_pins @ throws + self.moment_cw[:, None] * one
         return k, np.concatenate([pins, mains, moments], axis=0)
-
-
-def _combine(shares: FloatArray, loads: ComplexArray) -> ComplexArray:
-    r""":math:`\sum_j S_{mj} F_j` at every angle, shape (rows of ``shares``, angles).
-
-    Summed load by load, in order, so that the value at an angle has the same bits whatever
-    other angles are evaluated with it (a matrix product's kernel, and so its rounding,
-    depends on the number of columns); the searches of :func:`bearing_loads` evaluate one
-    angle per quantity and compare with the values on the nodes.
-    """
-    out = np.zeros((shares.shape[0], loads.shape[1]), dtype=np.complex128)
-    for j in range(shares.shape[1]):
-        out += shares[:, j : j + 1] * loads[j]
-    return out
 
 
 def loads_at(

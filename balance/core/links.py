@@ -75,7 +75,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import crank_train, phasors
-from balance.core._numerics import newton_stationary, parabola_vertex, unique_rows
+from balance.core._numerics import newton_stationary, sampled_max_bound, sampled_vertex, unique_rows
 from balance.core.engine import Engine, Links
 from balance.core.kinematics import (
     conrod_angle_derivatives,
@@ -418,9 +418,7 @@ def link_reach(geometry: LinkGeometry) -> FloatArray:
         m = link_motion(beta, *cols)
     if np.any(np.abs(m.sin_master) >= 1.0):
         return np.full(geometry.size, np.inf)
-    top = np.max(np.abs(m.pin_x - eps), axis=-1)  # h
-    curvature = np.max(np.abs(m.d2pin_x), axis=-1)  # h''
-    return np.asarray(lam[:, 0] * (top + curvature * (np.pi / REACH_GRID) ** 2 / 2.0))
+    return np.asarray(lam[:, 0] * sampled_max_bound(m.pin_x - eps, m.d2pin_x))  # h, h''
 
 
 def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -447,11 +445,7 @@ def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, F
     s = link_motion(grid, *cols).s
     picks = np.stack([np.argmax(s, axis=-1), np.argmin(s, axis=-1)], axis=-1)
     # a parabola through the best sample and its neighbours: Newton on s' then starts close
-    h = 2.0 * np.pi / DEAD_CENTRE_GRID
-    s0 = np.take_along_axis(s, picks, -1)
-    s_before = np.take_along_axis(s, (picks - 1) % DEAD_CENTRE_GRID, -1)
-    s_after = np.take_along_axis(s, (picks + 1) % DEAD_CENTRE_GRID, -1)
-    start = grid[picks] + h * parabola_vertex(s_before, s0, s_after)
+    start = sampled_vertex(s, picks)
 
     def slopes(b: FloatArray) -> tuple[FloatArray, FloatArray]:
         m = link_motion(b, *cols)
