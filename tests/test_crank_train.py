@@ -172,3 +172,53 @@ def test_rod_inertia_couple_is_carried_at_the_piston_pin():
             rtol=0,
             atol=1e-14 * scale,
         )
+
+
+def test_rod_point_inertia_is_minus_the_relative_acceleration():
+    """A point rho e^{i(delta - psi)} from the big end (Y + iX): its acceleration relative to
+    the big end, by a five-point finite difference in beta, is -rho e^{i delta} q(beta) with
+    q = e^{-i psi}(psi'^2 + i psi'') from rod_point_inertia; to 1e-9."""
+    lam, eps, rho, delta = 0.31, -0.04, 0.9, 0.7
+    beta = np.linspace(0.0, 2.0 * np.pi, 37)
+
+    def point(b: np.ndarray) -> np.ndarray:
+        return rho * np.exp(1j * (delta - np.arcsin(lam * (np.sin(b) - eps))))
+
+    h = 1e-3
+    second = (
+        -point(beta + 2 * h)
+        + 16 * point(beta + h)
+        - 30 * point(beta)
+        + 16 * point(beta - h)
+        - point(beta - 2 * h)
+    ) / (12 * h**2)
+    sin_psi, cos_psi = ct.rod_direction(beta, lam, eps)
+    q_re, q_im = ct.rod_point_inertia(sin_psi, cos_psi, *conrod_angle_derivatives(beta, lam, eps))
+    np.testing.assert_allclose(
+        -second, rho * np.exp(1j * delta) * (q_re + 1j * q_im), rtol=0, atol=1e-9
+    )
+
+
+def test_hung_load_keeps_the_rod_in_balance():
+    """A load -F_L on the rod at a point L: with the piston's push Delta N across the bore at
+    the piston pin P = C + l e^{i(psi_b - psi)} and the rod's force on the crank pin
+    (hung_load), the massless rod is in balance, forces and moments about C (Fearn 1927:
+    the master rod carrying a link rod); and rod_on_piston is (P - iN) along and across the
+    bore."""
+    rng = np.random.default_rng(3)
+    n = 50
+    reaction = rng.normal(size=n) * 1e4 + 1j * rng.normal(size=n) * 1e4
+    crank = 0.05 * np.exp(1j * rng.uniform(0, 2 * np.pi, n))
+    point = crank + 0.04 * np.exp(1j * rng.uniform(0, 2 * np.pi, n))
+    length, psi, bank = 0.16, rng.uniform(-0.3, 0.3, n), rng.uniform(-1.0, 1.0, n)
+    side, on_pin = ct.hung_load(reaction, point, crank, length, np.cos(psi), bank)
+    piston_pin = crank + length * np.exp(1j * (bank - psi))
+    push = 1j * side * np.exp(1j * bank)  # the piston on the rod, +X of the bore
+    # forces: -F_L + push - (the rod's force on the pin) = 0
+    np.testing.assert_allclose(-reaction + push - on_pin, 0.0, atol=1e-10 * 1e4)
+    moment = np.imag(np.conj(point - crank) * -reaction) + np.imag(
+        np.conj(piston_pin - crank) * push
+    )
+    np.testing.assert_allclose(moment, 0.0, atol=1e-12 * 1e4)
+    along = ct.rod_on_piston(3.0e4, 2.0e3, bank) * np.exp(-1j * bank)
+    np.testing.assert_allclose(along, 3.0e4 - 2.0e3j, rtol=1e-15)

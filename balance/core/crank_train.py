@@ -63,6 +63,7 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "couple_side_force",
+    "hung_load",
     "pin_force",
     "piston_force",
     "radial_force",
@@ -70,6 +71,8 @@ __all__ = [
     "rod_direction",
     "rod_force",
     "rod_inertia_couple",
+    "rod_on_piston",
+    "rod_point_inertia",
     "side_thrust",
     "side_thrust_moment_balance",
     "tangential_force",
@@ -418,3 +421,112 @@ def pin_force(
     f_x = _f(side) + c * np.sin(b)
     f_y = -_f(piston) + c * np.cos(b)
     return np.asarray((f_y + 1j * f_x) * np.exp(1j * _f(bank)), dtype=np.complex128)
+
+
+def rod_point_inertia(
+    sin_psi: ArrayLike, cos_psi: ArrayLike, dpsi: ArrayLike, d2psi: ArrayLike
+) -> tuple[FloatArray, FloatArray]:
+    r"""Inertia force of a point fixed on the rod, relative to the big end, per
+        :math:`m
+    ho\,\omega^2` [1].
+
+        Parameters
+        ----------
+        sin_psi, cos_psi : array_like
+            The rod angle's sine and cosine [1] (:func:`rod_direction`).
+        dpsi, d2psi : array_like
+            :math:`\psi'` [1] and :math:`\psi''` [1/rad].
+
+        Returns
+        -------
+        re, im : ndarray
+            Real and imaginary parts of :math:`q = e^{-\mathrm{i}\psi}(\psi'^2 +
+            \mathrm{i}\psi'')`, as :math:`Y + \mathrm{i}X` in the frame that the rod has at
+            :math:`\psi = 0`.
+
+        Notes
+        -----
+        A point at :math:`
+    ho\,e^{\mathrm{i}(\delta - \psi)}` from the big end (as
+        :math:`Y + \mathrm{i}X`; a master rod's link pin, :mod:`balance.core.links`) moves
+        relative to it with the second derivative :math:`
+    ho\,e^{\mathrm{i}(\delta - \psi)}
+        (-\mathrm{i}\psi'' - \psi'^2)`; a mass :math:`m` there takes the inertia force
+        :math:`m
+    ho\,\omega^2 e^{\mathrm{i}\delta} q` besides the centrifugal force of the
+        crank pin's circle (Taylor 1985, ch. 8; the link pin of an articulated rod: Fearn,
+        "The articulated connecting rod", J. Royal Aeronautical Society, 1927).
+    """
+    s, c = _f(sin_psi), _f(cos_psi)
+    d1, d2 = _f(dpsi), _f(d2psi)
+    return np.asarray(c * d1**2 + s * d2), np.asarray(c * d2 - s * d1**2)
+
+
+def rod_on_piston(piston: ArrayLike, side: ArrayLike, bank: ArrayLike) -> ComplexArray:
+    r"""Force of the rod on its piston pin, in the engine frame [N].
+
+    Parameters
+    ----------
+    piston : array_like
+        :math:`P` [N].
+    side : array_like
+        :math:`N` [N], the wall's force on the piston along :math:`+X`.
+    bank : array_like
+        Bank angle :math:`\psi_b` of the cylinder [rad].
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`(P - \mathrm{i}N)\,e^{\mathrm{i}\psi_b}`: the piston, pushed by :math:`P`
+        towards the crank and by the wall, is held by the rod with :math:`(-N, P)`
+        (:math:`X, Y`); the rod's lower end takes the opposite.
+    """
+    return np.asarray((_f(piston) - 1j * _f(side)) * np.exp(1j * _f(bank)), dtype=np.complex128)
+
+
+def hung_load(
+    reaction: ArrayLike,
+    point: ArrayLike,
+    crank_pin: ArrayLike,
+    length: ArrayLike,
+    cos_psi: ArrayLike,
+    bank: ArrayLike,
+) -> tuple[FloatArray, ComplexArray]:
+    r"""What a body hung on the rod at a point (a link rod on a master rod's link pin) adds
+    to the side thrust and passes to the crank pin [N].
+
+    Parameters
+    ----------
+    reaction : array_like of complex
+        :math:`F_L`, the force the rod puts on the hung body at the point [N], engine frame
+        (:math:`y + \mathrm{i}x`); the rod takes :math:`-F_L` there.
+    point, crank_pin : array_like of complex
+        The point and the crank pin [m], engine frame.
+    length : array_like
+        The rod's length :math:`l` [m].
+    cos_psi : array_like
+        :math:`\cos\psi` of the rod [1].
+    bank : array_like
+        Bank angle :math:`\psi_b` of the rod's cylinder [rad].
+
+    Returns
+    -------
+    side : ndarray
+        :math:`\Delta N = M/(l\cos\psi)` [N], added to the wall's force on the piston along
+        :math:`+X`, with :math:`M = \operatorname{Im}(\overline{(L - C)}F_L)` the moment of
+        :math:`-F_L` about the crank pin against the rotation (:func:`couple_side_force`).
+    on_pin : ndarray of complex
+        :math:`\mathrm{i}\,\Delta N e^{\mathrm{i}\psi_b} - F_L` [N]: the rest of
+        :math:`-F_L`, which the rod passes to the crank pin.
+
+    Notes
+    -----
+    The rod (its own mass in its two-mass model) is in balance under :math:`-F_L` at
+    :math:`L`, the piston's :math:`(-\Delta N, 0)` at the piston pin and the pin's force:
+    the moment about the crank pin gives :math:`\Delta N`, the forces the rest
+    (Fearn 1927; the module notes).
+    """
+    load = np.asarray(reaction, dtype=np.complex128)
+    arm = np.asarray(point, dtype=np.complex128) - np.asarray(crank_pin, dtype=np.complex128)
+    side = couple_side_force(np.imag(np.conj(arm) * load), length, cos_psi)
+    return side, np.asarray(1j * side * np.exp(1j * _f(bank)) - load, dtype=np.complex128)

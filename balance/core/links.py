@@ -383,19 +383,6 @@ def pin_roll(motion: LinkMotion) -> FloatArray:
     )
 
 
-def _master_pin_force(
-    ratio_master: ArrayLike, offset_master: ArrayLike, beta_m: ArrayLike
-) -> tuple[FloatArray, FloatArray]:
-    r"""Real and imaginary parts of :math:`q(\beta_m) = e^{-i\gamma}(\gamma'^2 + i\gamma'')`
-    (the master rod's frame, :math:`Y + iX`)."""
-    b = np.asarray(beta_m, dtype=np.float64)
-    lam_m = np.asarray(ratio_master, dtype=np.float64)
-    eps_m = np.asarray(offset_master, dtype=np.float64)
-    sin_g, cos_g = crank_train.rod_direction(b, lam_m, eps_m)
-    dg, d2g = conrod_angle_derivatives(b, lam_m, eps_m)
-    return cos_g * dg**2 + sin_g * d2g, cos_g * d2g - sin_g * dg**2
-
-
 # --------------------------------------------------------------------------- reach, dead centres
 
 
@@ -643,7 +630,10 @@ def link_coefficients(
     def sample(beta: FloatArray) -> FloatArray:
         m = link_motion(beta, *cols)
         eps = cols[6]
-        q_re, q_im = _master_pin_force(lam_mu, eps_mu, beta)
+        sin_g, cos_g = crank_train.rod_direction(beta, lam_mu, eps_mu)
+        q_re, q_im = crank_train.rod_point_inertia(
+            sin_g, cos_g, *conrod_angle_derivatives(beta, lam_mu, eps_mu)
+        )
         return np.concatenate(
             [
                 -m.d2s,
@@ -950,18 +940,17 @@ def link_rod_forces(
     wall = crank_train.side_thrust_moment_balance(
         q, motion.sin_rod, motion.cos_rod, length, delta_i, w2, motion.d2rod
     )
-    on_piston = (q - 1j * wall) * np.exp(1j * psi_j)
     pin_acc = w2 * rj * motion.d2pin * np.exp(1j * psi_j)  # engine frame
-    link_force = pin_masses(engine)[j][:, None] * pin_acc + on_piston
-    # link pin relative to the crank pin, engine frame
-    crank = rj * np.exp(1j * (th + engine.throw[j][:, None]))
-    pin_pos = rj * motion.pin * np.exp(1j * psi_j)
-    moment = np.imag(np.conj(pin_pos - crank) * link_force)
-    # the master rod carries that couple at its piston pin, across the master's bore
-    delta_wall = crank_train.couple_side_force(
-        moment, engine.conrod_length[m_idx][:, None], motion.cos_master
+    link_force = pin_masses(engine)[j][:, None] * pin_acc + crank_train.rod_on_piston(
+        q, wall, psi_j
     )
-    on_pin = 1j * delta_wall * np.exp(1j * engine.bank[m_idx][:, None]) - link_force
+    # the master rod carries it: link pin and crank pin, engine frame
+    pin_pos = rj * motion.pin * np.exp(1j * psi_j)
+    crank = rj * np.exp(1j * (th + engine.throw[j][:, None]))
+    length_m, psi_m = engine.conrod_length[m_idx][:, None], engine.bank[m_idx][:, None]
+    delta_wall, on_pin = crank_train.hung_load(
+        link_force, pin_pos, crank, length_m, motion.cos_master, psi_m
+    )
     return LinkRodForces(j, m_idx, motion, wall, link_force, delta_wall, on_pin)
 
 
@@ -994,21 +983,15 @@ def articulated_big_end_forces(
     Notes
     -----
     Each link rod is its two-mass model (piston-pin share with the piston, link-pin share
-    at :math:`L`) plus a massless rod of inertia :math:`\Delta I_j`, like a plain rod
-    (:func:`balance.core.bearings.big_end_forces`).  In the engine frame, the link piston
-    takes the rod force :math:`F_P = (Q - iN)e^{i\psi_j}` with :math:`Q = m\omega^2 s'' +
-    G` and the wall force :math:`N` from the rod's moment balance about :math:`L`,
-    :math:`N = -(\Delta I_j\omega^2\gamma_l'' + d_X Q)/d_Y` (:math:`d = P - L` in the link
-    cylinder's frame); the master rod pushes the link rod at :math:`L` with
-    :math:`F_L = m_L\omega^2\Lambda''r e^{i\psi_j} + F_P`.  The master rod takes
-    :math:`-F_L` at each of its link pins: its moment about the crank pin,
-    :math:`M = \sum_j \operatorname{Im}(\overline{(L_j - C)}F_{L,j})` (in the direction of
-    rotation), changes the master piston's wall force by :math:`\Delta N = M/d_Y` (master
-    frame), and the force on the pin becomes the plain master's plus
-    :math:`i\,\Delta N e^{i\psi_m} - \sum_j F_{L,j}` (:func:`link_rod_forces`).  Both
-    :math:`N` and :math:`\Delta N` are the crank slider's moment balance
-    (:func:`balance.core.crank_train.side_thrust_moment_balance`,
-    :func:`balance.core.crank_train.couple_side_force`).
+    at :math:`L`) plus a massless rod of inertia :math:`\Delta I_j`: a crank slider whose
+    rod's lower end is :math:`L` (:mod:`balance.core.crank_train`), with :math:`Q =
+    m\omega^2 s'' + G` along its bore, the wall force :math:`N` from the rod's moment
+    balance about :math:`L` and the rod's force :math:`F_P` on its piston.  The master rod
+    pushes the link rod at :math:`L` with :math:`F_L = m_L\omega^2\Lambda''r e^{i\psi_j} +
+    F_P` (engine frame) and takes :math:`-F_L` there: its moment about the crank pin adds
+    :math:`\Delta N` to the master piston's wall force, and the force on the pin becomes the
+    plain master's plus :math:`i\,\Delta N e^{i\psi_m} - \sum_j F_{L,j}`
+    (:func:`balance.core.crank_train.hung_load`, :func:`link_rod_forces`).
     """
     assert engine.links is not None
     out = np.array(forces, dtype=np.complex128, copy=True)
