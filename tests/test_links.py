@@ -487,9 +487,15 @@ def test_link_dead_centres_are_the_extremes_of_the_piston():
 
 
 def _motion(engine: Engine, theta: np.ndarray):
-    from balance.core.links import link_cylinder_motion
+    """The link cylinders' indices and their LinkMotion at the crank angles (links, angles)."""
+    from balance.core.links import engine_geometry
 
-    return link_cylinder_motion(engine, theta)
+    geometry = engine_geometry(engine)
+    j = geometry.cylinder
+    beta = (
+        np.asarray(theta, dtype=np.float64)[None, :] + (engine.throw[j] - engine.bank[j])[:, None]
+    )
+    return j, link_motion(beta, *geometry.columns())
 
 
 def test_impossible_link_geometry_is_found():

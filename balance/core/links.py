@@ -1003,15 +1003,6 @@ def articulated_big_end_forces(
     return out
 
 
-def link_cylinder_motion(engine: Engine, theta: ArrayLike) -> tuple[NDArray[np.intp], LinkMotion]:
-    """The link cylinders' indices and their :class:`LinkMotion` at crank angles ``theta``
-    (shape (links, angles))."""
-    geometry = engine_geometry(engine)
-    th = np.asarray(theta, dtype=np.float64)
-    beta = th[None, :] + (engine.throw[geometry.cylinder] - engine.bank[geometry.cylinder])[:, None]
-    return geometry.cylinder, link_motion(beta, *geometry.columns())
-
-
 def piston_travels(engine: Engine) -> list[PistonTravel | None]:
     """Each link piston's travel against its cycle angle from its actual TDC
     (:class:`balance.core.gas.PistonTravel`, for the gas model's volume); None for the other
