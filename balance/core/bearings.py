@@ -64,14 +64,10 @@ from balance.core._numerics import (
 )
 from balance.core.balancing import Proposal, group_least, throw_groups
 from balance.core.engine import Engine
-from balance.core.gas import (
-    cylinder_pressure,
-    periodic_tables,
-    piston_gas_force,
-    pressure_tables,
-)
+from balance.core.gas import cylinder_pressure, periodic_tables, piston_gas_force
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 from balance.core.speed import speed_squared
+from balance.core.torque import engine_pressure_tables
 
 __all__ = [
     "BearingLoads",
@@ -354,22 +350,6 @@ def _column(values: FloatArray) -> FloatArray:
     return np.asarray(values, dtype=np.float64)[:, None]
 
 
-def _pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
-    """Each cylinder's pressure table: cycle angle [deg] and absolute pressure [Pa]
-    (:func:`balance.core.gas.pressure_tables`)."""
-    from balance.core.links import piston_travels
-
-    assert engine.gas is not None
-    return pressure_tables(
-        engine.gas,
-        engine.crank_radius,
-        engine.conrod_length,
-        engine.offset,
-        engine.cycle,
-        piston_travels(engine),
-    )
-
-
 def gas_forces(
     engine: Engine, theta: ArrayLike, tables: list[tuple[FloatArray, FloatArray]] | None = None
 ) -> FloatArray:
@@ -383,7 +363,7 @@ def gas_forces(
     """
     gas = engine.gas
     assert gas is not None, "gas_forces needs an engine with a gas section"
-    tables = tables if tables is not None else _pressure_tables(engine)
+    tables = tables if tables is not None else engine_pressure_tables(engine)
     return _gas_forces(engine, theta, periodic_tables(tables, gas.cycle_deg))
 
 
@@ -495,7 +475,7 @@ class _Model:
         self.moment_pins = moment_arms(pin_z, mains)
         self.moment_cw = moment_arms(cw_z, mains) @ cw_u if cw_z.size else np.zeros(mains.size)
         self.with_gas = with_gas
-        self.tables = _pressure_tables(engine) if with_gas else None
+        self.tables = engine_pressure_tables(engine) if with_gas else None
         self.periodic = (
             periodic_tables(self.tables, engine.gas.cycle_deg)
             if self.tables is not None and engine.gas is not None

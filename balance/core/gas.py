@@ -217,7 +217,7 @@ def firing_tdc(
 @dataclass(frozen=True)
 class PistonTravel:
     """Where a piston pin is against its cycle angle, for a cylinder that is no plain crank
-    slider (a link piston, :func:`balance.core.links.piston_travels`).
+    slider (a link piston, :func:`balance.core.torque.piston_travels`).
 
     Attributes
     ----------

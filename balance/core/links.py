@@ -69,7 +69,6 @@ module extends).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -85,9 +84,6 @@ from balance.core.kinematics import (
     rounding_floor,
 )
 from balance.core.speed import speed_squared
-
-if TYPE_CHECKING:  # pragma: no cover (the gas model loads when a gas analysis needs it)
-    from balance.core.gas import PistonTravel
 
 __all__ = [
     "LinkCoefficients",
@@ -107,7 +103,6 @@ __all__ = [
     "link_rod_forces",
     "pin_masses",
     "pin_roll",
-    "piston_travels",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -1000,34 +995,4 @@ def articulated_big_end_forces(
     links = link_rod_forces(engine, theta, gas_force)
     np.add.at(out, links.master, links.on_pin)
     out[links.cylinder] = 0.0
-    return out
-
-
-def piston_travels(engine: Engine) -> list[PistonTravel | None]:
-    """Each link piston's travel against its cycle angle from its actual TDC
-    (:class:`balance.core.gas.PistonTravel`, for the gas model's volume); None for the other
-    cylinders."""
-    from balance.core.gas import PistonTravel
-
-    out: list[PistonTravel | None] = [None] * engine.n_cylinders
-    if not engine.has_links:
-        return out
-    geometry = engine_geometry(engine)
-    top, s_top, s_bottom = link_dead_centres(geometry)
-    cols = geometry.columns()
-    for row, j in enumerate(geometry.cylinder.tolist()):
-        params = tuple(float(c[row, 0]) for c in cols)
-        r = float(engine.crank_radius[j])
-
-        def position(
-            alpha_deg: FloatArray,
-            params: tuple[float, ...] = params,
-            start: float = float(top[row]),
-            r: float = r,
-        ) -> FloatArray:
-            return np.asarray(r * link_motion(start + np.radians(alpha_deg), *params).s)
-
-        out[j] = PistonTravel(
-            position, r * float(s_top[row]), r * float(s_bottom[row]), key=(*params, r)
-        )
     return out

@@ -66,6 +66,7 @@ from balance.core import crank_train, phasors
 from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.core.gas import (
+    PistonTravel,
     cylinder_pressure,
     periodic_tables,
     piston_gas_force,
@@ -79,7 +80,14 @@ from balance.core.kinematics import (
 )
 from balance.core.speed import speed_squared
 
-__all__ = ["CYCLE_SAMPLES_PER_DEGREE", "TorqueResult", "compute_torque", "roll_orders"]
+__all__ = [
+    "CYCLE_SAMPLES_PER_DEGREE",
+    "TorqueResult",
+    "compute_torque",
+    "engine_pressure_tables",
+    "piston_travels",
+    "roll_orders",
+]
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -176,13 +184,9 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     lam = rod_ratio(r, length)
     eps = offset_ratio(e, r)
     w2 = float(speed_squared(layout.speed))
-    from balance.core.links import piston_travels
-
-    travels = piston_travels(layout)  # None for every plain cylinder
-    tables = pressure_tables(
-        gas, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle, travels
+    pressure = cylinder_pressure(
+        gas, periodic_tables(engine_pressure_tables(layout), cycle_deg), theta
     )
-    pressure = cylinder_pressure(gas, periodic_tables(tables, cycle_deg), theta)
     _, ds, d2s = normalised_slider(beta, lam, eps)
     sin_psi, cos_psi = crank_train.rod_direction(beta, lam, eps)
     dg, d2g = conrod_angle_derivatives(beta, lam, eps)
@@ -265,6 +269,51 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         flywheel_inertia=float(inertia),
         cycle_deg=cycle_deg,
     )
+
+
+def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
+    """Each cylinder's pressure table: cycle angle from firing TDC [deg] and absolute
+    pressure [Pa] (:func:`balance.core.gas.pressure_tables` of the engine's geometry, a link
+    piston's over its own travel, :func:`piston_travels`)."""
+    assert engine.gas is not None
+    return pressure_tables(
+        engine.gas,
+        engine.crank_radius,
+        engine.conrod_length,
+        engine.offset,
+        engine.cycle,
+        piston_travels(engine),
+    )
+
+
+def piston_travels(engine: Engine) -> list[PistonTravel | None]:
+    """Each link piston's travel against its cycle angle from its actual TDC
+    (:class:`balance.core.gas.PistonTravel`, for the gas model's volume); None for the other
+    cylinders."""
+    from balance.core.links import engine_geometry, link_dead_centres, link_motion
+
+    out: list[PistonTravel | None] = [None] * engine.n_cylinders
+    if not engine.has_links:
+        return out
+    geometry = engine_geometry(engine)
+    top, s_top, s_bottom = link_dead_centres(geometry)
+    cols = geometry.columns()
+    for row, j in enumerate(geometry.cylinder.tolist()):
+        params = tuple(float(c[row, 0]) for c in cols)
+        r = float(engine.crank_radius[j])
+
+        def position(
+            alpha_deg: FloatArray,
+            params: tuple[float, ...] = params,
+            start: float = float(top[row]),
+            r: float = r,
+        ) -> FloatArray:
+            return np.asarray(r * link_motion(start + np.radians(alpha_deg), *params).s)
+
+        out[j] = PistonTravel(
+            position, r * float(s_top[row]), r * float(s_bottom[row]), key=(*params, r)
+        )
+    return out
 
 
 def _link_rows(
