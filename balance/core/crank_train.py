@@ -427,35 +427,31 @@ def rod_point_inertia(
     sin_psi: ArrayLike, cos_psi: ArrayLike, dpsi: ArrayLike, d2psi: ArrayLike
 ) -> tuple[FloatArray, FloatArray]:
     r"""Inertia force of a point fixed on the rod, relative to the big end, per
-        :math:`m
-    ho\,\omega^2` [1].
+    :math:`m\rho\,\omega^2` [1].
 
-        Parameters
-        ----------
-        sin_psi, cos_psi : array_like
-            The rod angle's sine and cosine [1] (:func:`rod_direction`).
-        dpsi, d2psi : array_like
-            :math:`\psi'` [1] and :math:`\psi''` [1/rad].
+    Parameters
+    ----------
+    sin_psi, cos_psi : array_like
+        The rod angle's sine and cosine [1] (:func:`rod_direction`).
+    dpsi, d2psi : array_like
+        :math:`\psi'` [1] and :math:`\psi''` [1/rad].
 
-        Returns
-        -------
-        re, im : ndarray
-            Real and imaginary parts of :math:`q = e^{-\mathrm{i}\psi}(\psi'^2 +
-            \mathrm{i}\psi'')`, as :math:`Y + \mathrm{i}X` in the frame that the rod has at
-            :math:`\psi = 0`.
+    Returns
+    -------
+    re, im : ndarray
+        Real and imaginary parts of :math:`q = e^{-\mathrm{i}\psi}(\psi'^2 +
+        \mathrm{i}\psi'')`, as :math:`Y + \mathrm{i}X` in the frame that the rod has at
+        :math:`\psi = 0`.
 
-        Notes
-        -----
-        A point at :math:`
-    ho\,e^{\mathrm{i}(\delta - \psi)}` from the big end (as
-        :math:`Y + \mathrm{i}X`; a master rod's link pin, :mod:`balance.core.links`) moves
-        relative to it with the second derivative :math:`
-    ho\,e^{\mathrm{i}(\delta - \psi)}
-        (-\mathrm{i}\psi'' - \psi'^2)`; a mass :math:`m` there takes the inertia force
-        :math:`m
-    ho\,\omega^2 e^{\mathrm{i}\delta} q` besides the centrifugal force of the
-        crank pin's circle (Taylor 1985, ch. 8; the link pin of an articulated rod: Fearn,
-        "The articulated connecting rod", J. Royal Aeronautical Society, 1927).
+    Notes
+    -----
+    A point at :math:`\rho\,e^{\mathrm{i}(\delta - \psi)}` from the big end (as
+    :math:`Y + \mathrm{i}X`; a master rod's link pin, :mod:`balance.core.links`) moves
+    relative to it with the second derivative :math:`\rho\,e^{\mathrm{i}(\delta - \psi)}
+    (-\mathrm{i}\psi'' - \psi'^2)`; a mass :math:`m` there takes the inertia force
+    :math:`m\rho\,\omega^2 e^{\mathrm{i}\delta} q` besides the centrifugal force of the
+    crank pin's circle (Taylor 1985, ch. 8; the link pin of an articulated rod: Fearn,
+    "The articulated connecting rod", J. Royal Aeronautical Society, 1927).
     """
     s, c = _f(sin_psi), _f(cos_psi)
     d1, d2 = _f(dpsi), _f(d2psi)
