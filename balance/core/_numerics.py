@@ -4,12 +4,14 @@ Private to :mod:`balance.core`; each helper is generic (arrays and callables in,
 and carries no physics.
 
 * **Fourier series** :math:`F(\theta) = \sum_k c_k e^{\mathrm{i}k\theta}`, one per row of
-  coefficients: at given angles (:func:`series_values`, Horner's scheme) or on a uniform
-  grid (:func:`series_on_grid`, inverse FFT).
+  coefficients: from samples of a periodic function (:func:`fourier_series`, FFT on a grid
+  doubled to rounding), at given angles (:func:`series_values`, Horner's scheme) or on a
+  uniform grid (:func:`series_on_grid`, inverse FFT).
 * **Stationary points** by Newton's method on the derivative
   (:func:`newton_stationary`; of :math:`|F|^2` of a series: :func:`series_stationary`),
   started from the vertex of the parabola through three samples
-  (:func:`parabola_vertex`).
+  (:func:`parabola_vertex`, :func:`sampled_vertex`); a bound of a sampled maximum
+  (:func:`sampled_max_bound`).
 * **Golden-section searches** for the minimum of a quantity in a bracket
   (:func:`golden_section_min`) and for the maxima of sampled quantities
   (:func:`golden_section_max`).
@@ -18,6 +20,9 @@ and carries no physics.
 * **Largest value and mean of** :math:`|F|` over a period: of a Fourier series
   (:func:`series_stats`), or of any quantity from the nodes of a piecewise rule
   (:func:`node_stats`).
+* **Rows**: a linear combination summed row by row, so that a column's bits do not depend
+  on the other columns (:func:`ordered_combination`); the distinct rows of an array in
+  order of first appearance (:func:`unique_rows`).
 
 .. rubric:: References
 
