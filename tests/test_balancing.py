@@ -10,6 +10,7 @@ import pytest
 from helpers import engine
 from hypothesis import example, given
 from hypothesis import strategies as st
+from oracles import proposal_force_samples, proposal_roll_samples
 from test_phasors import random_layouts
 
 import balance
@@ -39,12 +40,12 @@ def _time_domain_residual(layout: Engine, proposal) -> dict[str, np.ndarray]:
     force = (
         td.reciprocating_force_samples(layout, theta)
         + td.rotating_force_samples(layout, theta)
-        + td.proposal_force_samples(proposal, layout, theta)
+        + proposal_force_samples(proposal, layout, theta)
     )
     moment = (
         td.reciprocating_force_samples(layout, theta, lever=True)
         + td.rotating_force_samples(layout, theta, lever=True)
-        + td.proposal_force_samples(proposal, layout, theta, lever=True)
+        + proposal_force_samples(proposal, layout, theta, lever=True)
     )
     ff, fb = td.phasors_from_samples(force, ORDERS)
     mf, mb = td.phasors_from_samples(moment, ORDERS)
@@ -290,7 +291,7 @@ def test_lanchester_pair_placed_to_cancel_second_order_roll():
     k2 = 1  # index of order 2
     assert balanced.residual.roll[k2] == 0.0
     theta = td.crank_angles(1024)
-    torque = td.roll_newton_euler(layout, theta) + td.proposal_roll_samples(
+    torque = td.roll_newton_euler(layout, theta) + proposal_roll_samples(
         balanced.proposal, layout, theta
     )
     sampled = td.roll_phasors_from_samples(torque, ORDERS)
@@ -310,7 +311,7 @@ def test_shaft_roll_is_reported_and_checked_in_the_time_domain():
     result = compute_phasors(layout, ORDERS)
     balanced = balance_engine(layout, result)
     theta = td.crank_angles(1024)
-    torque = td.roll_newton_euler(layout, theta) + td.proposal_roll_samples(
+    torque = td.roll_newton_euler(layout, theta) + proposal_roll_samples(
         balanced.proposal, layout, theta
     )
     sampled = td.roll_phasors_from_samples(torque, ORDERS)

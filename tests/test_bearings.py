@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_phasors import random_layouts
 
+from balance.core import _numerics
 from balance.core import bearings as bb
 from balance.core.torque import compute_torque
 from balance.io.bearings_section import BearingsSpec, main_positions
@@ -371,7 +372,7 @@ def test_near_zero_load_uses_graded_rule():
     theta = 2 * np.pi * np.arange(n) / n
     values = np.abs(np.concatenate([f(theta[k : k + 2**15]) for k in range(0, n, 2**15)], axis=1))
     assert np.min(values) < 4e-5 * loads.moment_max[last]
-    coarse = np.mean(values[0, :: n // bb.START_GRID])
+    coarse = np.mean(values[0, :: n // _numerics.START_GRID])
     assert abs(coarse - loads.moment_mean[last]) > 1e-7 * loads.moment_mean[last]
     assert loads.moment_mean[last] == pytest.approx(np.mean(values), rel=1e-9)
 

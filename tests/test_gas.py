@@ -10,7 +10,14 @@ import pytest
 
 import balance
 from balance.core.errors import LayoutError
-from balance.core.gas import GasModel, model_pressure
+from balance.core.gas import (
+    GasModel,
+    cylinder_pressure,
+    model_pressure,
+    periodic_tables,
+    piston_gas_force,
+    pressure_tables,
+)
 from balance.io.layout_file import layout_from_text, load_layout
 
 BASE = """name: test
@@ -189,3 +196,25 @@ def test_builtin_gas_layouts_are_listed_and_load():
     assert "inline-4-gas" in names and "v8-crossplane-gas" in names
     assert load_layout("inline-4-gas").gas is not None
     assert load_layout("inline-4").gas is None
+
+
+@pytest.mark.parametrize("name", ["inline-4-gas", "v8-crossplane-gas"])
+def test_cylinder_pressure_and_gas_force_are_np_interp_and_p_minus_p0_times_a(name):
+    """The one gas force: each cylinder's pressure at the crank angles (its tables prepared
+    once by periodic_tables) has the bits of np.interp with the cycle as period at
+    alpha = theta - theta_TDC (mod the cycle), and the force is (p - p0) pi B^2/4
+    (Kolchin and Demidov 1984: P_g = (p_g - p_0) F_p)."""
+    engine = load_layout(name)
+    gas = engine.gas
+    tables = pressure_tables(
+        gas, engine.crank_radius, engine.conrod_length, engine.offset, engine.cycle
+    )
+    theta = np.linspace(-30.0, 750.0, 1001)
+    pressure = cylinder_pressure(gas, periodic_tables(tables, gas.cycle_deg), theta)
+    for i, (angle, p) in enumerate(tables):
+        alpha = np.mod(theta - gas.firing_tdc[i], gas.cycle_deg)
+        want = np.interp(alpha, angle, p, period=gas.cycle_deg)
+        np.testing.assert_array_equal(pressure[i], want)
+    area = math.pi / 4.0 * gas.bore**2
+    force = piston_gas_force(pressure, gas)
+    np.testing.assert_array_equal(force, (pressure - gas.crankcase_pressure) * area)

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from oracles import block_force_newton_euler, crank_torque_newton_euler, crank_train_newton_euler
 from typer.testing import CliRunner
 
 from balance.api import analyse, load_layout
@@ -150,7 +151,7 @@ def test_forces_moments_and_roll_equal_newton_euler_of_the_rigid_bodies(name):
     engine = twisted() if name == "twisted" else load_layout(name)
     result = compute_phasors(engine, ORDERS)
     theta = td.crank_angles(256)
-    force, moment = td.block_force_newton_euler(engine, theta, small_end_share=0.25)
+    force, moment = block_force_newton_euler(engine, theta, small_end_share=0.25)
     f_fwd, f_bwd = td.phasors_from_samples(force, ORDERS)
     m_fwd, m_bwd = td.phasors_from_samples(moment, ORDERS)
     first = (ORDERS == 1).astype(float)
@@ -242,14 +243,14 @@ def test_gas_torque_and_roll_equal_newton_euler():
     np.testing.assert_allclose(roll, result.roll_torque[::8], atol=1e-10 * scale)
     scale = float(np.max(np.abs(result.engine_torque)))
     for share, cg in ((0.3, 0.3), (0.45, 0.2)):
-        torque = td.crank_torque_newton_euler(
+        torque = crank_torque_newton_euler(
             engine, theta, gas_force=gas, small_end_share=share, cg_fraction=cg
         )
         np.testing.assert_allclose(torque, result.engine_torque[::8], atol=1e-10 * scale)
-    rigid = td.crank_train_newton_euler(engine, theta, gas, small_end_share=0.0)
+    rigid = crank_train_newton_euler(engine, theta, gas, small_end_share=0.0)
     for got, want in ((rigid.wall, result.side_thrust), (rigid.rod_force, result.rod_force)):
         np.testing.assert_allclose(got.T, want[:, ::8], atol=1e-10 * np.max(np.abs(want)))
-    rigid = td.crank_train_newton_euler(engine, theta, gas, 1.0 / 3.0, 0.3)
+    rigid = crank_train_newton_euler(engine, theta, gas, 1.0 / 3.0, 0.3)
     assert engine.links is not None
     for m in engine.links.masters.tolist():
         on_pin = [m, *np.flatnonzero(engine.links.master == m)]
@@ -506,9 +507,15 @@ def test_link_dead_centres_are_the_extremes_of_the_piston():
 
 
 def _motion(engine: Engine, theta: np.ndarray):
-    from balance.core.links import link_cylinder_motion
+    """The link cylinders' indices and their LinkMotion at the crank angles (links, angles)."""
+    from balance.core.links import engine_geometry
 
-    return link_cylinder_motion(engine, theta)
+    geometry = engine_geometry(engine)
+    j = geometry.cylinder
+    beta = (
+        np.asarray(theta, dtype=np.float64)[None, :] + (engine.throw[j] - engine.bank[j])[:, None]
+    )
+    return j, link_motion(beta, *geometry.columns())
 
 
 def test_impossible_link_geometry_is_found():

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import pytest
 from helpers import engine, image_compare
+from oracles import proposal_force_samples
 
 import balance
 from balance.core import sampled as timedomain
@@ -97,7 +98,7 @@ def test_free_and_residual_signals_match_the_sampled_forces(name, rng):
     for quantity, lever in (("force", False), ("moment", True)):
         free = timedomain.reciprocating_force_samples(layout, theta, lever)
         free = free + timedomain.rotating_force_samples(layout, theta, lever)
-        residual = free + timedomain.proposal_force_samples(proposal, layout, theta, lever)
+        residual = free + proposal_force_samples(proposal, layout, theta, lever)
         # relative to the force or moment, or to F1 (times the longest lever) where that is 0
         lever_arm = float(np.max(np.abs(layout.z - layout.reference_z))) if lever else 1.0
         scale = max(float(np.max(np.abs(free))), result.reference_force * lever_arm)

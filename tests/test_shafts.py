@@ -3,7 +3,7 @@ and shafts whose positions the layout fixes (``balance: shafts:``).
 
 Every roll is checked against the independent crank-angle computation: the engine's roll by
 Newton-Euler (:func:`balance.core.sampled.roll_newton_euler`) plus the shafts' forces
-sampled at their axes (:func:`balance.core.sampled.proposal_roll_samples`), transformed by
+sampled at their axes (``proposal_roll_samples`` of ``tests/oracles.py``), transformed by
 FFT.
 """
 
@@ -17,6 +17,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from hypothesis import given, settings
+from oracles import proposal_force_samples, proposal_roll_samples
 from test_phasors import random_layouts
 from typer.testing import CliRunner
 
@@ -40,7 +41,7 @@ runner = CliRunner()
 def _sampled_roll(layout: Engine, proposal: Proposal) -> np.ndarray:
     """Roll phasors of the engine (Newton-Euler) and the shafts (sampled forces) together."""
     theta = td.crank_angles(256)
-    torque = td.roll_newton_euler(layout, theta) + td.proposal_roll_samples(proposal, layout, theta)
+    torque = td.roll_newton_euler(layout, theta) + proposal_roll_samples(proposal, layout, theta)
     return td.roll_phasors_from_samples(torque, ORDERS)
 
 
@@ -50,7 +51,7 @@ def _sampled_force(layout: Engine, proposal: Proposal) -> tuple[np.ndarray, np.n
     force = (
         td.reciprocating_force_samples(layout, theta)
         + td.rotating_force_samples(layout, theta)
-        + td.proposal_force_samples(proposal, layout, theta)
+        + proposal_force_samples(proposal, layout, theta)
     )
     return td.phasors_from_samples(force, ORDERS)
 

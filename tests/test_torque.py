@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from articulated_sim import Cylinder, Mechanism, dead_centres
 from helpers import engine, image_compare
+from oracles import crank_torque_newton_euler, crank_train_newton_euler
 
 import balance
 from balance.core import sampled as timedomain
@@ -170,18 +171,18 @@ def _assert_forces_equal_newton_euler(layout, result, every: int = 1) -> None:
     gas = result.gas_force[:, pick].T
     scale = float(np.max(np.abs(result.engine_torque)))
     for share, cg in ((1.0 / 3.0, 0.3), (0.4, 0.25)):
-        torque = timedomain.crank_torque_newton_euler(
+        torque = crank_torque_newton_euler(
             layout, theta, gas_force=gas, small_end_share=share, cg_fraction=cg
         )
         assert np.max(np.abs(torque - result.engine_torque[pick])) <= 1e-9 * scale
     # the rod force is the one between a massless rod of inertia Delta I and the whole
     # reciprocating mass: small-end share 0
-    rigid = timedomain.crank_train_newton_euler(layout, theta, gas, small_end_share=0.0)
+    rigid = crank_train_newton_euler(layout, theta, gas, small_end_share=0.0)
     for got, want in ((rigid.wall, result.side_thrust), (rigid.rod_force, result.rod_force)):
         assert np.max(np.abs(got.T - want[:, pick])) <= 1e-9 * np.max(np.abs(want))
     # tangential and radial force: summed over the rods on one crank pin (a link rod's is
     # what it passes through its master rod); the rod's big-end share turns with the pin
-    rigid = timedomain.crank_train_newton_euler(layout, theta, gas, 1.0 / 3.0, 0.3)
+    rigid = crank_train_newton_euler(layout, theta, gas, 1.0 / 3.0, 0.3)
     masters = np.arange(layout.n_cylinders) if layout.links is None else layout.links.masters
     for m in masters.tolist():
         on_pin = [m] if layout.links is None else [m, *np.flatnonzero(layout.links.master == m)]

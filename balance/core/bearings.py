@@ -45,22 +45,29 @@ the crank pin and the main journals, the polar diagram of the crank-pin load, ga
 
 from __future__ import annotations
 
-import functools
-import itertools
 import math
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, replace
-from typing import Any
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core import crank_train
+from balance.core._numerics import (
+    GAUSS_NODES,
+    fourier_series,
+    gauss_panels,
+    node_stats,
+    ordered_combination,
+    series_on_grid,
+    series_stats,
+)
 from balance.core.balancing import Proposal, group_least, throw_groups
-from balance.core.catalogue import Output
-from balance.core.engine import STRATEGIES, Engine
-from balance.core.gas import pressure_tables
+from balance.core.engine import Engine
+from balance.core.gas import cylinder_pressure, periodic_tables, piston_gas_force
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 from balance.core.speed import speed_squared
+from balance.core.torque import engine_pressure_tables
 
 __all__ = [
     "BearingLoads",
@@ -85,36 +92,13 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 
-_EPS = float(np.finfo(np.float64).eps)
-
 #: Crank angles per revolution of the first grid for the Fourier series of the pin loads.
 SERIES_START = 128
 #: Largest such grid (a geometry within a hair of l = r + |e| may need it).
 SERIES_MAX = 2**14
-#: Uniform grid of the mean of a magnitude (trapezoidal rule), checked on twice as many.
-START_GRID = 1024
-#: Change of a mean between the two grids, relative to the quantity's maximum, below which
-#: the trapezoidal rule has converged; otherwise the graded rule integrates that quantity.
-MEAN_TOLERANCE = 1e-13
-#: Newton iterations of a maximum (or minimum) from the sampled one.
-NEWTON_ITERATIONS = 8
-#: Newton step [rad] after which an extremum has converged (quadratic convergence: the
-#: next step would be of the order of its square).
-NEWTON_DONE = 1e-9
-#: Graded Gauss–Legendre rule of a near-singular mean: nodes per panel, ratio, levels.
-GRADED_NODES = 16
-GRADED_RATIO = 0.25
-GRADED_LEVELS = 26
-#: Sampled local minima of a slow quantity below this share of its maximum are graded to.
-GRADE_BELOW = 0.1
-#: Gauss–Legendre nodes per interval between the kinks of an interpolated pressure trace.
-GAUSS_NODES = 4
-#: Largest interval of the gas grid [deg].
+#: Largest interval of the gas grid [deg] (each interval between the kinks of the
+#: interpolated pressure traces gets :data:`balance.core._numerics.GAUSS_NODES` nodes).
 GAS_MAX_STEP_DEG = 0.5
-#: Candidate local maxima refined per quantity.
-CANDIDATES = 3
-#: Golden-section iterations (bracket shrinks by 0.618 each).
-GOLDEN_ITERATIONS = 64
 
 
 # --------------------------------------------------------------------------- geometry
@@ -330,7 +314,9 @@ def big_end_forces(
     (:func:`crank_unbalance_share`).  Without :math:`\Delta I` and :math:`e`, :math:`N =
     Q_Y\tan\gamma` and the rod force is :math:`Q_Y/\cos\gamma`: Kolchin and Demidov's
     :math:`P\tan\beta` and :math:`P/\cos\beta`.  In the engine frame,
-    :math:`F = (F_Y + \mathrm{i}F_X)\,e^{\mathrm{i}\psi}`.
+    :math:`F = (F_Y + \mathrm{i}F_X)\,e^{\mathrm{i}\psi}`.  These are
+    :func:`balance.core.crank_train.side_thrust_moment_balance` and
+    :func:`balance.core.crank_train.pin_force`.
 
     With link rods (CONTRACT §5) a link cylinder's row is 0 and its master's row is the
     force of the master rod carrying its link rods
@@ -345,18 +331,15 @@ def big_end_forces(
     _, _, d2s = normalised_slider(beta, lam, e / r)
     _, d2g = conrod_angle_derivatives(beta, lam, e / r)
     w2 = float(speed_squared(engine.speed))
-    sin_b, cos_b = np.sin(beta), np.cos(beta)
-    u = lam * (sin_b - e / r)
-    d_x = -length * u
-    d_y = length * np.sqrt(1.0 - u * u)
-    q_y = col(engine.reciprocating_mass) * w2 * r * d2s
-    if gas_force is not None:
-        q_y = q_y + np.asarray(gas_force, dtype=np.float64)
-    wall = -(col(engine.conrod_inertia_correction) * w2 * d2g + d_x * q_y) / d_y
+    sin_psi, cos_psi = crank_train.rod_direction(beta, lam, e / r)
+    gas = None if gas_force is None else np.asarray(gas_force, dtype=np.float64)
+    q_y = crank_train.piston_force(
+        crank_train.reciprocating_force(col(engine.reciprocating_mass), w2, r, d2s), gas
+    )
+    delta_i = col(engine.conrod_inertia_correction)
+    wall = crank_train.side_thrust_moment_balance(q_y, sin_psi, cos_psi, length, delta_i, w2, d2g)
     m_pin = col(engine.rotating_mass - crank_unbalance_share(engine)) * w2 * r
-    f_x = wall + m_pin * sin_b
-    f_y = -q_y + m_pin * cos_b
-    forces = np.asarray((f_y + 1j * f_x) * np.exp(1j * col(engine.bank)), dtype=np.complex128)
+    forces = crank_train.pin_force(q_y, wall, m_pin, beta, col(engine.bank))
     if engine.has_links:  # master rods carry their link rods (CONTRACT §6)
         from balance.core.links import articulated_big_end_forces
 
@@ -368,76 +351,31 @@ def _column(values: FloatArray) -> FloatArray:
     return np.asarray(values, dtype=np.float64)[:, None]
 
 
-def _pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
-    """Each cylinder's pressure table: cycle angle [deg] and absolute pressure [Pa]
-    (:func:`balance.core.gas.pressure_tables`)."""
-    from balance.core.links import piston_travels
-
-    assert engine.gas is not None
-    return pressure_tables(
-        engine.gas,
-        engine.crank_radius,
-        engine.conrod_length,
-        engine.offset,
-        engine.cycle,
-        piston_travels(engine),
-    )
-
-
 def gas_forces(
     engine: Engine, theta: ArrayLike, tables: list[tuple[FloatArray, FloatArray]] | None = None
 ) -> FloatArray:
     r"""Gas force on each piston towards the crank [N], shape (cylinders, angles).
 
-    :math:`G_i(\theta) = (p_i(\alpha) - p_0)\,\pi B^2/4` with the cycle angle
+    :math:`G_i(\theta) = (p_i(\alpha) - p_0)\,\pi B^2/4`
+    (:func:`balance.core.gas.piston_gas_force`) with the cycle angle
     :math:`\alpha = \theta - \theta_{TDC,i}` (mod the cycle), the pressure interpolated
-    linearly in the trace (or the model's table) exactly as :mod:`balance.core.torque` does.
+    linearly in the trace (or the model's table) by :func:`balance.core.gas.cylinder_pressure`,
+    as :mod:`balance.core.torque` does.
     """
     gas = engine.gas
     assert gas is not None, "gas_forces needs an engine with a gas section"
-    tables = tables if tables is not None else _pressure_tables(engine)
-    return _gas_forces(engine, theta, _periodic_tables(tables, gas.cycle_deg))
-
-
-def _periodic_tables(
-    tables: list[tuple[FloatArray, FloatArray]], period: float
-) -> list[tuple[FloatArray, FloatArray]]:
-    """Each table as ``np.interp(..., period=period)`` prepares it on every call: angles
-    reduced to the period and sorted, one point repeated beyond either end.
-
-    Done once per table (a table shared by several cylinders is prepared once), so that
-    :func:`_gas_forces` interpolates with the same arithmetic and without sorting the
-    table again at every call (the searches of :func:`bearing_loads` call it many times).
-    """
-    prepared: dict[int, tuple[FloatArray, FloatArray]] = {}
-    out = []
-    for angle, pressure in tables:
-        key = id(angle) ^ (id(pressure) << 1)
-        if key not in prepared:
-            xp = np.asarray(angle, dtype=np.float64) % period
-            fp = np.asarray(pressure, dtype=np.float64)
-            order = np.argsort(xp)
-            xp, fp = xp[order], fp[order]
-            prepared[key] = (
-                np.concatenate((xp[-1:] - period, xp, xp[0:1] + period)),
-                np.concatenate((fp[-1:], fp, fp[0:1])),
-            )
-        out.append(prepared[key])
-    return out
+    tables = tables if tables is not None else engine_pressure_tables(engine)
+    return _gas_forces(engine, theta, periodic_tables(tables, gas.cycle_deg))
 
 
 def _gas_forces(
     engine: Engine, theta: ArrayLike, periodic: list[tuple[FloatArray, FloatArray]]
 ) -> FloatArray:
-    """:func:`gas_forces` from the tables of :func:`_periodic_tables`."""
+    """:func:`gas_forces` from the tables of :func:`balance.core.gas.periodic_tables`."""
     gas = engine.gas
     assert gas is not None
-    th = np.degrees(np.asarray(theta, dtype=np.float64))
-    out = np.empty((engine.n_cylinders, th.size))
-    for i, (xp, fp) in enumerate(periodic):
-        alpha = np.mod(th - gas.firing_tdc[i], gas.cycle_deg)
-        out[i] = np.interp(alpha % gas.cycle_deg, xp, fp)
-    return (out - gas.crankcase_pressure) * gas.piston_area
+    pressure = cylinder_pressure(gas, periodic, np.degrees(np.asarray(theta, dtype=np.float64)))
+    return piston_gas_force(pressure, gas)
 
 
 # --------------------------------------------------------------------------- result
@@ -538,9 +476,9 @@ class _Model:
         self.moment_pins = moment_arms(pin_z, mains)
         self.moment_cw = moment_arms(cw_z, mains) @ cw_u if cw_z.size else np.zeros(mains.size)
         self.with_gas = with_gas
-        self.tables = _pressure_tables(engine) if with_gas else None
+        self.tables = engine_pressure_tables(engine) if with_gas else None
         self.periodic = (
-            _periodic_tables(self.tables, engine.gas.cycle_deg)
+            periodic_tables(self.tables, engine.gas.cycle_deg)
             if self.tables is not None and engine.gas is not None
             else None
         )
@@ -554,11 +492,11 @@ class _Model:
 
     def mains_of(self, throws: ComplexArray, theta: FloatArray) -> ComplexArray:
         turning = np.exp(1j * theta)[None, :]
-        return _combine(self.main_pins, throws) + self.main_cw[:, None] * turning
+        return ordered_combination(self.main_pins, throws) + self.main_cw[:, None] * turning
 
     def moments_of(self, throws: ComplexArray, theta: FloatArray) -> ComplexArray:
         turning = np.exp(1j * theta)[None, :]
-        return _combine(self.moment_pins, throws) + self.moment_cw[:, None] * turning
+        return ordered_combination(self.moment_pins, throws) + self.moment_cw[:, None] * turning
 
     def cycle_loads(self, theta: FloatArray) -> tuple[ComplexArray, ComplexArray]:
         """Pin and main loads (with gas if asked)."""
@@ -568,39 +506,13 @@ class _Model:
     def inertia_series(self) -> tuple[NDArray[np.intp], ComplexArray]:
         """Orders k and Fourier coefficients of the inertia-only pins, mains and moments,
         stacked in that order (rows), each row :math:`F(\\theta) = \\sum c_k e^{ik\\theta}`."""
-        n = SERIES_START
-        while True:
-            theta = 2.0 * np.pi * np.arange(n) / n
-            spectrum = np.fft.fft(self.pins(theta, False), axis=1) / n
-            k = np.rint(np.fft.fftfreq(n) * n).astype(np.intp)
-            mag = np.abs(spectrum)
-            scale = float(mag.max()) if mag.size else 0.0
-            tail = float(mag[:, np.abs(k) >= n // 4].max()) if mag.size else 0.0
-            if tail <= 16.0 * _EPS * scale or n >= SERIES_MAX:
-                break
-            n *= 2
-        keep = np.abs(k) < n // 4  # the rest is below rounding
-        k, pins = k[keep], spectrum[:, keep]
+        k, pins = fourier_series(lambda t: self.pins(t, False), SERIES_START, SERIES_MAX)
         one = np.zeros(k.size)
         one[k == 1] = 1.0
         throws = pins + self.throw_extra[:, None] * one
         mains = self.main_pins @ throws + self.main_cw[:, None] * one
         moments = self.moment_pins @ throws + self.moment_cw[:, None] * one
         return k, np.concatenate([pins, mains, moments], axis=0)
-
-
-def _combine(shares: FloatArray, loads: ComplexArray) -> ComplexArray:
-    r""":math:`\sum_j S_{mj} F_j` at every angle, shape (rows of ``shares``, angles).
-
-    Summed load by load, in order, so that the value at an angle has the same bits whatever
-    other angles are evaluated with it (a matrix product's kernel, and so its rounding,
-    depends on the number of columns); the searches of :func:`bearing_loads` evaluate one
-    angle per quantity and compare with the values on the nodes.
-    """
-    out = np.zeros((shares.shape[0], loads.shape[1]), dtype=np.complex128)
-    for j in range(shares.shape[1]):
-        out += shares[:, j : j + 1] * loads[j]
-    return out
 
 
 def loads_at(
@@ -680,14 +592,14 @@ def bearing_loads(
     * the **mean** of :math:`|F|` is the trapezoidal rule on a uniform periodic grid
       (geometric convergence for a smooth periodic integrand), evaluated by zero-padded
       inverse FFT on 1024 (at least four times the terms) and twice as many points; it has
-      converged when the two differ by less than :data:`MEAN_TOLERANCE` of the quantity's
-      maximum.  A load that passes through (or very near) zero makes :math:`|F|` (nearly)
-      non-smooth there and the uniform rule slow; such a quantity is integrated instead
-      between its minima of :math:`|F|` (found by
-      the same Newton iteration; every sampled local minimum below a tenth of the maximum)
-      over the period with 16-point Gauss–Legendre panels, short enough for the series'
-      highest order and graded geometrically (ratio 1/4) towards those points, which
-      converges geometrically whatever the distance to the zero.
+      converged when the two differ by less than
+      :data:`~balance.core._numerics.MEAN_TOLERANCE` of the quantity's maximum.  A load that
+      passes through (or very near) zero makes :math:`|F|` (nearly) non-smooth there and
+      the uniform rule slow; such a quantity is integrated instead between its minima of
+      :math:`|F|` (found by the same Newton iteration; every sampled local minimum below a
+      tenth of the maximum) over the period with 16-point Gauss–Legendre panels, short
+      enough for the series' highest order and graded geometrically (ratio 1/4) towards
+      those points, which converges geometrically whatever the distance to the zero.
 
     *With gas* the pressure is linear between the trace's points, so the loads are smooth
     only between its kinks (each trace angle shifted by each cylinder's firing TDC): the
@@ -698,6 +610,10 @@ def bearing_loads(
     graded towards it; the maximum is refined from the best sampled local maxima by
     golden-section search between the neighbouring nodes (64 steps), which converges for
     any continuous function unimodal in the bracket, a kink at the peak included.
+
+    These searches and rules are the generic ones of :mod:`balance.core._numerics`
+    (:func:`~balance.core._numerics.series_stats` and
+    :func:`~balance.core._numerics.node_stats`).
     """
     cws = tuple((float(z), complex(u)) for z, u in counterweights)
     zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
@@ -706,9 +622,9 @@ def bearing_loads(
     n_pins, n_mains = model.pin_z.size, zm.size
 
     k, coeffs = model.inertia_series()  # pins, mains, moments stacked
-    inertia = _spectral_stats(k, coeffs)
+    inertia = series_stats(k, coeffs)
     theta_rev = 2.0 * np.pi * np.arange(curve_samples) / curve_samples
-    moment_curve = _grid_values(k, coeffs[n_pins + n_mains :], curve_samples)
+    moment_curve = series_on_grid(k, coeffs[n_pins + n_mains :], curve_samples)
     p_m = slice(0, n_pins)
     m_m = slice(n_pins, n_pins + n_mains)
     t_m = slice(n_pins + n_mains, None)
@@ -716,7 +632,7 @@ def bearing_loads(
         assert engine.gas is not None
         cycle = math.radians(engine.gas.cycle_deg)
         nodes, weights, edges = _gas_nodes(engine, model)
-        stats = _weighted_stats(
+        stats = node_stats(
             lambda t: _magnitudes(model.cycle_loads(t)), nodes, weights, edges, cycle
         )
         maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
@@ -729,7 +645,7 @@ def bearing_loads(
         maximum, mean, argmax = inertia.maximum, inertia.mean, inertia.argmax
         samples = inertia.samples
         theta = theta_rev
-        curves = _grid_values(k, coeffs[: n_pins + n_mains], curve_samples)
+        curves = series_on_grid(k, coeffs[: n_pins + n_mains], curve_samples)
         pin_curve, main_curve = curves[p_m], curves[m_m]
     return BearingLoads(
         theta=theta,
@@ -898,7 +814,7 @@ def analysis_bearings(
             if not has_cw
             else np.concatenate([series[b1:b2], series[moments_with]], axis=0)
         )
-        moment_stats = _spectral_stats(k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool))
+        moment_stats = series_stats(k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool))
         moment_max = moment_stats.maximum[:n_mains]
         moment_max_with = moment_stats.maximum[n_mains:] if has_cw else moment_max
         cycle = math.radians(engine.gas.cycle_deg)
@@ -911,7 +827,7 @@ def analysis_bearings(
             return pins, main, main + cw_main[:, None] * np.exp(1j * t)[None, :]
 
         nodes, weights, edges = _gas_nodes(engine, model)
-        stats = _weighted_stats(lambda t: _magnitudes(loads(t)), nodes, weights, edges, cycle)
+        stats = node_stats(lambda t: _magnitudes(loads(t)), nodes, weights, edges, cycle)
         n_curve = round(curve_samples * engine.gas.cycle_deg / 360.0)
         theta = cycle * np.arange(n_curve) / n_curve
         curves = loads(theta)
@@ -924,19 +840,19 @@ def analysis_bearings(
         mean_wanted = np.zeros(series.shape[0], dtype=bool)
         mean_wanted[:b1] = True
         mean_wanted[mains_with] = True
-        stats = _spectral_stats(k, series, mean_wanted)
+        stats = series_stats(k, series, mean_wanted)
         maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
         cycle = 2.0 * np.pi
         theta = theta_rev
-        curves_all = _grid_values(k, series, curve_samples)
+        curves_all = series_on_grid(k, series, curve_samples)
         pin_curve, main_curve = curves_all[:b0], curves_all[b0:b1]
         main_curve_with = curves_all[mains_with]
         moment_max = maximum[b1:b2]
         moment_max_with = maximum[moments_with]
         main_max_with, main_mean_with = maximum[mains_with], mean[mains_with]
-    moment_curves = _grid_values(k, series[b1:b2], curve_samples)
+    moment_curves = series_on_grid(k, series[b1:b2], curve_samples)
     moment_curves_with = (
-        _grid_values(k, series[moments_with], curve_samples) if has_cw else moment_curves
+        series_on_grid(k, series[moments_with], curve_samples) if has_cw else moment_curves
     )
     by_z = np.argsort(model.pin_z, kind="stable")  # pins in the order of their planes
     return Bearings(
@@ -1011,14 +927,14 @@ def largest_loads(
             return np.abs(main[None] + cw_main[:, :, None] * turning).reshape(-1, t.size)
 
         nodes, weights, edges = _gas_nodes(engine, model)
-        main_max = _weighted_stats(loads, nodes, weights, edges, cycle, mean_wanted=False).maximum
-        moment_max = _spectral_stats(
+        main_max = node_stats(loads, nodes, weights, edges, cycle, mean_wanted=False).maximum
+        moment_max = series_stats(
             k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool)
         ).maximum
     else:
         main_rows = (mains_c[None] + cw_main[:, :, None] * one).reshape(-1, k.size)
         rows = np.concatenate([main_rows, moment_rows], axis=0)
-        stats = _spectral_stats(k, rows, np.zeros(rows.shape[0], dtype=bool))
+        stats = series_stats(k, rows, np.zeros(rows.shape[0], dtype=bool))
         main_max, moment_max = (
             stats.maximum[: main_rows.shape[0]],
             stats.maximum[main_rows.shape[0] :],
@@ -1032,313 +948,8 @@ def largest_loads(
 # --------------------------------------------------------------------------- statistics
 
 
-@dataclass(frozen=True)
-class _Stats:
-    maximum: FloatArray
-    argmax: FloatArray
-    mean: FloatArray
-    samples: int
-
-
 def _magnitudes(parts: tuple[ComplexArray, ...]) -> FloatArray:
     return np.abs(np.concatenate(parts, axis=0))
-
-
-def _series_values(k: NDArray[np.intp], coeffs: ComplexArray, theta: ArrayLike) -> ComplexArray:
-    """:math:`\\sum_k c_k e^{ik\\theta}` of each row of ``coeffs`` at the angles ``theta``.
-
-    ``theta`` has shape (angles,) (every row at every angle) or (rows, ...) (each row at its
-    own angles); Horner's scheme in :math:`e^{i\\theta}` over the orders k (consecutive).
-    """
-    th = np.asarray(theta, dtype=np.float64)
-    order = np.argsort(k)
-    ks, cs = k[order], coeffs[:, order]
-    if th.ndim == 1:
-        z = np.exp(1j * th)[None, :]
-        cs = cs[:, :, None]
-    else:
-        z = np.exp(1j * th)
-        cs = cs.reshape(cs.shape[:2] + (1,) * (th.ndim - 1))
-    acc = np.zeros(np.broadcast_shapes(z.shape, cs[:, 0].shape), dtype=np.complex128)
-    for j in range(ks.size - 1, -1, -1):
-        acc = acc * z + cs[:, j]
-    return np.asarray(acc * z ** int(ks[0]))
-
-
-def _grid_values(k: NDArray[np.intp], coeffs: ComplexArray, n: int) -> ComplexArray:
-    """The series on the uniform grid of ``n`` points per revolution (inverse FFT)."""
-    spectrum = np.zeros((coeffs.shape[0], n), dtype=np.complex128)
-    np.add.at(spectrum.T, k % n, coeffs.T)
-    return np.asarray(np.fft.ifft(spectrum, axis=1) * n)
-
-
-def _newton_extremum(
-    k: NDArray[np.intp], coeffs: ComplexArray, theta: FloatArray, step: float
-) -> tuple[FloatArray, FloatArray]:
-    """Stationary points of :math:`|F|^2` near ``theta`` (one row of angles per quantity).
-
-    Newton on :math:`g = \\mathrm{Re}(\\bar F F')`, each step limited to ``step``; returns
-    the angles and :math:`|F|` there.
-    """
-    th = np.array(theta, dtype=np.float64)
-    ik = 1j * k
-    c0 = coeffs.reshape(coeffs.shape[:1] + (1,) * (th.ndim - 1) + coeffs.shape[1:])
-    c1, c2 = ik * c0, ik * ik * c0
-    for _ in range(NEWTON_ITERATIONS):
-        # each row at its own few angles: the terms directly (cheaper than Horner here)
-        e = np.exp(1j * th[..., None] * k)
-        f, d1, d2 = (e * c0).sum(axis=-1), (e * c1).sum(axis=-1), (e * c2).sum(axis=-1)
-        g = np.real(np.conj(f) * d1)
-        dg = np.abs(d1) ** 2 + np.real(np.conj(f) * d2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            delta = np.clip(np.nan_to_num(np.where(dg != 0.0, g / dg, 0.0)), -step, step)
-        th = th - delta
-        # quadratic convergence: after a step this small the next one is below rounding
-        if np.max(np.abs(delta), initial=0.0) <= NEWTON_DONE:
-            break
-    return th, np.abs((np.exp(1j * th[..., None] * k) * c0).sum(axis=-1))
-
-
-def _spectral_stats(
-    k: NDArray[np.intp], coeffs: ComplexArray, mean_wanted: NDArray[np.bool_] | None = None
-) -> _Stats:
-    """Refined maximum and mean of :math:`|F|` for each row of Fourier coefficients.
-
-    ``mean_wanted`` (a mask over the rows, default all) names the rows whose mean is
-    reported; the others get the sampled mean only, without the graded refinement near a
-    zero of :math:`|F|` (internal moments report their maximum alone).
-    """
-    n_q = coeffs.shape[0]
-    n = max(START_GRID, 4 * k.size)
-    values = np.abs(_grid_values(k, coeffs, n))
-    mean = values.mean(axis=1)
-    top = values.max(axis=1)
-    # the trapezoidal rule converges geometrically: when the rule on every other point
-    # agrees with the full one, the full one is converged further still
-    coarser = values[:, ::2].mean(axis=1)
-    converged = np.abs(coarser - mean) <= MEAN_TOLERANCE * top
-    # maximum: Newton from the best sampled local maxima (a parabola through the three
-    # samples around each for the start, so that two or three steps reach rounding)
-    theta = 2.0 * np.pi * np.arange(n) / n
-    before, after = np.roll(values, 1, axis=1), np.roll(values, -1, axis=1)
-    peaks = (values >= before) & (values >= after)
-    ranked = np.where(peaks, values, -np.inf)
-    cand = np.argsort(-ranked, axis=1)[:, :CANDIDATES]
-    h = 2.0 * np.pi / n
-    f0, fm, fp = (np.take_along_axis(v, cand, 1) for v in (values, before, after))
-    curvature = fm - 2.0 * f0 + fp
-    with np.errstate(divide="ignore", invalid="ignore"):
-        shift = np.where(curvature < 0.0, 0.5 * (fm - fp) / curvature, 0.0)
-    start = theta[cand] + h * np.clip(np.nan_to_num(shift), -0.5, 0.5)
-    # fewer local maxima than candidates: the spare ones repeat the best (a start that is
-    # no peak would wander, limited to a step per iteration, and never converge)
-    start = np.where(np.take_along_axis(peaks, cand, 1), start, start[:, :1])
-    th, val = _newton_extremum(k, coeffs, start, h)
-    sampled = np.take_along_axis(values, cand, 1)
-    val = np.where(val >= sampled, val, sampled)
-    th = np.where(val >= sampled, th, theta[cand])
-    pick = np.argmax(val, axis=1)
-    rows = np.arange(n_q)
-    maximum, argmax = val[rows, pick], np.mod(th[rows, pick], 2.0 * np.pi)
-    # near-singular quantities: graded Gauss-Legendre from the minimum of |F|
-    wanted = np.ones(n_q, dtype=bool) if mean_wanted is None else mean_wanted
-    slow = np.flatnonzero(~converged & (top > 0) & wanted)
-    dips = (values <= np.roll(values, 1, axis=1)) & (values <= np.roll(values, -1, axis=1))
-    top_order = int(np.max(np.abs(k)))
-    for row in slow:
-        near = np.flatnonzero(dips[row] & (values[row] <= GRADE_BELOW * top[row]))
-        if near.size == 0:
-            near = np.array([int(np.argmin(values[row]))])
-        starts = theta[near][None, :]
-        th_min, f_min = _newton_extremum(k, coeffs[row : row + 1], starts, h)
-        # |F| is smooth on the scale m/|F'| around a minimum m; |F'| <= k_max max|F|
-        # (Bernstein), so grading down to that scale (two levels more) is enough
-        scale = max(float(np.min(f_min)), _EPS * top[row]) / (max(top_order, 1) * top[row])
-        depth = math.ceil(math.log(scale * max(top_order, 1) / 8.0) / math.log(GRADED_RATIO))
-        t, w = _graded_rule(th_min[0], top_order, min(GRADED_LEVELS, max(4, depth + 2)))
-        f = np.abs(_series_values(k, coeffs[row : row + 1], t[None, :]))[0]
-        mean[row] = f @ w / (2.0 * np.pi)
-    return _Stats(maximum, argmax, mean, n)
-
-
-def _graded_rule(
-    points: FloatArray, top_order: int, depth: int = GRADED_LEVELS
-) -> tuple[FloatArray, FloatArray]:
-    """Gauss–Legendre nodes and weights over one period, graded towards ``points``.
-
-    Between consecutive points (cyclically), panels no longer than :math:`h` with
-    :math:`k_{max} h \\le 8`; the panels touching a point are subdivided geometrically
-    (ratio :data:`GRADED_RATIO`, ``depth`` levels, at most :data:`GRADED_LEVELS`) towards it.
-    """
-    x, w = _gauss(GRADED_NODES)
-    p = np.sort(np.mod(points, 2.0 * np.pi))
-    p = np.concatenate([p, [p[0] + 2.0 * np.pi]])
-    h_max = 8.0 / max(top_order, 1)
-    levels = GRADED_RATIO ** np.arange(1, depth + 1)
-    edges_all = []
-    for a, b in itertools.pairwise(p):
-        length = b - a
-        if length <= 0.0:
-            continue
-        n = max(2, math.ceil(length / h_max))
-        h = length / n
-        inner = a + h * np.arange(1, n)
-        edges_all.append(np.concatenate([[a], a + h * levels[::-1], inner, b - h * levels]))
-    edges = np.concatenate([*edges_all, [p[-1]]])
-    lo, hi = edges[:-1, None], edges[1:, None]
-    return (0.5 * (lo + hi) + 0.5 * (hi - lo) * x).ravel(), (0.5 * (hi - lo) * w).ravel()
-
-
-@functools.cache
-def _gauss(n: int) -> tuple[FloatArray, FloatArray]:
-    x, w = np.polynomial.legendre.leggauss(n)
-    return np.asarray(x), np.asarray(w)
-
-
-def _weighted_stats(
-    f: Callable[[FloatArray], FloatArray],
-    nodes: FloatArray,
-    weights: FloatArray,
-    edges: FloatArray,
-    period: float,
-    mean_wanted: bool = True,
-) -> _Stats:
-    """Max and mean of the rows of ``f`` from Gauss nodes between kink ``edges``.
-
-    Where a quantity dips towards zero (a sampled local minimum below
-    :data:`GRADE_BELOW` of its maximum) its integral over the three intervals around the dip
-    is taken again, split at the refined minimum and graded towards it.  Without
-    ``mean_wanted`` (only the maximum is used) the dips are not refined and the mean is the
-    Gauss rule's alone.
-
-    ``f`` must give each angle's values independently of the other angles it is given (the
-    searches evaluate one angle per dip, the rules many at once); every dip is searched and
-    integrated at once, each exactly as it would be alone.
-    """
-    values = f(nodes)
-    integral = values @ weights
-    top = values.max(axis=1)
-    dips = (values <= np.roll(values, 1, axis=1)) & (values <= np.roll(values, -1, axis=1))
-    dips &= values <= GRADE_BELOW * top[:, None]
-    n_int = edges.size - 1
-    ext = np.concatenate([edges[-2:-1] - period, edges, edges[1:2] + period])
-    done: set[tuple[int, int]] = set()
-    found: list[tuple[int, int, int]] = []  # (row, interval, node) of each dip refined
-    for row, i in zip(*np.nonzero(dips), strict=True) if mean_wanted else ():
-        j = int(i) // GAUSS_NODES
-        if (int(row), j) in done or top[row] == 0.0:
-            continue
-        done.update((int(row), q) for q in ((j - 1) % n_int, j, (j + 1) % n_int))
-        found.append((int(row), j, int(i)))
-    if found:
-        rows = np.array([r for r, _, _ in found])
-        at = np.array([i for _, _, i in found])
-        lo_t = nodes[(at - 1) % nodes.size] - np.where(at == 0, period, 0.0)
-        hi_t = nodes[(at + 1) % nodes.size] + np.where(at == nodes.size - 1, period, 0.0)
-        t_min = _golden_min(f, rows, lo_t, hi_t)
-        pieces = []
-        for (_, j, _), t0 in zip(found, t_min, strict=True):
-            breaks = np.sort(np.array([ext[j], ext[j + 1], ext[j + 2], ext[j + 3], t0]))
-            pieces.append(_graded_segments(breaks, float(t0)))
-        graded = f(np.concatenate([t for t, _ in pieces]))
-        first = 0
-        for (row, j, _), (t, w) in zip(found, pieces, strict=True):
-            span = [(j - 1) % n_int, j, (j + 1) % n_int]
-            old = sum(
-                values[row, q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
-                @ weights[q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
-                for q in span
-            )
-            integral[row] += graded[row, first : first + t.size] @ w - old
-            first += t.size
-    maximum, argmax = _golden_max(f, nodes, values, period)
-    return _Stats(maximum, argmax, integral / period, nodes.size)
-
-
-def _golden_min(
-    f: Callable[[FloatArray], FloatArray], rows: NDArray[np.intp], lo: FloatArray, hi: FloatArray
-) -> FloatArray:
-    """Golden-section search for the minimum of row ``rows[d]`` of ``f`` in
-    ``[lo[d], hi[d]]``, for every d at once (each search the same steps as alone)."""
-    r = (math.sqrt(5.0) - 1.0) / 2.0
-    cols = np.arange(rows.size)
-
-    def g(t: FloatArray) -> FloatArray:
-        return f(t)[rows, cols]
-
-    x1, x2 = hi - r * (hi - lo), lo + r * (hi - lo)
-    g1, g2 = g(x1), g(x2)
-    for _ in range(GOLDEN_ITERATIONS):
-        left = g1 <= g2  # the minimum is in [lo, x2]: shift left, else in [x1, hi]
-        lo, hi = np.where(left, lo, x1), np.where(left, x2, hi)
-        fresh_x = np.where(left, hi - r * (hi - lo), lo + r * (hi - lo))
-        fresh = g(fresh_x)
-        x1, x2 = np.where(left, fresh_x, x2), np.where(left, x1, fresh_x)
-        g1, g2 = np.where(left, fresh, g2), np.where(left, g1, fresh)
-    return np.where(g1 <= g2, x1, x2)
-
-
-def _graded_segments(breaks: FloatArray, toward: float) -> tuple[FloatArray, FloatArray]:
-    """Gauss nodes and weights on the segments between ``breaks``, those touching
-    ``toward`` graded geometrically towards it."""
-    x, w = _gauss(GRADED_NODES)
-    levels = GRADED_RATIO ** np.arange(1, GRADED_LEVELS + 1)
-    edges = []
-    for a, b in itertools.pairwise(breaks):
-        if b <= a:
-            continue
-        if a == toward:
-            edges.append(np.concatenate([[a], a + (b - a) * levels[::-1]]))
-        elif b == toward:
-            edges.append(np.concatenate([[a], b - (b - a) * levels]))
-        else:
-            edges.append(np.array([a]))
-    e = np.concatenate([*edges, breaks[-1:]])
-    lo, hi = e[:-1, None], e[1:, None]
-    return (0.5 * (lo + hi) + 0.5 * (hi - lo) * x).ravel(), (0.5 * (hi - lo) * w).ravel()
-
-
-def _golden_max(
-    f: Callable[[FloatArray], FloatArray], theta: FloatArray, values: FloatArray, period: float
-) -> tuple[FloatArray, FloatArray]:
-    """Golden-section refinement of the best sampled local maxima of each row of ``values``.
-
-    ``theta`` is increasing over one period; row q of ``f(t)`` is quantity q at angles t.
-    """
-    n_q, n = values.shape
-    before, after = np.roll(values, 1, axis=1), np.roll(values, -1, axis=1)
-    peaks = (values >= before) & (values >= after)
-    ranked = np.where(peaks, values, -np.inf)
-    k = min(CANDIDATES, n)
-    idx = np.argsort(-ranked, axis=1)[:, :k]  # (q, k)
-    ext = np.concatenate([theta[-1:] - period, theta, theta[:1] + period])
-    lo, hi = ext[idx], ext[idx + 2]  # the neighbours (ext is shifted by one)
-    rows = np.repeat(np.arange(n_q), k)
-
-    def at(t: FloatArray) -> FloatArray:
-        # quantity q at its own angles: evaluate all quantities at all angles, keep the diagonal
-        return f(t.ravel())[rows, np.arange(rows.size)].reshape(n_q, k)
-
-    g = (math.sqrt(5.0) - 1.0) / 2.0
-    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-    f1, f2 = at(x1), at(x2)
-    for _ in range(GOLDEN_ITERATIONS):
-        left = f1 >= f2  # the maximum is in [lo, x2]: shift left, else in [x1, hi]
-        lo, hi = np.where(left, lo, x1), np.where(left, x2, hi)
-        x1, x2 = np.where(left, hi - g * (hi - lo), x2), np.where(left, x1, lo + g * (hi - lo))
-        f1, f2 = np.where(left, np.nan, f2), np.where(left, f1, np.nan)
-        fresh = at(np.where(left, x1, x2))
-        f1, f2 = np.where(left, fresh, f1), np.where(left, f2, fresh)
-    best_x = np.where(f1 >= f2, x1, x2)
-    best_f = np.maximum(f1, f2)
-    sampled = np.take_along_axis(values, idx, 1)
-    best_f, best_x = (
-        np.where(best_f >= sampled, best_f, sampled),
-        np.where(best_f >= sampled, best_x, theta[idx]),
-    )
-    pick = np.argmax(best_f, axis=1)
-    rows_q = np.arange(n_q)
-    return best_f[rows_q, pick], np.mod(best_x[rows_q, pick], period)
 
 
 def _gas_nodes(engine: Engine, model: _Model) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -1355,241 +966,5 @@ def _gas_nodes(engine: Engine, model: _Model) -> tuple[FloatArray, FloatArray, F
     edges = np.concatenate([*kinks, cycle * np.arange(steps) / steps])
     edges = np.unique(np.round(edges, 9))
     edges = np.concatenate([edges, [edges[0] + cycle]])
-    x, w = _gauss(GAUSS_NODES)
-    a, b = edges[:-1, None], edges[1:, None]
-    nodes = 0.5 * (a + b) + 0.5 * (b - a) * x[None, :]
-    weights = 0.5 * (b - a) * w[None, :]
-    return np.radians(nodes.ravel()), np.radians(weights.ravel()), np.radians(edges)
-
-
-# --------------------------------------------------------------------------- the section
-
-
-@dataclass(frozen=True)
-class BearingsPart:
-    """The ``bearings`` section's part of a result.
-
-    Attributes
-    ----------
-    loads : Bearings
-        Crank-pin and main-bearing loads and internal moments, without and with the
-        proposed counterweights.
-    strategies : tuple of (str, Bearings)
-        With the option ``strategies``: the loads with each counterweight strategy's
-        proposal (the other settings as the request's), in :data:`STRATEGIES` order.
-    """
-
-    loads: Bearings
-    strategies: tuple[tuple[str, Bearings], ...] = ()
-
-
-def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool = False) -> Any:
-    """The ``bearings`` section (:mod:`balance.core.sections`): the loads with the result's
-    proposal (:func:`analysis_bearings`); with ``strategies``, also with the proposal of
-    each counterweight strategy; and, when the result holds a balance-factor study, the
-    largest main-bearing load and internal moment with each factor's proposal."""
-    from balance.core.analysis import compute
-
-    proposal = result.part("proposal")
-    loads = analysis_bearings(engine, counterweights_of(proposal.proposal if proposal else None))
-    by_strategy: list[tuple[str, Bearings]] = []
-    if strategies:
-        asked = request.only("proposal")
-        for strategy in STRATEGIES:
-            options = {**asked.options("proposal"), "strategy": strategy}
-            other = replace(asked.with_sections(proposal=options), roll=True)
-            theirs = compute(engine, other).part("proposal")
-            cws = counterweights_of(theirs.proposal if theirs is not None else None)
-            by_strategy.append((strategy, analysis_bearings(engine, cws)))
-    study = result.part("factor_study")
-    if study is not None:
-        main_max, moment_max = factor_loads(engine, study.factor, request.options("proposal"))
-        result = result.with_part(
-            "factor_study",
-            replace(study, largest_main_load=main_max, largest_internal_moment=moment_max),
-        )
-    return result.with_part("bearings", BearingsPart(loads, tuple(by_strategy)))
-
-
-def factor_loads(
-    engine: Engine, factors: ArrayLike, settings: Mapping[str, Any]
-) -> tuple[FloatArray, FloatArray]:
-    """Largest main-bearing load [N] and internal moment [N m] with the counterweights that
-    the proposal makes at each balance factor (its ``strategy`` and
-    ``counterweight_radius`` from ``settings``, the rest as the engine's ``balance:``
-    section, else the defaults)."""
-    from balance.core.analysis import compute
-    from balance.core.result import Request
-
-    sets = []
-    for factor in np.asarray(factors, dtype=np.float64):
-        proposal = {
-            "balance_factor": float(factor),
-            "strategy": settings.get("strategy"),
-            "counterweight_radius": settings.get("counterweight_radius"),
-        }
-        part = compute(engine, Request(orders=(1, 2), sections={"proposal": proposal})).part(
-            "proposal"
-        )
-        sets.append(counterweights_of(part.proposal if part is not None else None))
-    return largest_loads(engine, sets)
-
-
-def _loads(result: Any) -> Bearings:
-    part: BearingsPart = result.part("bearings")
-    return part.loads
-
-
-def _with_gas(result: Any) -> str:
-    return " (with gas forces)" if _loads(result).gas else ""
-
-
-def _output(name: str, dims: tuple[str, ...], units: str, long_name: Any, get: Any) -> Output:
-    if isinstance(long_name, str) and "{gas}" in long_name:
-        text = long_name
-        long_name = lambda r: text.format(gas=_with_gas(r))  # noqa: E731
-    return Output(name, dims, units, long_name, lambda r: get(_loads(r)))
-
-
-def _curves(
-    name: str, attribute: str, dims: tuple[str, ...], units: str, what: str
-) -> tuple[Output, ...]:
-    """A complex curve (the loads' ``attribute``) as its y and x components, ``name_y``
-    and ``name_x`` (netCDF has no complex numbers)."""
-    return (
-        _output(
-            f"{name}_y",
-            dims,
-            units,
-            f"{what}, y component (engine frame)",
-            lambda b: getattr(b, attribute).real,
-        ),
-        _output(
-            f"{name}_x",
-            dims,
-            units,
-            f"{what}, x component (engine frame)",
-            lambda b: getattr(b, attribute).imag,
-        ),
-    )
-
-
-_PIN, _MAIN = ("crank_pin",), ("main_bearing",)
-_PIN_CURVE = ("crank_pin", "bearing_crank_angle")
-_MAIN_CURVE = ("main_bearing", "bearing_crank_angle")
-_MOMENT_CURVE = ("main_bearing", "moment_crank_angle")
-
-#: The outputs of the ``bearings`` section.
-OUTPUTS: tuple[Output, ...] = (
-    _output("crank_pin_z", _PIN, "m", "axial position of the crank pin", lambda b: b.pin_z),
-    _output(
-        "crank_pin_cylinders",
-        _PIN,
-        "1",
-        "cylinders whose rods act on the crank pin",
-        lambda b: [" ".join(map(str, c)) for c in b.pin_cylinders],
-    ),
-    _output("crank_pin_max_load", _PIN, "N", "largest crank-pin load{gas}", lambda b: b.pin_max),
-    _output(
-        "crank_pin_mean_load",
-        _PIN,
-        "N",
-        "mean magnitude of the crank-pin load{gas}",
-        lambda b: b.pin_mean,
-    ),
-    _output(
-        "crank_pin_max_angle",
-        _PIN,
-        "deg",
-        "crank angle of the largest crank-pin load",
-        lambda b: np.degrees(b.pin_max_angle),
-    ),
-    _output("main_bearing_z", _MAIN, "m", "axial position of the main bearing", lambda b: b.main_z),
-    _output(
-        "main_bearing_max_load", _MAIN, "N", "largest main-bearing load{gas}", lambda b: b.main_max
-    ),
-    _output(
-        "main_bearing_mean_load",
-        _MAIN,
-        "N",
-        "mean magnitude of the main-bearing load{gas}",
-        lambda b: b.main_mean,
-    ),
-    _output(
-        "main_bearing_max_load_with_proposal",
-        _MAIN,
-        "N",
-        "largest main-bearing load with the proposed counterweights{gas}",
-        lambda b: b.main_max_with_proposal,
-    ),
-    _output(
-        "main_bearing_mean_load_with_proposal",
-        _MAIN,
-        "N",
-        "mean magnitude of the main-bearing load with the proposed counterweights{gas}",
-        lambda b: b.main_mean_with_proposal,
-    ),
-    _output(
-        "internal_moment_max",
-        _MAIN,
-        "N m",
-        "largest internal bending moment of the crankshaft at the main",
-        lambda b: b.moment_max,
-    ),
-    _output(
-        "internal_moment_max_with_proposal",
-        _MAIN,
-        "N m",
-        "largest internal bending moment at the main with the proposed counterweights",
-        lambda b: b.moment_max_with_proposal,
-    ),
-    *_curves("crank_pin_load", "pin_load", _PIN_CURVE, "N", "crank-pin load"),
-    *_curves("main_bearing_load", "main_load", _MAIN_CURVE, "N", "main-bearing load"),
-    *_curves(
-        "main_bearing_load_with_proposal",
-        "main_load_with_proposal",
-        _MAIN_CURVE,
-        "N",
-        "main-bearing load with the proposed counterweights",
-    ),
-    *_curves("internal_moment", "internal_moment", _MOMENT_CURVE, "N m", "internal moment"),
-    *_curves(
-        "internal_moment_with_proposal",
-        "internal_moment_with_proposal",
-        _MOMENT_CURVE,
-        "N m",
-        "internal moment with the proposed counterweights",
-    ),
-    Output(
-        "crank_pin",
-        _PIN,
-        "1",
-        "crank pin number",
-        lambda r: np.arange(1, _loads(r).pin_z.size + 1),
-        kind="coord",
-    ),
-    Output(
-        "main_bearing",
-        _MAIN,
-        "1",
-        "main bearing number",
-        lambda r: np.arange(1, _loads(r).main_z.size + 1),
-        kind="coord",
-    ),
-    Output(
-        "bearing_crank_angle",
-        ("bearing_crank_angle",),
-        "deg",
-        "crank angle theta of the bearing-load curves",
-        lambda r: np.degrees(_loads(r).theta),
-        kind="coord",
-    ),
-    Output(
-        "moment_crank_angle",
-        ("moment_crank_angle",),
-        "deg",
-        "crank angle theta of the internal-moment curves",
-        lambda r: np.degrees(_loads(r).moment_theta),
-        kind="coord",
-    ),
-)
+    nodes, weights = gauss_panels(edges, GAUSS_NODES)
+    return np.radians(nodes), np.radians(weights), np.radians(edges)

@@ -42,7 +42,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from balance.core.kinematics import normalised_slider, offset_ratio, rod_ratio
 
@@ -51,9 +51,12 @@ __all__ = [
     "GasModel",
     "PistonTravel",
     "cycle_degrees",
+    "cylinder_pressure",
     "cylinder_volume",
     "firing_tdc",
     "model_pressure",
+    "periodic_tables",
+    "piston_gas_force",
     "pressure_at",
     "pressure_tables",
 ]
@@ -214,7 +217,7 @@ def firing_tdc(
 @dataclass(frozen=True)
 class PistonTravel:
     """Where a piston pin is against its cycle angle, for a cylinder that is no plain crank
-    slider (a link piston, :func:`balance.core.links.piston_travels`).
+    slider (a link piston, :func:`balance.core.torque.piston_travels`).
 
     Attributes
     ----------
@@ -414,6 +417,96 @@ def pressure_tables(
     return out
 
 
+def periodic_tables(
+    tables: Sequence[tuple[FloatArray, FloatArray]], period: float
+) -> list[tuple[FloatArray, FloatArray]]:
+    """Each table as ``np.interp(..., period=period)`` prepares it on every call: angles
+    reduced to the period and sorted, one point repeated beyond either end.
+
+    Done once per table (a table shared by several cylinders is prepared once), so that
+    :func:`cylinder_pressure` interpolates with the same arithmetic as ``np.interp`` with a
+    period, without sorting the table again at every call (the searches of
+    :func:`balance.core.bearings.bearing_loads` call it many times).
+    """
+    prepared: dict[int, tuple[FloatArray, FloatArray]] = {}
+    out = []
+    for angle, pressure in tables:
+        key = id(angle) ^ (id(pressure) << 1)
+        if key not in prepared:
+            xp = np.asarray(angle, dtype=np.float64) % period
+            fp = np.asarray(pressure, dtype=np.float64)
+            order = np.argsort(xp)
+            xp, fp = xp[order], fp[order]
+            prepared[key] = (
+                np.concatenate((xp[-1:] - period, xp, xp[0:1] + period)),
+                np.concatenate((fp[-1:], fp, fp[0:1])),
+            )
+        out.append(prepared[key])
+    return out
+
+
+def _interpolate(
+    tables: Sequence[tuple[FloatArray, FloatArray]], alpha_deg: FloatArray, period: float
+) -> FloatArray:
+    """Row i of ``alpha_deg`` [deg] interpolated linearly in table i of
+    :func:`periodic_tables`."""
+    out = np.empty(alpha_deg.shape)
+    for i, (xp, fp) in enumerate(tables):
+        out[i] = np.interp(alpha_deg[i] % period, xp, fp)
+    return out
+
+
+def cylinder_pressure(
+    gas: GasInput, tables: Sequence[tuple[FloatArray, FloatArray]], theta_deg: ArrayLike
+) -> FloatArray:
+    r"""Absolute pressure [Pa] of each cylinder at the engine's crank angles, shape
+    (cylinders, angles).
+
+    Parameters
+    ----------
+    gas : GasInput
+        The ``gas:`` section (firing TDCs and cycle).
+    tables : sequence of (ndarray, ndarray)
+        Each cylinder's pressure table as :func:`periodic_tables` prepares it.
+    theta_deg : array_like
+        Crank angles :math:`\theta` [deg], shape (angles,).
+
+    Notes
+    -----
+    Cylinder i is at its cycle angle :math:`\alpha = \theta - \theta_{TDC,i}` (mod the
+    cycle); its pressure is interpolated linearly in its table, periodic over the cycle.
+    """
+    th = np.asarray(theta_deg, dtype=np.float64)
+    alpha = np.mod(th[None, :] - gas.firing_tdc[:, None], gas.cycle_deg)
+    return _interpolate(tables, alpha, gas.cycle_deg)
+
+
+def piston_gas_force(pressure: ArrayLike, gas: GasInput) -> FloatArray:
+    r"""Gas force on the piston towards the crank [N]: :math:`P_g = (p - p_0)A`.
+
+    Parameters
+    ----------
+    pressure : array_like
+        Absolute cylinder pressure :math:`p` [Pa] (any shape, e.g. that of
+        :func:`cylinder_pressure`).
+    gas : GasInput
+        Gives the crankcase pressure :math:`p_0` [Pa] under the piston and the piston area
+        :math:`A = \pi B^2/4` [m^2].
+
+    Returns
+    -------
+    ndarray
+        :math:`P_g` [N], the shape of ``pressure``; positive pushes the piston towards the
+        crank.
+
+    References
+    ----------
+    Kolchin and Demidov, *Design of Automotive Engines*, Mir 1984 (the gas force on the
+    piston, :math:`P_g = (p_g - p_0)F_p`, from the indicator diagram).
+    """
+    return np.asarray((np.asarray(pressure) - gas.crankcase_pressure) * gas.piston_area)
+
+
 def pressure_at(
     gas: GasInput,
     alpha_deg: FloatArray,
@@ -426,11 +519,9 @@ def pressure_at(
     """Absolute pressure [Pa] of each cylinder at cycle angles ``alpha_deg`` (cylinders, N).
 
     Linear interpolation, periodic over the cycle, in the trace or the model's table (a link
-    piston's own, from its entry of ``travels``; :func:`pressure_tables`).
+    piston's own, from its entry of ``travels``; :func:`pressure_tables`), as
+    :func:`cylinder_pressure` does at crank angles.
     """
     alpha = np.asarray(alpha_deg, dtype=np.float64)
-    out = np.empty(alpha.shape)
     tables = pressure_tables(gas, radius, length, offset, cycle, travels)
-    for i, (angle, pressure) in enumerate(tables):
-        out[i] = np.interp(alpha[i], angle, pressure, period=gas.cycle_deg)
-    return out
+    return _interpolate(periodic_tables(tables, gas.cycle_deg), alpha, gas.cycle_deg)

@@ -69,12 +69,12 @@ module extends).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core import phasors
+from balance.core import crank_train, phasors
+from balance.core._numerics import newton_stationary, sampled_max_bound, sampled_vertex, unique_rows
 from balance.core.engine import Engine, Links
 from balance.core.kinematics import (
     conrod_angle_derivatives,
@@ -84,9 +84,6 @@ from balance.core.kinematics import (
     rounding_floor,
 )
 from balance.core.speed import speed_squared
-
-if TYPE_CHECKING:  # pragma: no cover (the gas model loads when a gas analysis needs it)
-    from balance.core.gas import PistonTravel
 
 __all__ = [
     "LinkCoefficients",
@@ -106,7 +103,6 @@ __all__ = [
     "link_rod_forces",
     "pin_masses",
     "pin_roll",
-    "piston_travels",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -382,20 +378,6 @@ def pin_roll(motion: LinkMotion) -> FloatArray:
     )
 
 
-def _master_pin_force(
-    ratio_master: ArrayLike, offset_master: ArrayLike, beta_m: ArrayLike
-) -> tuple[FloatArray, FloatArray]:
-    r"""Real and imaginary parts of :math:`q(\beta_m) = e^{-i\gamma}(\gamma'^2 + i\gamma'')`
-    (the master rod's frame, :math:`Y + iX`)."""
-    b = np.asarray(beta_m, dtype=np.float64)
-    lam_m = np.asarray(ratio_master, dtype=np.float64)
-    eps_m = np.asarray(offset_master, dtype=np.float64)
-    sin_g = lam_m * (np.sin(b) - eps_m)
-    cos_g = np.sqrt(1.0 - sin_g**2)
-    dg, d2g = conrod_angle_derivatives(b, lam_m, eps_m)
-    return cos_g * dg**2 + sin_g * d2g, cos_g * d2g - sin_g * dg**2
-
-
 # --------------------------------------------------------------------------- reach, dead centres
 
 
@@ -418,24 +400,7 @@ def link_reach(geometry: LinkGeometry) -> FloatArray:
         m = link_motion(beta, *cols)
     if np.any(np.abs(m.sin_master) >= 1.0):
         return np.full(geometry.size, np.inf)
-    top = np.max(np.abs(m.pin_x - eps), axis=-1)  # h
-    curvature = np.max(np.abs(m.d2pin_x), axis=-1)  # h''
-    return np.asarray(lam[:, 0] * (top + curvature * (np.pi / REACH_GRID) ** 2 / 2.0))
-
-
-def _newton_extremum(geometry: LinkGeometry, start: FloatArray) -> FloatArray:
-    """Stationary points of s near ``start`` (links, points), by Newton on s'."""
-    cols = geometry.columns()
-    beta = np.array(start, dtype=np.float64)
-    done = False
-    for _ in range(DEAD_CENTRE_ITERATIONS):
-        m = link_motion(beta, *cols)
-        step = m.ds / m.d2s
-        beta = beta - step
-        if done:
-            break
-        done = bool(np.max(np.abs(step), initial=0.0) <= DEAD_CENTRE_DONE)
-    return beta
+    return np.asarray(lam[:, 0] * sampled_max_bound(m.pin_x - eps, m.d2pin_x))  # h, h''
 
 
 def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -461,15 +426,16 @@ def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, F
     grid = 2.0 * np.pi * np.arange(DEAD_CENTRE_GRID) / DEAD_CENTRE_GRID
     s = link_motion(grid, *cols).s
     picks = np.stack([np.argmax(s, axis=-1), np.argmin(s, axis=-1)], axis=-1)
-    # a parabola through the best sample and its neighbours: Newton then starts close
-    h = 2.0 * np.pi / DEAD_CENTRE_GRID
-    s0 = np.take_along_axis(s, picks, -1)
-    s_before = np.take_along_axis(s, (picks - 1) % DEAD_CENTRE_GRID, -1)
-    s_after = np.take_along_axis(s, (picks + 1) % DEAD_CENTRE_GRID, -1)
-    curvature = s_before - 2.0 * s0 + s_after
-    shift = np.where(curvature != 0.0, 0.5 * (s_before - s_after) / curvature, 0.0)
-    start = grid[picks] + h * np.clip(shift, -0.5, 0.5)
-    beta = _newton_extremum(geometry, start)
+    # a parabola through the best sample and its neighbours: Newton on s' then starts close
+    start = sampled_vertex(s, picks)
+
+    def slopes(b: FloatArray) -> tuple[FloatArray, FloatArray]:
+        m = link_motion(b, *cols)
+        return m.ds, m.d2s
+
+    beta = newton_stationary(
+        slopes, start, DEAD_CENTRE_ITERATIONS, DEAD_CENTRE_DONE, extra_step=True
+    )
     at = link_motion(beta, *cols).s
     return np.mod(beta[:, 0], 2.0 * np.pi), at[:, 0], at[:, 1]
 
@@ -622,16 +588,6 @@ class LinkCoefficients:
     samples: int
 
 
-def _unique_rows(values: FloatArray) -> tuple[FloatArray, NDArray[np.intp]]:
-    """The distinct rows (in order of first appearance) and each row's index among them."""
-    seen: dict[tuple[float, ...], int] = {}
-    inverse = np.empty(values.shape[0], dtype=np.intp)
-    for i, row in enumerate(values.tolist()):
-        inverse[i] = seen.setdefault(tuple(row), len(seen))
-    unique = np.array(list(seen), dtype=np.float64).reshape(len(seen), values.shape[1])
-    return unique, inverse
-
-
 def link_coefficients(
     geometry: LinkGeometry,
     orders: ArrayLike,
@@ -658,9 +614,9 @@ def link_coefficients(
         rows_p[:, 5] = lam_p
         rows_p[:, 6] = np.asarray(plain[1], dtype=np.float64).ravel()
         link_params = np.concatenate([link_params, rows_p], axis=0)
-    unique_l, inverse_l = _unique_rows(link_params)
+    unique_l, inverse_l = unique_rows(link_params)
     master_params = np.stack([geometry.ratio_master, geometry.offset_master], axis=-1)
-    unique_m, inverse_m = _unique_rows(master_params)
+    unique_m, inverse_m = unique_rows(master_params)
     n_l, n_m = unique_l.shape[0], unique_m.shape[0]
     cols = tuple(unique_l[:, i : i + 1] for i in range(7))
     lam_mu = unique_m[:, :1]
@@ -669,7 +625,10 @@ def link_coefficients(
     def sample(beta: FloatArray) -> FloatArray:
         m = link_motion(beta, *cols)
         eps = cols[6]
-        q_re, q_im = _master_pin_force(lam_mu, eps_mu, beta)
+        sin_g, cos_g = crank_train.rod_direction(beta, lam_mu, eps_mu)
+        q_re, q_im = crank_train.rod_point_inertia(
+            sin_g, cos_g, *conrod_angle_derivatives(beta, lam_mu, eps_mu)
+        )
         return np.concatenate(
             [
                 -m.d2s,
@@ -967,25 +926,26 @@ def link_rod_forces(
     motion = link_motion(beta, *geometry.columns())
     psi_j = engine.bank[j][:, None]
     rj = r[j][:, None]
-    q = engine.reciprocating_mass[j][:, None] * w2 * rj * motion.d2s
-    if gas_force is not None:
-        q = q + np.asarray(gas_force, dtype=np.float64)[j]
-    length = engine.conrod_length[j][:, None]
-    d_x = -length * motion.sin_rod
-    d_y = length * motion.cos_rod
-    wall = -(engine.conrod_inertia_correction[j][:, None] * w2 * motion.d2rod + d_x * q) / d_y
-    on_piston = (q - 1j * wall) * np.exp(1j * psi_j)
+    gas = None if gas_force is None else np.asarray(gas_force, dtype=np.float64)[j]
+    inertia = crank_train.reciprocating_force(
+        engine.reciprocating_mass[j][:, None], w2, rj, motion.d2s
+    )
+    q = crank_train.piston_force(inertia, gas)
+    length, delta_i = engine.conrod_length[j][:, None], engine.conrod_inertia_correction[j][:, None]
+    wall = crank_train.side_thrust_moment_balance(
+        q, motion.sin_rod, motion.cos_rod, length, delta_i, w2, motion.d2rod
+    )
     pin_acc = w2 * rj * motion.d2pin * np.exp(1j * psi_j)  # engine frame
-    link_force = pin_masses(engine)[j][:, None] * pin_acc + on_piston
-    # link pin relative to the crank pin, engine frame
-    crank = rj * np.exp(1j * (th + engine.throw[j][:, None]))
+    link_force = pin_masses(engine)[j][:, None] * pin_acc + crank_train.rod_on_piston(
+        q, wall, psi_j
+    )
+    # the master rod carries it: link pin and crank pin, engine frame
     pin_pos = rj * motion.pin * np.exp(1j * psi_j)
-    moment = np.imag(np.conj(pin_pos - crank) * link_force)
-    # the master rod's d_Y (its length times cos gamma), at each link's angles
-    length_m = engine.conrod_length[m_idx][:, None]
-    d_y_master = length_m * motion.cos_master
-    delta_wall = moment / d_y_master
-    on_pin = 1j * delta_wall * np.exp(1j * engine.bank[m_idx][:, None]) - link_force
+    crank = rj * np.exp(1j * (th + engine.throw[j][:, None]))
+    length_m, psi_m = engine.conrod_length[m_idx][:, None], engine.bank[m_idx][:, None]
+    delta_wall, on_pin = crank_train.hung_load(
+        link_force, pin_pos, crank, length_m, motion.cos_master, psi_m
+    )
     return LinkRodForces(j, m_idx, motion, wall, link_force, delta_wall, on_pin)
 
 
@@ -1018,18 +978,15 @@ def articulated_big_end_forces(
     Notes
     -----
     Each link rod is its two-mass model (piston-pin share with the piston, link-pin share
-    at :math:`L`) plus a massless rod of inertia :math:`\Delta I_j`, like a plain rod
-    (:func:`balance.core.bearings.big_end_forces`).  In the engine frame, the link piston
-    takes the rod force :math:`F_P = (Q - iN)e^{i\psi_j}` with :math:`Q = m\omega^2 s'' +
-    G` and the wall force :math:`N` from the rod's moment balance about :math:`L`,
-    :math:`N = -(\Delta I_j\omega^2\gamma_l'' + d_X Q)/d_Y` (:math:`d = P - L` in the link
-    cylinder's frame); the master rod pushes the link rod at :math:`L` with
-    :math:`F_L = m_L\omega^2\Lambda''r e^{i\psi_j} + F_P`.  The master rod takes
-    :math:`-F_L` at each of its link pins: its moment about the crank pin,
-    :math:`M = \sum_j \operatorname{Im}(\overline{(L_j - C)}F_{L,j})` (in the direction of
-    rotation), changes the master piston's wall force by :math:`\Delta N = M/d_Y` (master
-    frame), and the force on the pin becomes the plain master's plus
-    :math:`i\,\Delta N e^{i\psi_m} - \sum_j F_{L,j}` (:func:`link_rod_forces`).
+    at :math:`L`) plus a massless rod of inertia :math:`\Delta I_j`: a crank slider whose
+    rod's lower end is :math:`L` (:mod:`balance.core.crank_train`), with :math:`Q =
+    m\omega^2 s'' + G` along its bore, the wall force :math:`N` from the rod's moment
+    balance about :math:`L` and the rod's force :math:`F_P` on its piston.  The master rod
+    pushes the link rod at :math:`L` with :math:`F_L = m_L\omega^2\Lambda''r e^{i\psi_j} +
+    F_P` (engine frame) and takes :math:`-F_L` there: its moment about the crank pin adds
+    :math:`\Delta N` to the master piston's wall force, and the force on the pin becomes the
+    plain master's plus :math:`i\,\Delta N e^{i\psi_m} - \sum_j F_{L,j}`
+    (:func:`balance.core.crank_train.hung_load`, :func:`link_rod_forces`).
     """
     assert engine.links is not None
     out = np.array(forces, dtype=np.complex128, copy=True)
@@ -1038,43 +995,4 @@ def articulated_big_end_forces(
     links = link_rod_forces(engine, theta, gas_force)
     np.add.at(out, links.master, links.on_pin)
     out[links.cylinder] = 0.0
-    return out
-
-
-def link_cylinder_motion(engine: Engine, theta: ArrayLike) -> tuple[NDArray[np.intp], LinkMotion]:
-    """The link cylinders' indices and their :class:`LinkMotion` at crank angles ``theta``
-    (shape (links, angles))."""
-    geometry = engine_geometry(engine)
-    th = np.asarray(theta, dtype=np.float64)
-    beta = th[None, :] + (engine.throw[geometry.cylinder] - engine.bank[geometry.cylinder])[:, None]
-    return geometry.cylinder, link_motion(beta, *geometry.columns())
-
-
-def piston_travels(engine: Engine) -> list[PistonTravel | None]:
-    """Each link piston's travel against its cycle angle from its actual TDC
-    (:class:`balance.core.gas.PistonTravel`, for the gas model's volume); None for the other
-    cylinders."""
-    from balance.core.gas import PistonTravel
-
-    out: list[PistonTravel | None] = [None] * engine.n_cylinders
-    if not engine.has_links:
-        return out
-    geometry = engine_geometry(engine)
-    top, s_top, s_bottom = link_dead_centres(geometry)
-    cols = geometry.columns()
-    for row, j in enumerate(geometry.cylinder.tolist()):
-        params = tuple(float(c[row, 0]) for c in cols)
-        r = float(engine.crank_radius[j])
-
-        def position(
-            alpha_deg: FloatArray,
-            params: tuple[float, ...] = params,
-            start: float = float(top[row]),
-            r: float = r,
-        ) -> FloatArray:
-            return np.asarray(r * link_motion(start + np.radians(alpha_deg), *params).s)
-
-        out[j] = PistonTravel(
-            position, r * float(s_top[row]), r * float(s_bottom[row]), key=(*params, r)
-        )
     return out

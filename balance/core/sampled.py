@@ -3,7 +3,8 @@ r"""Brute-force computation in the crank-angle domain.
 Independent of the phasor algebra: the forces, moments and roll torque are sampled over a
 revolution from the geometry of every cylinder, summed as vectors in the engine frame, and
 their harmonics taken by FFT.  The tests check every analytic shortcut of the package
-against these functions.
+against these functions (and against the references only they use, in ``tests/oracles.py``:
+the torque and forces on the crank, the whole block force, the proposal's masses).
 
 The roll torque is found here by the Newton–Euler equations of piston and rigid conrod
 (mass, centre of gravity, moment of inertia) at each crank angle, solved for the force of
@@ -26,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core.balancing import Proposal
+from balance.core import crank_train
 from balance.core.engine import Engine
 from balance.core.kinematics import (
     conrod_angle_derivatives,
@@ -38,19 +39,13 @@ from balance.core.speed import speed_squared
 
 __all__ = [
     "ArticulatedSolution",
-    "CrankTrainForces",
     "articulated_kinematics",
     "articulated_newton_euler",
-    "block_force_newton_euler",
     "crank_angles",
-    "crank_torque_newton_euler",
-    "crank_train_newton_euler",
     "link_pin_force_samples",
     "link_piston_acceleration",
     "link_piston_acceleration_at",
     "phasors_from_samples",
-    "proposal_force_samples",
-    "proposal_roll_samples",
     "reciprocating_force_samples",
     "reciprocating_samples",
     "roll_newton_euler",
@@ -190,101 +185,6 @@ def roll_newton_euler(
     return np.asarray(torque.sum(axis=1), dtype=np.float64)
 
 
-def crank_torque_newton_euler(
-    layout: Engine,
-    theta: ArrayLike,
-    gas_force: ArrayLike | None = None,
-    small_end_share: float = 1.0 / 3.0,
-    cg_fraction: float = 0.3,
-) -> FloatArray:
-    r"""Torque the conrods put on the crankshaft [N m], from the same Newton–Euler solution.
-
-    Parameters are those of :func:`roll_newton_euler`.
-
-    Returns
-    -------
-    ndarray
-        Torque about the crank axis on the crankshaft, positive in the direction of rotation,
-        one value per crank angle (the engine torque at constant speed).
-
-    Notes
-    -----
-    The rod pushes the crank pin :math:`C` with :math:`-F_{CR} = -(m_c a_G + F_{RP})`,
-    :math:`F_{RP} = m_p a_P + (0, G) - (N, 0)`; its moment in the direction of rotation is
-    :math:`C_Y F_X - C_X F_Y`.
-    """
-    cylinders = _newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
-    C, pin_force = cylinders.crank, cylinders.on_pin
-    torque = C.imag * pin_force.real - C.real * pin_force.imag
-    if layout.has_links:
-        solution = articulated_newton_euler(layout, theta, small_end_share, cg_fraction, gas_force)
-        plain = _plain_mask(layout)
-        return np.asarray(
-            np.where(plain, torque, 0.0).sum(axis=1) + solution.crank_torque, dtype=np.float64
-        )
-    return np.asarray(torque.sum(axis=1), dtype=np.float64)
-
-
-@dataclass(frozen=True)
-class CrankTrainForces:
-    r"""Forces of the Newton–Euler solution per cylinder, shape (angles, cylinders).
-
-    Attributes
-    ----------
-    wall : ndarray
-        Force of the wall on each piston across its bore, along +X of its frame (towards
-        where the pin goes after TDC) [N].
-    rod_force : ndarray
-        Each rod's force at its piston pin along the rod, compression positive [N].
-    pin_force : ndarray of complex
-        Force of each rod on its crank pin [N], engine frame :math:`y + \mathrm{i}x`: a
-        master's is its master rod's, carrying its link rods, and a link cylinder's is 0.
-    """
-
-    wall: FloatArray
-    rod_force: FloatArray
-    pin_force: ComplexArray
-
-
-def crank_train_newton_euler(
-    layout: Engine,
-    theta: ArrayLike,
-    gas_force: ArrayLike | None = None,
-    small_end_share: float = 1.0 / 3.0,
-    cg_fraction: float = 0.3,
-) -> CrankTrainForces:
-    r"""Wall force, rod force and force on the crank pin of every cylinder, from the same
-    Newton–Euler solution as :func:`roll_newton_euler` (parameters as there).
-
-    Notes
-    -----
-    The rod's force on the crank pin includes the inertia of the rod's own mass (its big-end
-    share turns with the pin: :math:`m_\mathrm{big}\omega^2 r` outwards); the rod force is
-    the axial part of the force between rod and piston, so it depends on the rod's
-    small-end share unless ``small_end_share`` is 0 (the rod is then a massless body of
-    inertia :math:`\Delta I`, the whole reciprocating mass at the piston pin).
-    """
-    th = np.asarray(theta, dtype=np.float64)
-    cylinders = _newton_euler(layout, th, small_end_share, cg_fraction, gas_force)
-    turn = np.exp(1j * layout.bank)
-
-    def engine_frame(v: ComplexArray) -> ComplexArray:  # X + iY of a cylinder -> y + ix
-        return np.asarray(1j * np.conj(v) * turn)
-
-    wall = np.array(cylinders.wall, dtype=np.float64)
-    along = cylinders.rod / np.abs(cylinders.rod)
-    rod_force = np.real(-cylinders.on_piston * np.conj(along))
-    pin_force = engine_frame(cylinders.on_pin)
-    if layout.has_links:
-        solution = articulated_newton_euler(layout, th, small_end_share, cg_fraction, gas_force)
-        grouped = ~_plain_mask(layout)
-        wall[:, grouped] = solution.wall.T[:, grouped]
-        rod_force[:, grouped] = solution.rod_force.T[:, grouped]
-        pin_force[:, grouped] = 0.0
-        pin_force[:, solution.masters] = solution.pin_force.T
-    return CrankTrainForces(wall, rod_force, pin_force)
-
-
 @dataclass(frozen=True)
 class _PlainSolution:
     """The Newton–Euler solution of plain cylinders, shape (angles, cylinders); vectors in
@@ -344,46 +244,6 @@ def _newton_euler(
     on_pin = -(m_c * a_G + Q - N)
     offset = np.broadcast_to(e, N.shape)
     return _PlainSolution(N, on_pin, C, s, offset, gas, Q - N, d)
-
-
-def proposal_force_samples(
-    proposal: Proposal, layout: Engine, theta: ArrayLike, lever: bool = False
-) -> ComplexArray:
-    r"""Force (or moment) of every proposed mass at each crank angle [N, N m].
-
-    A counterweight :math:`U = mRe^{i\alpha}` at crank angle :math:`\theta` pulls with
-    :math:`U\omega^2 e^{i\theta}`; an eccentric on a shaft at :math:`s\omega` with
-    :math:`mRe^{i\alpha}` sits at :math:`\alpha + s\theta` and pulls with
-    :math:`U (s\omega)^2 e^{is\theta}`.
-    """
-    th = np.asarray(theta, dtype=np.float64)
-    w = layout.speed
-    total = np.zeros(th.shape, dtype=np.complex128)
-    for cw in proposal.counterweights:
-        arm = (cw.z - layout.reference_z) if lever else 1.0
-        total += arm * cw.unbalance * w**2 * np.exp(1j * th)
-    for shaft in proposal.shafts:
-        s = shaft.speed_ratio
-        for z, u in shaft.planes:
-            arm = (z - layout.reference_z) if lever else 1.0
-            total += arm * u * (s * w) ** 2 * np.exp(1j * s * th)
-    return total
-
-
-def proposal_roll_samples(proposal: Proposal, layout: Engine, theta: ArrayLike) -> FloatArray:
-    """Torque about the crank axis of the shafts' eccentric forces [N m] (rotation sense).
-
-    A force :math:`(F_x, F_y)` at :math:`(x, y)` turns the block by :math:`yF_x - xF_y`.
-    """
-    th = np.asarray(theta, dtype=np.float64)
-    w = layout.speed
-    total = np.zeros(th.shape)
-    for shaft in proposal.shafts:
-        s = shaft.speed_ratio
-        force = sum(u for _, u in shaft.planes) * (s * w) ** 2 * np.exp(1j * s * th)
-        f_y, f_x = force.real, force.imag
-        total += shaft.y * f_x - shaft.x * f_y
-    return total
 
 
 # --------------------------------------------------------------------------- articulated rods
@@ -596,7 +456,10 @@ def reciprocating_samples(layout: Engine, theta: ArrayLike) -> tuple[ComplexArra
         beta, rod_ratio(r, layout.conrod_length), offset_ratio(layout.offset, r)
     )
     w2 = speed_squared(layout.speed)
-    force = -layout.reciprocating_mass * w2 * r * d2s * np.exp(1j * layout.bank)
+    along = crank_train.reciprocating_force(
+        layout.reciprocating_mass, w2, r, d2s
+    )  # towards the crank
+    force = -along * np.exp(1j * layout.bank)
     moment = force * (layout.z - layout.reference_z)
     return (
         np.asarray(force.sum(axis=1), dtype=np.complex128),
@@ -619,15 +482,14 @@ def _articulated_reciprocating(
         rod_ratio(r[plain], layout.conrod_length[plain]),
         offset_ratio(layout.offset[plain], r[plain]),
     )
-    force = (
-        -layout.reciprocating_mass[plain] * w2 * r[plain] * d2s * np.exp(1j * layout.bank[plain])
-    )
+    along = crank_train.reciprocating_force(layout.reciprocating_mass[plain], w2, r[plain], d2s)
+    force = -along * np.exp(1j * layout.bank[plain])
     j = layout.links.link_indices
     groups = articulated_kinematics(layout, theta)
     link_acc = _link_piston_rows(layout, groups, theta.size)  # (links, angles)
+    m_j, r_j = layout.reciprocating_mass[j][:, None], r[j][:, None]
     pistons = (
-        -(layout.reciprocating_mass[j] * w2 * r[j])[:, None]
-        * link_acc
+        -crank_train.reciprocating_force(m_j, w2, r_j, link_acc)
         * np.exp(1j * layout.bank[j])[:, None]
     )
     each = pistons + _link_pin_forces(layout, groups, theta.size)
@@ -904,38 +766,4 @@ def articulated_newton_euler(
         roll=roll,
         crank_torque=crank_torque,
         rod_force=rod_force,
-    )
-
-
-def block_force_newton_euler(
-    layout: Engine,
-    theta: ArrayLike,
-    small_end_share: float = 1.0 / 3.0,
-    cg_fraction: float = 0.3,
-) -> tuple[ComplexArray, ComplexArray]:
-    r"""Whole force and moment on the block [N, N m] (reciprocating and rotating), inertia
-    only: plain cylinders by :math:`-\sum m a` of their two-mass models, master-and-link
-    groups by :func:`articulated_newton_euler`."""
-    th = np.asarray(theta, dtype=np.float64)
-    if not layout.has_links:
-        return (
-            reciprocating_force_samples(layout, th) + rotating_force_samples(layout, th),
-            reciprocating_force_samples(layout, th, lever=True)
-            + rotating_force_samples(layout, th, lever=True),
-        )
-    plain = _plain_mask(layout)
-    beta = th[:, None] + layout.throw - layout.bank
-    r = layout.crank_radius
-    w2 = speed_squared(layout.speed)
-    _, _, d2s = normalised_slider(
-        beta, rod_ratio(r, layout.conrod_length), offset_ratio(layout.offset, r)
-    )
-    each = -layout.reciprocating_mass * w2 * r * d2s * np.exp(1j * layout.bank)
-    each = each + layout.rotating_mass * r * w2 * np.exp(1j * (th[:, None] + layout.throw))
-    each = np.where(plain, each, 0.0)
-    lever = layout.z - layout.reference_z
-    solution = articulated_newton_euler(layout, th, small_end_share, cg_fraction)
-    return (
-        np.asarray(each.sum(axis=1) + solution.block_force, dtype=np.complex128),
-        np.asarray((each * lever).sum(axis=1) + solution.block_moment, dtype=np.complex128),
     )

@@ -116,8 +116,8 @@ SECTIONS: tuple[Section, ...] = (
     Section(
         "bearings",
         "Crank-pin and main-bearing loads",
-        part="balance.core.bearings:bearings_part",
-        outputs="balance.core.bearings:OUTPUTS",
+        part="balance.core.bearing_loads:bearings_part",
+        outputs="balance.core.bearing_loads:OUTPUTS",
         layout_key="bearings",
         options=("strategies",),
     ),

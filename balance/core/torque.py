@@ -28,10 +28,12 @@ pin, so the force is not along the rod.  With :math:`\Delta I = 0` these are the
 :math:`N = P\tan\psi`, :math:`S = P/\cos\psi`,
 :math:`T = P\sin(\beta+\psi)/\cos\psi`, :math:`K = P\cos(\beta+\psi)/\cos\psi`.
 :math:`M` is also the virtual work of the pin force and the rod's spin energy, exact with an
-offset; :math:`\Delta I` adds nothing to its mean.  A link cylinder's :math:`M` and
-:math:`T = M/r` add the rate of its link pin's kinetic energy, and its :math:`K` is the
-radial part of what its link rod passes through the master rod to the crank pin
-(:func:`balance.core.links.link_rod_forces`); a master's :math:`N` is the whole wall force,
+offset; :math:`\Delta I` adds nothing to its mean.  The force balance is
+:mod:`balance.core.crank_train`'s (:func:`~balance.core.crank_train.side_thrust` and the
+rest), the gas force :func:`balance.core.gas.piston_gas_force`.  A link cylinder's
+:math:`M` and :math:`T = M/r` add the rate of its link pin's kinetic energy, and its
+:math:`K` is the radial part of what its link rod passes through the master rod to the crank
+pin (:func:`balance.core.links.link_rod_forces`); a master's :math:`N` is the whole wall force,
 its link rods' push included, and its :math:`T`, :math:`K` its own rod's.  The engine torque
 is the sum over cylinders, each at its own firing phase (its actual TDC,
 :func:`balance.core.gas.firing_tdc`); the block receives the roll torque
@@ -61,11 +63,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.core import phasors
+from balance.core import crank_train, phasors
 from balance.core.catalogue import Output
 from balance.core.engine import Engine
 from balance.core.errors import InputError
-from balance.core.gas import pressure_at
+from balance.core.gas import (
+    PistonTravel,
+    cylinder_pressure,
+    periodic_tables,
+    piston_gas_force,
+    pressure_tables,
+)
 from balance.core.kinematics import (
     conrod_angle_derivatives,
     normalised_slider,
@@ -74,7 +82,14 @@ from balance.core.kinematics import (
 )
 from balance.core.speed import speed_squared
 
-__all__ = ["CYCLE_SAMPLES_PER_DEGREE", "TorqueResult", "compute_torque", "roll_orders"]
+__all__ = [
+    "CYCLE_SAMPLES_PER_DEGREE",
+    "TorqueResult",
+    "compute_torque",
+    "engine_pressure_tables",
+    "piston_travels",
+    "roll_orders",
+]
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -165,22 +180,17 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     throw_deg = np.degrees(layout.throw)[:, None]
     bank_deg = np.degrees(layout.bank)[:, None]
     beta = np.radians(np.mod(theta[None, :] + throw_deg - bank_deg, 360.0))
-    alpha = np.mod(theta[None, :] - gas.firing_tdc[:, None], cycle_deg)
     r = layout.crank_radius[:, None]
     length = layout.conrod_length[:, None]
     e = layout.offset[:, None]
     lam = rod_ratio(r, length)
     eps = offset_ratio(e, r)
     w2 = float(speed_squared(layout.speed))
-    from balance.core.links import piston_travels
-
-    travels = piston_travels(layout)  # None for every plain cylinder
-    pressure = pressure_at(
-        gas, alpha, layout.crank_radius, layout.conrod_length, layout.offset, layout.cycle, travels
+    pressure = cylinder_pressure(
+        gas, periodic_tables(engine_pressure_tables(layout), cycle_deg), theta
     )
     _, ds, d2s = normalised_slider(beta, lam, eps)
-    sin_psi = lam * (np.sin(beta) - eps)
-    cos_psi = np.sqrt(1.0 - sin_psi**2)
+    sin_psi, cos_psi = crank_train.rod_direction(beta, lam, eps)
     dg, d2g = conrod_angle_derivatives(beta, lam, eps)
     pin_power = np.zeros(beta.shape)
     pin_roll = np.zeros(beta.shape)
@@ -188,23 +198,25 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         ds, d2s, sin_psi, cos_psi, dg, d2g, pin_power, pin_roll = _with_links(
             layout, beta, ds, d2s, sin_psi, cos_psi, dg, d2g
         )
-    gas_force = (pressure - gas.crankcase_pressure) * gas.piston_area
-    inertia_force = layout.reciprocating_mass[:, None] * w2 * r * d2s
-    piston = gas_force + inertia_force
+    gas_force = piston_gas_force(pressure, gas)
+    inertia_force = crank_train.reciprocating_force(layout.reciprocating_mass[:, None], w2, r, d2s)
+    piston = crank_train.piston_force(inertia_force, gas_force)
     delta_i = layout.conrod_inertia_correction[:, None]
     # the couple that turns the rod's inertia beyond its two-mass model: a force across the
     # bore at the piston pin (and the opposite one at the rod's lower end)
-    couple_force = -delta_i * w2 * d2g / (length * cos_psi)
-    side = piston * sin_psi / cos_psi + couple_force
+    couple_force = crank_train.couple_side_force(
+        crank_train.rod_inertia_couple(delta_i, w2, d2g), length, cos_psi
+    )
+    side = crank_train.side_thrust(piston, sin_psi, cos_psi, couple_force)
     # virtual work: the pin force, the rod's spin energy and (link) the link pin's energy
-    tangential = -piston * ds - delta_i * w2 * dg * d2g / r
+    tangential = crank_train.tangential_force(piston, ds, delta_i, w2, dg, d2g, r)
     if layout.has_links:  # a link pin's kinetic energy changes: the crank supplies it
         tangential = tangential - w2 * r * pin_power
     # the rod's force on the crank pin, (N, -P) across and along the bore
-    radial = piston * np.cos(beta) - side * np.sin(beta)
+    radial = crank_train.radial_force(piston, side, beta)
     if layout.has_links:  # link rows: their share of the pin force; masters: every wall force
         side, radial = _link_rows(layout, theta, gas_force, side, radial)
-    rod = piston * cos_psi + side * sin_psi
+    rod = crank_train.rod_force(piston, side, sin_psi, cos_psi)
     cylinder_torque = tangential * r
     engine = cylinder_torque.sum(axis=0)
     inertia_roll = w2 * (
@@ -259,6 +271,51 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         flywheel_inertia=float(inertia),
         cycle_deg=cycle_deg,
     )
+
+
+def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
+    """Each cylinder's pressure table: cycle angle from firing TDC [deg] and absolute
+    pressure [Pa] (:func:`balance.core.gas.pressure_tables` of the engine's geometry, a link
+    piston's over its own travel, :func:`piston_travels`)."""
+    assert engine.gas is not None
+    return pressure_tables(
+        engine.gas,
+        engine.crank_radius,
+        engine.conrod_length,
+        engine.offset,
+        engine.cycle,
+        piston_travels(engine),
+    )
+
+
+def piston_travels(engine: Engine) -> list[PistonTravel | None]:
+    """Each link piston's travel against its cycle angle from its actual TDC
+    (:class:`balance.core.gas.PistonTravel`, for the gas model's volume); None for the other
+    cylinders."""
+    from balance.core.links import engine_geometry, link_dead_centres, link_motion
+
+    out: list[PistonTravel | None] = [None] * engine.n_cylinders
+    if not engine.has_links:
+        return out
+    geometry = engine_geometry(engine)
+    top, s_top, s_bottom = link_dead_centres(geometry)
+    cols = geometry.columns()
+    for row, j in enumerate(geometry.cylinder.tolist()):
+        params = tuple(float(c[row, 0]) for c in cols)
+        r = float(engine.crank_radius[j])
+
+        def position(
+            alpha_deg: FloatArray,
+            params: tuple[float, ...] = params,
+            start: float = float(top[row]),
+            r: float = r,
+        ) -> FloatArray:
+            return np.asarray(r * link_motion(start + np.radians(alpha_deg), *params).s)
+
+        out[j] = PistonTravel(
+            position, r * float(s_top[row]), r * float(s_bottom[row]), key=(*params, r)
+        )
+    return out
 
 
 def _link_rows(
