@@ -19,36 +19,35 @@ What is valid
   two nearest mains.
 
 Problems are raised as :class:`~balance.io.problems.FieldProblem` with the offending entry in
-``at`` (``("mains", j)``), so that :mod:`balance.io.layout_file` can name its line.
+``at`` (``("mains", j)``), so that the reader can name its line (:mod:`balance.io.located`).
+:data:`SECTION` is the section's entry in the reader's registry
+(:mod:`balance.io.layout_sections`): its model, its builder (the mains, checked against the
+engine's crank-pin planes) and its part of ``balance layout expand`` (the mains used).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Annotated
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
 
 from balance.core.engine import Engine
+from balance.io.layout_fields import written
+from balance.io.layout_sections import SectionReader
 from balance.io.problems import FieldProblem
-from balance.io.units import parse_quantity
+from balance.io.schema import Length, Strict
 
-#: A length with its unit (the schema's ``Length``; kept here so that the schema can import
-#: this section without an import cycle).
-Length = Annotated[float, BeforeValidator(lambda value: parse_quantity(value, "length"))]
-
-__all__ = ["PLANE_TOLERANCE", "BearingsSpec", "check_mains", "main_positions"]
+__all__ = ["PLANE_TOLERANCE", "SECTION", "BearingsSpec", "check_mains", "main_positions"]
 
 #: A main closer than this to a crank pin's plane is in that plane [m].
 PLANE_TOLERANCE = 1e-6
 
 
-class BearingsSpec(BaseModel):
+class BearingsSpec(Strict):
     """The ``bearings:`` section: positions of the main bearings along the crank (SI)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
 
     mains: list[Length] | None = Field(default=None, max_length=1024)
 
@@ -113,3 +112,19 @@ def check_mains(mains: Sequence[float], z: NDArray[np.float64]) -> NDArray[np.fl
 
 def _mm(value: float) -> str:
     return f"{value * 1e3:.6g} mm"
+
+
+def _build(spec: BearingsSpec, engine: Engine) -> tuple[float, ...]:
+    """The main positions [m] the engine's sections hold: the section's, checked against
+    the crank-pin planes, or the defaults for a section without ``mains``."""
+    return tuple(float(v) for v in main_positions(spec, engine))
+
+
+def _expand(section: Any, mains: tuple[float, ...]) -> dict[str, Any]:
+    """The section as ``layout expand`` writes it: the mains used (the section's, or the
+    defaults)."""
+    return {"mains": [written(z, "length") for z in mains]}
+
+
+#: The ``bearings:`` section's entry in the reader's registry.
+SECTION = SectionReader("bearings", BearingsSpec, _build, _expand)

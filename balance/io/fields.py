@@ -6,7 +6,9 @@ with what would be valid; the studies (:mod:`balance.studies`) receive checked n
 
 Fields
 ------
-Engine-wide fields set the value for every cylinder (replacing per-cylinder overrides):
+The fields, their unit kinds and the engine attributes they set are the rows of the one
+table of layout fields (:mod:`balance.io.layout_fields`).  Engine-wide fields set the
+value for every cylinder (replacing per-cylinder overrides):
 
 ========================================  =======  =====================================
 field                                     kind     meaning
@@ -55,7 +57,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core.errors import InputError
-from balance.core.masses import PART_FIELDS
+from balance.io.layout_fields import (
+    CYLINDER,
+    FIELDS,
+    GEOMETRY,
+    MASSES,
+    SI_UNITS,
+    layout_field,
+    placed,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.engine import Engine
@@ -200,37 +210,22 @@ def parse_speed(text: str | None, option: str = "--speed") -> float | None:
 # ---------------------------------------------------------------------------------------
 # the fields of --vary and --scatter
 
+# from the one table of layout fields (balance.io.layout_fields):
 # field name -> (Engine attribute, unit kind); "parts.X" is a MassParts array
 CYLINDER_FIELDS: dict[str, tuple[str, str]] = {
-    "throw": ("throw", "angle"),
-    "bank": ("bank", "angle"),
-    "z": ("z", "length"),
-    "stroke": ("crank_radius", "length"),
-    "crank_radius": ("crank_radius", "length"),
-    "conrod_length": ("conrod_length", "length"),
-    "offset": ("offset", "length"),
-    "reciprocating": ("reciprocating_mass", "mass"),
-    "rotating": ("rotating_mass", "mass"),
-    "piston_group": ("parts.piston_group", "mass"),
-    "conrod": ("parts.conrod", "mass"),
-    "conrod_cg_to_big_end": ("parts.conrod_cg_to_big_end", "length"),
-    "conrod_inertia": ("parts.conrod_inertia", "inertia"),
-    "crank_unbalance": ("parts.crank_unbalance", "mass"),
+    f.name: (f.attribute, f.kind) for f in FIELDS if f.per_cylinder and f.attribute is not None
 }
 # engine-wide: the speed, every per-cylinder field but the crank's own angles and
 # positions, and where moments are taken
 ENGINE_FIELDS: dict[str, tuple[str, str]] = {
-    "speed": ("speed", "speed"),
-    **{k: v for k, v in CYLINDER_FIELDS.items() if k not in {"throw", "bank", "z"}},
-    "reference_z": ("reference_z", "length"),
+    f.name: (f.attribute, f.kind) for f in FIELDS if f.place != CYLINDER and f.attribute is not None
 }
 # fields of every cylinder that only a scatter may move (a sweep sets them one at a time)
-_SCATTER_ONLY = {"throw", "bank", "z"}
+_SCATTER_ONLY = {f.name for f in placed(CYLINDER) if f.attribute is not None}
 _SECTION = {
-    "geometry": {"stroke", "crank_radius", "conrod_length", "offset"},
-    "masses": {"reciprocating", "rotating", *PART_FIELDS},
+    place: {f.name for f in placed(place) if f.attribute is not None}
+    for place in (GEOMETRY, MASSES)
 }
-_UNITS = {"speed": "rad/s", "length": "m", "mass": "kg", "angle": "deg", "inertia": "kg m^2"}
 _CYLINDER = re.compile(r"^cylinders(?:\[(\d+)\]|\.(\d+))\.([a-z_]+)$")
 #: Most grid points a sweep may have.
 MAX_POINTS = 10**12
@@ -268,16 +263,15 @@ class Field:
     @property
     def unit(self) -> str:
         """SI unit of the values (degrees for angles)."""
-        return _UNITS[self.kind]
+        return SI_UNITS[self.kind]
 
     def to_layout_units(self, values: ArrayLike) -> FloatArray:
         """Values in the unit of the Engine attribute (radians for angles, radius for stroke)."""
         v = np.asarray(values, dtype=np.float64)
         if self.kind == "angle":
             return np.radians(v)
-        if self.key == "stroke":
-            return v / 2
-        return v
+        to_attribute = layout_field(self.key).to_attribute
+        return v * to_attribute if to_attribute != 1.0 else v
 
 
 def _valid_fields() -> str:

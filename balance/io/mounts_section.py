@@ -7,12 +7,13 @@ dampings in ``N s/m``; a bare number other than 0 is refused, ``CONTRACT`` §3).
 section into a :class:`balance.core.mounts.MountSystem`.  :func:`load_mounts` reads a
 standalone mounts file (``--mounts FILE``): the section's keys at the top level, or the
 section under ``mounts:``.  Every problem is a :class:`~balance.core.errors.LayoutError`
-naming file, line, field and what would be valid.
+naming file, line, field and what would be valid (:mod:`balance.io.located`, as for every
+section).  :data:`SECTION` is the section's entry in the layout reader's registry
+(:mod:`balance.io.layout_sections`).
 """
 
 from __future__ import annotations
 
-import difflib
 import math
 import re
 from pathlib import Path
@@ -20,8 +21,9 @@ from typing import Annotated, Any
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import BaseModel, BeforeValidator, Field, ValidationError, model_validator
+from pydantic import BeforeValidator, Field, model_validator
 
+from balance.core.engine import Engine
 from balance.core.errors import LayoutError, raise_all
 from balance.core.mounts import (
     COORDINATES,
@@ -32,11 +34,15 @@ from balance.core.mounts import (
     normal_modes,
     stiffness_matrix,
 )
-from balance.io.schema import FieldProblem, Length, _kg_m2, _q, _Strict
+from balance.io.layout_sections import SectionReader
+from balance.io.located import Hints, validate
+from balance.io.problems import FieldProblem
+from balance.io.schema import Length, Strict, kg_m2, quantity
 from balance.io.units import UnitProblem, check_thousands, registry
-from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
+from balance.io.yamlsource import SourceDocument, parse_yaml, read_yaml_file
 
 __all__ = [
+    "SECTION",
     "InertiaSpec",
     "MountPointSpec",
     "MountsSpec",
@@ -44,7 +50,6 @@ __all__ = [
     "mount_system",
     "mounts_from_dict",
     "mounts_from_text",
-    "section_errors",
 ]
 
 #: Cosine of the angle between a mount's axes 1 and 2 above which they count as parallel.
@@ -128,8 +133,8 @@ def _kg(number: float) -> str:
     return "kg"
 
 
-Mass = Annotated[float, _q("mass", _kg)]
-Inertia = Annotated[float, _q("inertia", _kg_m2)]
+Mass = Annotated[float, quantity("mass", _kg)]
+Inertia = Annotated[float, quantity("inertia", kg_m2)]
 Stiffness = Annotated[float, BeforeValidator(_stiffness)]
 Damping = Annotated[float, BeforeValidator(_damping)]
 Point = Annotated[list[Length], Field(min_length=3, max_length=3)]
@@ -138,7 +143,7 @@ Direction = Annotated[list[float], Field(min_length=3, max_length=3)]
 FloatArray = NDArray[np.float64]
 
 
-class InertiaSpec(_Strict):
+class InertiaSpec(Strict):
     """Inertia tensor about the CG in engine axes [kg m^2]; ``xy`` is :math:`-\\int xy\\,dm`."""
 
     xx: Inertia
@@ -154,7 +159,7 @@ class InertiaSpec(_Strict):
         return inertia_tensor(self.xx, self.yy, self.zz, self.xy, self.xz, self.yz)
 
 
-class MountPointSpec(_Strict):
+class MountPointSpec(Strict):
     """One mount: position, stiffness (and damping) along its axes, and the axes."""
 
     position: Point
@@ -208,7 +213,7 @@ class MountPointSpec(_Strict):
         return np.array([e1, e2, np.cross(e1, e2)])
 
 
-class MountsSpec(_Strict):
+class MountsSpec(Strict):
     """The ``mounts:`` section (``CONTRACT`` §7)."""
 
     mass: Mass
@@ -353,71 +358,23 @@ def _from_document(doc: SourceDocument) -> MountSystem:
             raise LayoutError(
                 "expected a mapping", doc.location(prefix), field="mounts", valid=valid
             )
-    try:
-        spec = MountsSpec.model_validate(data)
-    except ValidationError as exc:
-        raise_all(section_errors(exc, doc, prefix))
-        raise  # pragma: no cover - a failed validation has at least one problem
+    spec, problems = validate(MountsSpec, data, doc, prefix, SECTION.hints)
+    raise_all(problems)
+    assert spec is not None
     return mount_system(spec)
 
 
-def section_errors(
-    exc: ValidationError, doc: SourceDocument, prefix: tuple[str | int, ...] = ()
-) -> list[LayoutError]:
-    """Every problem of a failed validation of a ``mounts:`` section, located.
-
-    Parameters
-    ----------
-    exc : ValidationError
-        From ``MountsSpec.model_validate``.
-    doc : SourceDocument
-        The document read (for lines and columns).
-    prefix : tuple
-        Path of the section in the document (``("mounts",)`` under a ``mounts:`` key).
-    """
-    return [_section_problem(err, doc, prefix) for err in exc.errors(include_url=False)]
+def _build(spec: MountsSpec, engine: Engine) -> MountSystem:
+    """The mount system the engine's sections hold (it needs nothing of the engine)."""
+    return mount_system(spec)
 
 
-def _section_problem(err: Any, doc: SourceDocument, prefix: tuple[str | int, ...]) -> LayoutError:
-    """One problem of a ``mounts:`` section, located."""
-    loc = prefix + tuple(
-        p for p in err["loc"] if isinstance(p, int) or not str(p).startswith("function-")
-    )
-    problem = (err.get("ctx") or {}).get("error")
-    kind = err["type"]
-    if kind == "extra_forbidden":
-        key = str(loc[-1])
-        names = list(_model_at(loc[len(prefix) : -1]).model_fields)
-        hint = difflib.get_close_matches(key, names, n=1)
-        valid = (f"did you mean '{hint[0]}'? " if hint else "") + f"valid keys: {', '.join(names)}"
-        return LayoutError(
-            f"unknown key '{key}'", doc.location(loc, key=True), dotted_path(loc), valid
-        )
-    if kind == "missing":
-        return LayoutError(
-            f"missing '{loc[-1]}'",
-            doc.location(loc[:-1]),
-            dotted_path(loc),
-            _MISSING.get(str(loc[-1]), f"add '{loc[-1]}'"),
-        )
-    if isinstance(problem, FieldProblem):
-        full = loc + problem.at
-        return LayoutError(
-            str(problem), doc.location(full), dotted_path(full) or None, problem.valid
-        )
-    if isinstance(problem, UnitProblem):
-        return LayoutError(str(problem), doc.location(loc), dotted_path(loc), problem.valid)
-    if kind in {"too_short", "too_long"}:
-        valid = "three values [x, y, z]" if loc and loc[-1] != "points" else "1 to 64 mounts"
-        if loc and loc[-1] == "axes":
-            valid = "two directions: [[axis 1], [axis 2]]"
-        given = err.get("input")
-        count = f"{len(given)} entries" if isinstance(given, list) else err["msg"]
-        return LayoutError(count, doc.location(loc), dotted_path(loc), valid)
-    return LayoutError(err["msg"], doc.location(loc), dotted_path(loc) or None)
+def _expand(section: Any, system: MountSystem) -> Any:
+    """The section as ``layout expand`` writes it: as the file wrote it (validated)."""
+    return section
 
 
-_MISSING = {
+_MISSING_HINTS = {
     "mass": "add the mass the mounts carry, e.g. 'mass: 160 kg'",
     "cg": "add the centre of gravity, e.g. 'cg: [0 mm, 60 mm, 140 mm]'",
     "inertia": "add the inertia about the CG, e.g. '{xx: 7.5 kg m^2, yy: 9 kg m^2, zz: 4 kg m^2}'",
@@ -430,11 +387,16 @@ _MISSING = {
 }
 
 
-def _model_at(path: tuple[str | int, ...]) -> type[BaseModel]:
-    model: type[BaseModel] = MountsSpec
-    for part in path:
-        if part == "inertia":
-            model = InertiaSpec
-        elif part == "points":
-            model = MountPointSpec
-    return model
+#: The ``mounts:`` section's entry in the layout reader's registry (and the hints of a
+#: mounts file's problems).
+SECTION = SectionReader(
+    "mounts",
+    MountsSpec,
+    _build,
+    _expand,
+    Hints(
+        missing=_MISSING_HINTS,
+        sizes={"points": "1 to 64 mounts", "axes": "two directions: [[axis 1], [axis 2]]"},
+        size="three values [x, y, z]",
+    ),
+)

@@ -1,25 +1,57 @@
-"""The layout file's schema (pydantic models over plain data).
+"""The layout file's schema (pydantic models over plain data) and its building blocks.
 
 Every quantity is read through :func:`balance.io.units.parse_quantity`, so after validation a
 model holds SI floats (degrees for angles); a dimensional quantity written as a bare number
-other than 0 is refused there, with the likely unit proposed (``CONTRACT`` §3).  These
-models are only the file's shape; the engine the physics sees is
-:class:`balance.io.layout_file.Layout`.
+other than 0 is refused there, with the likely unit proposed (docs/layout-format.md,
+"Quantities and units").  These models are only the file's shape; the engine the physics
+sees is built by :mod:`balance.io.layout_reader`.
+
+Two kinds of model are not written out field by field:
+
+- :class:`TableSpec`: the models of ``geometry:``, ``masses:`` and a cylinder's entry take
+  their fields, unit kinds, defaults and bounds from the one table of numeric fields
+  (:mod:`balance.io.layout_fields`), which the command line's ``--vary``/``--scatter``, the
+  studies and ``layout expand`` read too;
+- :class:`CoreSpec`: a section that is a dataclass of :mod:`balance.core` (``balance:`` and
+  its ``shafts:``, ``gas: model:``) takes its fields and defaults from that dataclass; the
+  model says only how the file writes each one (its unit kind, or its type).
+
+The concern sections that :attr:`balance.core.engine.Engine.sections` holds have their own
+modules (:mod:`balance.io.layout_sections`); a model of one is built from the blocks here
+(:class:`Strict`, :func:`quantity`, :func:`positive`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Annotated, Any, Literal
+import dataclasses
+import typing
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from balance.io.bearings_section import BearingsSpec
+from balance.core.engine import STRATEGIES, BalanceSettings, ShaftPosition
+from balance.core.gas import GasModel
+from balance.io.layout_fields import (
+    CYLINDER,
+    GEOMETRY,
+    LUMPED_KEYS,
+    MASS_KEYS,
+    MASSES,
+    PART_KEYS,
+    REQUIRED,
+    LayoutField,
+    entry_fields,
+    placed,
+)
+from balance.io.located import Hints
 from balance.io.problems import FieldProblem
-from balance.io.units import parse_quantity
+from balance.io.units import UnitProblem, parse_quantity, registry
 
 __all__ = [
-    "BalanceSettings",
+    "LAYOUT_HINTS",
+    "BalanceSpec",
+    "CoreSpec",
     "CrankSpec",
     "CylinderSpec",
     "FieldProblem",
@@ -31,34 +63,13 @@ __all__ = [
     "LinkSpec",
     "MassesSpec",
     "ShaftSpec",
+    "Strict",
+    "TableSpec",
+    "exactly_one",
+    "kg_m2",
+    "positive",
+    "quantity",
 ]
-
-
-def _q(kind: str, likely: Callable[[float], str] | None = None) -> BeforeValidator:
-    """A quantity of unit kind ``kind``; ``likely`` proposes the unit of a bare number
-    (default :func:`balance.io.units.likely_unit`)."""
-    return BeforeValidator(lambda value: parse_quantity(value, kind, likely))
-
-
-def _kg_m2(number: float) -> str:
-    """The unit proposed for a bare moment of inertia of a whole body (a flywheel, a
-    powertrain on its mounts): kg m^2 at any size."""
-    return "kg m^2"
-
-
-Length = Annotated[float, _q("length")]
-Mass = Annotated[float, _q("mass")]
-Angle = Annotated[float, _q("angle")]
-Speed = Annotated[float, _q("speed")]
-Fraction = Annotated[float, _q("fraction")]
-OptLength = Annotated[float | None, _q("length")]
-OptMass = Annotated[float | None, _q("mass")]
-OptInertia = Annotated[float | None, _q("inertia")]
-OptBodyInertia = Annotated[float | None, _q("inertia", _kg_m2)]
-OptAngle = Annotated[float | None, _q("angle")]
-Pressure = Annotated[float, _q("pressure")]
-OptPressure = Annotated[float | None, _q("pressure")]
-OptFraction = Annotated[float | None, _q("fraction")]
 
 
 def _energy(value: Any) -> float | None:
@@ -66,8 +77,6 @@ def _energy(value: Any) -> float | None:
     with the likely unit proposed (J from 100 on, kJ below)."""
     if value is None:
         return None
-    from balance.io.units import UnitProblem, registry
-
     valid = "give the heat released per cylinder and cycle with a unit, e.g. '1.6 kJ'"
     if isinstance(value, bool) or not isinstance(value, int | float | str):
         raise UnitProblem(f"expected an energy, got {value!r}", valid)
@@ -93,26 +102,61 @@ def _energy(value: Any) -> float | None:
     return number
 
 
-OptEnergy = Annotated[float | None, BeforeValidator(_energy)]
+def quantity(kind: str, likely: Callable[[float], str] | None = None) -> BeforeValidator:
+    """The validator of a quantity of unit kind ``kind``, read with its unit into SI.
+
+    Parameters
+    ----------
+    kind : str
+        A kind of :data:`balance.io.units.KINDS`, or ``"energy"`` [J].
+    likely : callable, optional
+        Proposes the unit of a bare number (default
+        :func:`balance.io.units.likely_unit`).
+
+    Returns
+    -------
+    pydantic.BeforeValidator
+        For ``Annotated[float, quantity("length")]``.
+    """
+    if kind == "energy":
+        return BeforeValidator(_energy)
+    return BeforeValidator(lambda value: parse_quantity(value, kind, likely))
 
 
-class _Strict(BaseModel):
+def kg_m2(number: float) -> str:
+    """The unit proposed for a bare moment of inertia of a whole body (a flywheel, a
+    powertrain on its mounts): kg m^2 at any size."""
+    return "kg m^2"
+
+
+Length = Annotated[float, quantity("length")]
+Angle = Annotated[float, quantity("angle")]
+Speed = Annotated[float, quantity("speed")]
+OptLength = Annotated[float | None, quantity("length")]
+OptBodyInertia = Annotated[float | None, quantity("inertia", kg_m2)]
+Pressure = Annotated[float, quantity("pressure")]
+OptFraction = Annotated[float | None, quantity("fraction")]
+
+
+class Strict(BaseModel):
+    """A model of a part of an input file: unknown keys refused, values frozen."""
+
     model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
 
 
-GEOMETRY_KEYS = ("stroke", "crank_radius", "conrod_length", "offset")
-LUMPED_KEYS = ("reciprocating", "rotating")
-PART_KEYS = (
-    "piston_group",
-    "conrod",
-    "conrod_cg_to_big_end",
-    "conrod_inertia",
-    "crank_unbalance",
-)
-MASS_KEYS = LUMPED_KEYS + PART_KEYS
+def positive(value: float | None, name: str, allow_zero: bool = False) -> None:
+    """Raise a :class:`FieldProblem` at ``name`` unless ``value`` is None or above zero (zero
+    or more with ``allow_zero``).
 
-
-def _positive(value: float | None, name: str, allow_zero: bool = False) -> None:
+    Parameters
+    ----------
+    value : float or None
+        The value [any unit].
+    name : str
+        The field's key.
+    allow_zero : bool
+        Whether zero is valid.
+    """
     if value is None:
         return
     if value < 0 or (value == 0 and not allow_zero):
@@ -120,7 +164,7 @@ def _positive(value: float | None, name: str, allow_zero: bool = False) -> None:
         raise FieldProblem(f"{name} is {value:g}", f"{name} must be {need}", (name,))
 
 
-def _exactly_one(
+def exactly_one(
     spec: BaseModel, first: str, second: str, example: str, *, at: str = "", what: str = ""
 ) -> None:
     """Raise unless exactly one of the fields ``first`` and ``second`` of ``spec`` is given.
@@ -137,46 +181,146 @@ def _exactly_one(
         )
 
 
-class GeometrySpec(_Strict):
-    """Engine-wide crank-slider geometry (SI)."""
+def _add_fields(cls: type, fields: Mapping[str, tuple[Any, Any]]) -> None:
+    """Give a model class being created the fields ``{name: (annotation, default)}``, before
+    the ones its body declares (pydantic reads the class's annotations after
+    ``__init_subclass__``; :data:`REQUIRED`: no default)."""
+    own = dict(cls.__annotations__)
+    cls.__annotations__.clear()
+    for name, (annotation, default) in fields.items():
+        cls.__annotations__[name] = annotation
+        if default is not REQUIRED:
+            setattr(cls, name, default)
+    cls.__annotations__.update(own)
 
-    stroke: OptLength = None
-    crank_radius: OptLength = None
-    conrod_length: Length
-    offset: Length = 0.0
-    bore: OptLength = None
+
+class TableSpec(Strict):
+    """A model whose numeric fields are rows of the table of layout fields
+    (:data:`balance.io.layout_fields.FIELDS`): ``class GeometrySpec(TableSpec,
+    rows=placed(GEOMETRY))``.
+
+    Each row becomes a field of its unit kind, with the row's default (None where the row
+    is an override in a cylinder's entry, ``entry=True``); :meth:`check_bounds` checks
+    the rows' bounds.
+    """
+
+    rows: ClassVar[tuple[LayoutField, ...]] = ()
+
+    def __init_subclass__(
+        cls, rows: Sequence[LayoutField] = (), entry: bool = False, **kwargs: Any
+    ) -> None:
+        super().__init_subclass__(**kwargs)
+        fields = {}
+        for row in rows:
+            default = row.default if not entry or row.place == CYLINDER else None
+            optional = default is None
+            annotation = float | None if optional else float
+            fields[row.name] = (Annotated[annotation, quantity(row.kind)], default)
+        _add_fields(cls, fields)
+        cls.rows = tuple(rows)
+
+    if TYPE_CHECKING:  # the rows' fields: floats [SI] or None
+
+        def __getattr__(self, name: str) -> Any: ...
+
+    def check_bounds(self) -> None:
+        """Raise a :class:`FieldProblem` at the first field (in the file's order) below
+        its row's bound (more than zero, or zero or more)."""
+        for row in self.rows:
+            if row.minimum is not None:
+                positive(getattr(self, row.name), row.name, row.minimum == "non-negative")
+
+    def overrides(self, keys: tuple[str, ...]) -> dict[str, float]:
+        """The values among ``keys`` that this model gives (not None)."""
+        return {k: getattr(self, k) for k in keys if getattr(self, k) is not None}
+
+
+class CoreSpec(Strict):
+    """A model of a section that is a dataclass of :mod:`balance.core`: ``class
+    BalanceSpec(CoreSpec, core=BalanceSettings, kinds={...}, types={...})``.
+
+    Its fields are the dataclass's, in its order and with its defaults; ``kinds`` names
+    the unit kind of each quantity (read with its unit, written by ``layout expand`` in
+    the kind's unit), ``types`` the file's type of a field whose type is not the
+    dataclass's (a list for a tuple, the allowed texts for a string, a nested model).
+    :meth:`to_core` gives the dataclass.
+    """
+
+    core_type: ClassVar[type | None] = None
+    core_kinds: ClassVar[Mapping[str, str]] = {}
+
+    def __init_subclass__(
+        cls,
+        core: type | None = None,
+        kinds: Mapping[str, str] | None = None,
+        types: Mapping[str, Any] | None = None,
+        **kwargs: Any,
+    ) -> None:
+        super().__init_subclass__(**kwargs)
+        if core is None:
+            return
+        kinds, types = dict(kinds or {}), dict(types or {})
+        hints = typing.get_type_hints(core)
+        fields = {}
+        for f in dataclasses.fields(core):
+            if f.name in types:
+                annotation = types[f.name]
+            elif f.name in kinds:
+                annotation = Annotated[hints[f.name], quantity(kinds[f.name])]
+            else:
+                annotation = hints[f.name]
+            default = REQUIRED if f.default is dataclasses.MISSING else f.default
+            fields[f.name] = (annotation, default)
+        stray = (set(kinds) | set(types)) - set(fields)
+        if stray:
+            raise TypeError(f"{cls.__name__}: {core.__name__} has no field {sorted(stray)}")
+        _add_fields(cls, fields)
+        cls.core_type = core
+        cls.core_kinds = kinds
+
+    if TYPE_CHECKING:  # the dataclass's fields
+
+        def __getattr__(self, name: str) -> Any: ...
+
+    def to_core(self) -> Any:
+        """The dataclass of :mod:`balance.core` this section is (lists as tuples, nested
+        sections as their dataclasses)."""
+        assert self.core_type is not None
+        names = [f.name for f in dataclasses.fields(self.core_type)]
+        return self.core_type(**{name: _core_value(getattr(self, name)) for name in names})
+
+
+def _core_value(value: Any) -> Any:
+    if isinstance(value, CoreSpec):
+        return value.to_core()
+    if isinstance(value, list):
+        return tuple(_core_value(v) for v in value)
+    return value
+
+
+class GeometrySpec(TableSpec, rows=placed(GEOMETRY)):
+    """Engine-wide crank-slider geometry (SI)."""
 
     @model_validator(mode="after")
     def _check(self) -> GeometrySpec:
-        _exactly_one(
+        exactly_one(
             self,
             "stroke",
             "crank_radius",
             "for example 'stroke: 86 mm' (crank_radius is half the stroke)",
             at="stroke",
         )
-        _positive(self.stroke, "stroke")
-        _positive(self.crank_radius, "crank_radius")
-        _positive(self.conrod_length, "conrod_length")
-        _positive(self.bore, "bore")
+        self.check_bounds()
         return self
 
     @property
     def radius(self) -> float:
         """Crank radius [m]."""
-        return self.crank_radius if self.crank_radius is not None else self.stroke / 2  # type: ignore[operator]
+        return self.crank_radius if self.crank_radius is not None else self.stroke / 2
 
 
-class MassesSpec(_Strict):
+class MassesSpec(TableSpec, rows=placed(MASSES)):
     """Engine-wide masses per cylinder, lumped or by part (SI)."""
-
-    reciprocating: OptMass = None
-    rotating: OptMass = None
-    piston_group: OptMass = None
-    conrod: OptMass = None
-    conrod_cg_to_big_end: OptLength = None
-    conrod_inertia: OptInertia = None
-    crank_unbalance: OptMass = None
 
     @model_validator(mode="after")
     def _check(self) -> MassesSpec:
@@ -205,13 +349,7 @@ class MassesSpec(_Strict):
                         f"missing '{key}'",
                         "masses by part need piston_group, conrod and conrod_cg_to_big_end",
                     )
-        _positive(self.reciprocating, "reciprocating")
-        _positive(self.rotating, "rotating", allow_zero=True)
-        _positive(self.piston_group, "piston_group")
-        _positive(self.conrod, "conrod")
-        _positive(self.conrod_cg_to_big_end, "conrod_cg_to_big_end", allow_zero=True)
-        _positive(self.conrod_inertia, "conrod_inertia")
-        _positive(self.crank_unbalance, "crank_unbalance", allow_zero=True)
+        self.check_bounds()
         return self
 
     @property
@@ -220,15 +358,16 @@ class MassesSpec(_Strict):
         return self.piston_group is not None
 
 
-class LinkSpec(_Strict):
-    """A cylinder's ``link:`` entry: its rod hangs on another cylinder's rod (CONTRACT §5).
+class LinkSpec(Strict):
+    """A cylinder's ``link:`` entry: its rod hangs on another cylinder's rod
+    (docs/layout-format.md, "Articulated rods").
 
     ``master`` is that cylinder's number (1-based, in file order); ``pin_radius`` the
     distance from the crank-pin centre to the link-pin centre on the master rod;
     ``pin_angle`` the direction of that line from the master rod's centre line (big end to
     small end) in the sense of bank angles; ``length`` the link rod's length, link pin to
     piston pin.  The checks that need the other cylinders are in
-    :mod:`balance.io.layout_file`.
+    :mod:`balance.io.layout_reader`.
     """
 
     master: int
@@ -245,37 +384,20 @@ class LinkSpec(_Strict):
                 "link rod",
                 ("master",),
             )
-        _positive(self.pin_radius, "pin_radius", allow_zero=True)
-        _positive(self.length, "length")
+        positive(self.pin_radius, "pin_radius", allow_zero=True)
+        positive(self.length, "length")
         return self
 
 
-class CylinderSpec(_Strict):
-    """One cylinder of the explicit form, with optional per-cylinder overrides."""
+class CylinderSpec(TableSpec, rows=entry_fields(), entry=True):
+    """One cylinder of the explicit form (``throw`` or ``tdc``, ``bank``, ``z``), with
+    optional overrides of ``geometry:`` and ``masses:`` and an articulated rod's ``link``."""
 
-    throw: OptAngle = None
-    tdc: OptAngle = None
-    bank: Angle = 0.0
-    z: Length
-    # geometry overrides
-    stroke: OptLength = None
-    crank_radius: OptLength = None
-    conrod_length: OptLength = None
-    offset: OptLength = None
-    # mass overrides
-    reciprocating: OptMass = None
-    rotating: OptMass = None
-    piston_group: OptMass = None
-    conrod: OptMass = None
-    conrod_cg_to_big_end: OptLength = None
-    conrod_inertia: OptInertia = None
-    crank_unbalance: OptMass = None
-    # articulated rod (CONTRACT §5)
     link: LinkSpec | None = None
 
     @model_validator(mode="after")
     def _check(self) -> CylinderSpec:
-        _exactly_one(
+        exactly_one(
             self,
             "throw",
             "tdc",
@@ -287,18 +409,7 @@ class CylinderSpec(_Strict):
                 "crank_radius is half the stroke",
                 ("crank_radius",),
             )
-        for key in (
-            "stroke",
-            "crank_radius",
-            "conrod_length",
-            "reciprocating",
-            "piston_group",
-            "conrod",
-            "conrod_inertia",
-        ):
-            _positive(getattr(self, key), key)
-        for key in ("rotating", "crank_unbalance", "conrod_cg_to_big_end"):
-            _positive(getattr(self, key), key, allow_zero=True)
+        self.check_bounds()
         return self
 
     @property
@@ -306,14 +417,10 @@ class CylinderSpec(_Strict):
         """Throw angle [deg], from ``throw`` or from ``bank - tdc``."""
         if self.throw is not None:
             return self.throw
-        return self.bank - self.tdc  # type: ignore[operator]
-
-    def overrides(self, keys: tuple[str, ...]) -> dict[str, float]:
-        """The override values among ``keys`` that this cylinder gives."""
-        return {k: getattr(self, k) for k in keys if getattr(self, k) is not None}
+        return self.bank - self.tdc
 
 
-class CrankSpec(_Strict):
+class CrankSpec(Strict):
     """Compact form: throws, spacing and banks, expanded to the explicit cylinder list."""
 
     throws: list[Angle] = Field(min_length=1, max_length=256)
@@ -357,32 +464,40 @@ def _speed_ratio(value: Any) -> int:
     return int(value)
 
 
-class ShaftSpec(_Strict):
-    """One entry of ``balance: shafts:``: a balance shaft the design has room for (SI).
+class ShaftSpec(
+    CoreSpec,
+    core=ShaftPosition,
+    kinds={"x": "length", "y": "length"},
+    types={"speed_ratio": Annotated[int, BeforeValidator(_speed_ratio)]},
+):
+    """One entry of ``balance: shafts:``: a balance shaft the design has room for
+    (:class:`balance.core.engine.ShaftPosition`; SI).
 
     ``x`` and ``y`` locate its axis in the transverse plane; a coordinate left out is the
     proposal's to choose.
     """
 
-    speed_ratio: Annotated[int, BeforeValidator(_speed_ratio)]
-    x: OptLength = None
-    y: OptLength = None
 
-
-class BalanceSettings(_Strict):
-    """The ``balance:`` section: settings for the balancing proposal."""
-
-    counterweight_radius: OptLength = None
-    balance_factor: Annotated[float | None, _q("fraction")] = None
-    orders: list[int] | None = None
-    strategy: Literal["per-throw", "two-plane"] = "two-plane"
-    shafts: list[ShaftSpec] | None = Field(default=None, min_length=1, max_length=64)
+class BalanceSpec(
+    CoreSpec,
+    core=BalanceSettings,
+    kinds={"counterweight_radius": "length", "balance_factor": "fraction"},
+    types={
+        "orders": list[int] | None,
+        # the allowed texts in the order the messages have always listed them
+        "strategy": Literal[tuple(sorted(STRATEGIES))],
+        "shafts": Annotated[list[ShaftSpec] | None, Field(min_length=1, max_length=64)],
+    },
+):
+    """The ``balance:`` section: settings for the balancing proposal
+    (:class:`balance.core.engine.BalanceSettings`)."""
 
     @model_validator(mode="after")
-    def _check(self) -> BalanceSettings:
-        _positive(self.counterweight_radius, "counterweight_radius")
-        for j, shaft in enumerate(self.shafts or ()):
-            if any(other.speed_ratio == shaft.speed_ratio for other in (self.shafts or ())[:j]):
+    def _check(self) -> BalanceSpec:
+        positive(self.counterweight_radius, "counterweight_radius")
+        shafts = self.shafts or ()
+        for j, shaft in enumerate(shafts):
+            if any(other.speed_ratio == shaft.speed_ratio for other in shafts[:j]):
                 raise FieldProblem(
                     f"a second shaft at speed ratio {shaft.speed_ratio:+d}",
                     "give one shaft per speed ratio (a shaft's eccentrics may sit in two planes)",
@@ -399,27 +514,27 @@ class BalanceSettings(_Strict):
         return self
 
 
-class GasModelSpec(_Strict):
-    """``gas: model:``: a parametric cylinder pressure (polytropes and a Wiebe heat release).
+class GasModelSpec(
+    CoreSpec,
+    core=GasModel,
+    kinds={
+        "intake_pressure": "pressure",
+        "exhaust_pressure": "pressure",
+        "combustion_start": "angle",
+        "combustion_duration": "angle",
+        "heat_released": "energy",
+        "peak_pressure": "pressure",
+    },
+):
+    """``gas: model:``: a parametric cylinder pressure (polytropes and a Wiebe heat release;
+    :class:`balance.core.gas.GasModel`).
 
     See :mod:`balance.core.gas` for the equations.  Angles are crank angles from firing TDC.
     """
 
-    compression_ratio: float
-    intake_pressure: Pressure = 1.0e5
-    exhaust_pressure: Pressure = 1.1e5
-    polytropic_compression: float = 1.35
-    polytropic_expansion: float = 1.28
-    combustion_start: Angle = -15.0
-    combustion_duration: Angle = 55.0
-    wiebe_a: float = 5.0
-    wiebe_m: float = 2.0
-    heat_released: OptEnergy = None
-    peak_pressure: OptPressure = None
-
     @model_validator(mode="after")
     def _check(self) -> GasModelSpec:
-        _exactly_one(
+        exactly_one(
             self,
             "heat_released",
             "peak_pressure",
@@ -439,7 +554,7 @@ class GasModelSpec(_Strict):
                     f"{key} is {value:g}", "a polytropic exponent above 1 and below 2", (key,)
                 )
         for key in ("intake_pressure", "exhaust_pressure"):
-            _positive(getattr(self, key), key)
+            positive(getattr(self, key), key)
         if not 0.0 < self.combustion_duration <= 180.0:
             raise FieldProblem(
                 f"combustion_duration is {self.combustion_duration:g} deg",
@@ -464,7 +579,7 @@ class GasModelSpec(_Strict):
             )
         if not self.wiebe_m > -1:
             raise FieldProblem(f"wiebe_m is {self.wiebe_m:g}", "more than -1, e.g. 2", ("wiebe_m",))
-        _positive(self.heat_released, "heat_released")
+        positive(self.heat_released, "heat_released")
         if self.peak_pressure is not None and not self.peak_pressure > self.intake_pressure:
             raise FieldProblem(
                 f"peak_pressure {self.peak_pressure / 1e5:g} bar is not above the intake pressure",
@@ -474,7 +589,7 @@ class GasModelSpec(_Strict):
         return self
 
 
-class GasSpec(_Strict):
+class GasSpec(Strict):
     """The ``gas:`` section: cylinder pressure for the gas forces and the torque."""
 
     pressure_trace: str | None = Field(default=None, min_length=1, max_length=1000)
@@ -484,19 +599,19 @@ class GasSpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> GasSpec:
-        _exactly_one(
+        exactly_one(
             self,
             "pressure_trace",
             "model",
             "pressure_trace: a CSV file of crank angle [deg from firing TDC] and absolute "
             "pressure; or model: {compression_ratio: ..., peak_pressure: ...}",
         )
-        _positive(self.crankcase_pressure, "crankcase_pressure", allow_zero=True)
-        _positive(self.bore, "bore")
+        positive(self.crankcase_pressure, "crankcase_pressure", allow_zero=True)
+        positive(self.bore, "bore")
         return self
 
 
-class FlywheelSpec(_Strict):
+class FlywheelSpec(Strict):
     """The ``flywheel:`` section: an inertia to check, or a speed fluctuation to size one."""
 
     inertia: OptBodyInertia = None
@@ -504,13 +619,13 @@ class FlywheelSpec(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> FlywheelSpec:
-        _exactly_one(
+        exactly_one(
             self,
             "inertia",
             "speed_fluctuation",
             "for example '{inertia: 0.12 kg m^2}' or '{speed_fluctuation: 1 %}'",
         )
-        _positive(self.inertia, "inertia")
+        positive(self.inertia, "inertia")
         if self.speed_fluctuation is not None and not 0.0 < self.speed_fluctuation < 1.0:
             raise FieldProblem(
                 f"speed_fluctuation is {self.speed_fluctuation:.4g} "
@@ -521,8 +636,9 @@ class FlywheelSpec(_Strict):
         return self
 
 
-class LayoutSpec(_Strict):
-    """A whole layout file."""
+class LayoutSpec(Strict):
+    """A whole layout file but its concern sections (:mod:`balance.io.layout_sections`),
+    which their own models read."""
 
     name: str = Field(min_length=1, max_length=200)
     description: str | None = None
@@ -536,17 +652,13 @@ class LayoutSpec(_Strict):
     reference_z: OptLength = None
     pitch: OptLength = None
     firing_order: list[int] | None = None
-    balance: BalanceSettings | None = None
+    balance: BalanceSpec | None = None
     gas: GasSpec | None = None
     flywheel: FlywheelSpec | None = None
-    # validated by balance.io.mounts_section.MountsSpec in balance.io.layout_file (that
-    # module reads this one, so the model cannot be named here without an import cycle)
-    mounts: dict[str, Any] | None = None
-    bearings: BearingsSpec | None = None
 
     @model_validator(mode="after")
     def _check(self) -> LayoutSpec:
-        _exactly_one(
+        exactly_one(
             self,
             "cylinders",
             "crank",
@@ -557,7 +669,7 @@ class LayoutSpec(_Strict):
             raise FieldProblem(
                 f"speed is {self.speed:g} rad/s", "speed must be more than zero", ("speed",)
             )
-        _positive(self.pitch, "pitch")
+        positive(self.pitch, "pitch")
         if self.flywheel is not None and self.gas is None:
             raise FieldProblem(
                 "'flywheel' needs a 'gas' section",
@@ -571,3 +683,34 @@ class LayoutSpec(_Strict):
                 ("gas",),
             )
         return self
+
+
+#: What the layout file proposes for a missing key and a value of the wrong type.
+LAYOUT_HINTS = Hints(
+    missing={
+        "name": "add a name, e.g. 'name: Inline-4, flat crank'",
+        "speed": "add the crank speed, e.g. 'speed: 6000 rpm'",
+        "geometry": "add geometry with stroke (or crank_radius) and conrod_length",
+        "masses": "add masses: reciprocating and rotating (or the parts)",
+        "conrod_length": "add conrod_length, e.g. '143 mm'",
+        "z": "add the axial position of the throw plane, e.g. 'z: 91 mm'",
+        "throws": "add the throw angles, e.g. 'throws: [0, 180, 180, 0]'",
+        "speed_ratio": "add the shaft's speed over crank speed, e.g. 'speed_ratio: 2'",
+        "master": "add the master cylinder's number, e.g. 'master: 1'",
+        "pin_radius": "add the link pin's distance from the crank-pin centre, e.g. '46 mm'",
+        "pin_angle": "add the link pin's direction from the master rod's centre line, e.g. "
+        "'72 deg' (usually this cylinder's bank minus the master's)",
+        "length": "add the link rod's length, link pin to piston pin, e.g. '230 mm'",
+    },
+    types={
+        "cylinders": "a list of cylinders, each {throw: ..., bank: ..., z: ...}",
+        "geometry": "a mapping with stroke (or crank_radius), conrod_length and offset",
+        "masses": "a mapping with reciprocating and rotating (or the parts)",
+        "throws": "a list of angles, e.g. [0, 180, 180, 0]",
+        "banks": "a list of angles, e.g. [-45 deg, 45 deg]",
+        "firing_order": "a list of cylinder numbers, e.g. [1, 3, 4, 2]",
+        "master": "the number (1-based, in file order) of the cylinder whose rod carries this "
+        "link rod, e.g. 'master: 1'",
+        "link": "a mapping {master: 1, pin_radius: 46 mm, pin_angle: 72 deg, length: 230 mm}",
+    },
+)

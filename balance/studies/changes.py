@@ -1,6 +1,7 @@
 """Changing fields of an engine: one set of rules for variants, sweep grids and samples.
 
-A study changes some fields (:class:`balance.io.fields.Field`) of an :class:`Engine` and
+A study changes some fields (:class:`balance.io.fields.Field`, rows of the table of layout
+fields :data:`balance.io.layout_fields.FIELDS`) of an :class:`Engine` and
 expects the engine that loading the layout file with those values written in would give:
 
 1. the speed and ``reference_z`` are set as they are;
@@ -30,6 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.io.fields import Field
+from balance.io.layout_fields import CYLINDER, FIELDS, GEOMETRY
 
 __all__ = [
     "LINK_GEOMETRY",
@@ -43,7 +45,7 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 #: The lumped-mass attributes of an :class:`Engine`: set after any re-lumping.
-LUMPED = frozenset({"reciprocating_mass", "rotating_mass"})
+LUMPED = frozenset(f.attribute for f in FIELDS if f.group == "lumped")
 
 #: A change: the field and its value in the unit of the Engine attribute (radians for
 #: angles, the crank radius for a stroke; :meth:`Field.to_layout_units`).  The value of a
@@ -131,10 +133,13 @@ def apply_changes(
     return replace(engine, **new)
 
 
-#: Fields that move the kinematics of an engine with link rods (its geometry).
-LINK_GEOMETRY = frozenset({"throw", "bank", "z", "crank_radius", "conrod_length", "offset"})
+#: Fields that move the kinematics of an engine with link rods (its geometry: the
+#: attributes of each cylinder's own fields and of ``geometry:``).
+LINK_GEOMETRY = frozenset(
+    f.attribute for f in FIELDS if f.place in (CYLINDER, GEOMETRY) and f.attribute is not None
+)
 #: Rod parts whose engine-wide value the layout file gives the master rods only.
-_ROD_PARTS = frozenset({"parts.conrod", "parts.conrod_cg_to_big_end", "parts.conrod_inertia"})
+_ROD_PARTS = frozenset(f.attribute for f in FIELDS if f.group == "rod")
 
 
 def check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:

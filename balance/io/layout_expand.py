@@ -1,0 +1,212 @@
+"""The layout writer: ``balance layout expand``, a layout in the explicit form.
+
+:func:`expand_layout` reads a layout (:mod:`balance.io.layout_reader`) and writes it back
+as YAML with one entry per cylinder: the compact ``crank:`` form expanded, every throw
+given (``tdc`` converted), and every other section as validated, in SI values written with
+the units of the table of fields (:mod:`balance.io.layout_fields`), ten significant digits.
+Each concern section writes its own part (:mod:`balance.io.layout_sections`).  The format
+is in docs/layout-format.md, "Seeing the expansion".
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+from typing import Any
+
+from balance.core.engine import Engine
+from balance.io.layout_fields import layout_field, written
+from balance.io.layout_reader import build_layout, cylinder_entries, read_document
+from balance.io.layout_sections import section_reader
+from balance.io.schema import CoreSpec, GasSpec
+
+__all__ = ["expand_layout"]
+
+
+def expand_layout(source: str | Path) -> str:
+    """The layout written in the explicit form (one entry per cylinder), as YAML text.
+
+    Compact forms are expanded; throws are given (``tdc`` is converted); every other
+    section is kept as validated, in SI values with units.
+
+    Parameters
+    ----------
+    source : str or path-like
+        A layout file, or the name of a built-in layout.
+
+    Returns
+    -------
+    str
+        YAML, headed by a comment naming the layout (and, for an engine with link rods,
+        followed by comments with each cylinder's actual stroke and TDC).
+
+    Raises
+    ------
+    LayoutError
+        If the layout is not valid (as :func:`balance.io.layout_reader.load_layout`).
+    """
+    import yaml
+
+    doc = read_document(source)
+    spec, layout = build_layout(doc)
+    cylinders, _ = cylinder_entries(spec)
+    out: dict[str, Any] = {"name": spec.name}
+    if spec.description:
+        out["description"] = spec.description
+    if spec.source:
+        out["source"] = spec.source
+    out["speed"] = written(spec.speed, "speed")
+    out["cycle"] = spec.cycle
+    geometry: dict[str, str] = {}
+    g = spec.geometry
+    if g.stroke is not None:
+        geometry["stroke"] = _written("stroke", g.stroke)
+    else:
+        geometry["crank_radius"] = _written("crank_radius", g.radius)
+    if g.bore is not None:
+        geometry["bore"] = _written("bore", g.bore)
+    geometry["conrod_length"] = _written("conrod_length", g.conrod_length)
+    geometry["offset"] = _written("offset", g.offset)
+    out["geometry"] = geometry
+    out["masses"] = _fields_dict(spec.masses.model_dump(exclude_none=True))
+    entries = []
+    for cyl in cylinders:
+        entry: dict[str, Any] = {
+            "throw": _written("throw", _wrap_deg(cyl.throw_angle)),
+            "bank": _written("bank", cyl.bank),
+            "z": _written("z", cyl.z),
+        }
+        over = cyl.model_dump(exclude_none=True, exclude={"throw", "tdc", "bank", "z", "link"})
+        entry.update(_fields_dict(over))
+        if cyl.link is not None:
+            entry["link"] = {
+                "master": int(cyl.link.master),
+                "pin_radius": written(cyl.link.pin_radius, "length"),
+                "pin_angle": written(cyl.link.pin_angle, "angle"),
+                "length": written(cyl.link.length, "length"),
+            }
+        entries.append(entry)
+    out["cylinders"] = entries
+    out["reference_z"] = _written("reference_z", layout.reference_z)
+    if math.isfinite(layout.pitch):
+        out["pitch"] = written(layout.pitch, "length")
+    if layout.firing_order:
+        out["firing_order"] = list(layout.firing_order)
+    if spec.balance is not None:
+        out["balance"] = _core_dict(spec.balance)
+    if spec.gas is not None:
+        out["gas"] = _gas_dict(spec.gas, layout.path)
+    if spec.flywheel is not None:
+        fly: dict[str, str] = {}
+        if spec.flywheel.inertia is not None:
+            fly["inertia"] = written(spec.flywheel.inertia, "inertia")
+        if spec.flywheel.speed_fluctuation is not None:
+            fly["speed_fluctuation"] = written(spec.flywheel.speed_fluctuation, "fraction")
+        out["flywheel"] = fly
+    for key, value in layout.sections.items():  # each concern section writes its own
+        out[key] = section_reader(key).expand(doc.data[key], value)
+
+    class _Dumper(yaml.SafeDumper):
+        pass
+
+    def _flow_dict(dumper: yaml.SafeDumper, data: dict[str, Any]) -> Any:
+        flow = ("throw" in data or "master" in data or "speed_ratio" in data) and all(
+            not isinstance(v, list) and (not isinstance(v, dict) or "master" in v)
+            for v in data.values()
+        )
+        return dumper.represent_mapping("tag:yaml.org,2002:map", data, flow_style=flow)
+
+    _Dumper.add_representer(dict, _flow_dict)
+    header = f"# {spec.name}: explicit form"
+    if layout.path:
+        header += f" of {layout.path}"
+    return (
+        header
+        + "\n"
+        + yaml.dump(out, Dumper=_Dumper, sort_keys=False, width=100, allow_unicode=True)
+        + _link_comments(layout)
+    )
+
+
+def _written(name: str, value: float) -> str:
+    """A value of the field ``name`` in its unit (:mod:`balance.io.layout_fields`)."""
+    return written(value, layout_field(name).kind)
+
+
+def _fields_dict(values: dict[str, float]) -> dict[str, str]:
+    """Fields of the table (``masses:``, a cylinder's overrides) with their units."""
+    return {k: _written(k, v) for k, v in values.items()}
+
+
+def _core_dict(spec: CoreSpec) -> dict[str, Any]:
+    """A section that is a dataclass of :mod:`balance.core` (``balance:``, ``gas: model:``):
+    its fields given, in order, each quantity in its kind's unit and each nested section
+    likewise."""
+    out: dict[str, Any] = {}
+    assert spec.core_type is not None
+    for f in dataclasses.fields(spec.core_type):
+        value = getattr(spec, f.name)
+        if value is None:
+            continue
+        kind = spec.core_kinds.get(f.name)
+        if kind is not None:
+            out[f.name] = written(value, kind)
+        elif isinstance(value, list):
+            out[f.name] = [_core_dict(v) if isinstance(v, CoreSpec) else v for v in value]
+        elif isinstance(value, CoreSpec):
+            out[f.name] = _core_dict(value)
+        else:
+            out[f.name] = value
+    return out
+
+
+def _gas_dict(gas: GasSpec, path: str | None) -> dict[str, Any]:
+    """The gas section with units; a trace path made absolute, so that the expanded text
+    stands on its own wherever it is saved."""
+    out: dict[str, Any] = {}
+    if gas.pressure_trace is not None:
+        trace = Path(gas.pressure_trace)
+        if not trace.is_absolute() and path is not None:
+            trace = (Path(path).resolve().parent / trace).resolve()
+        out["pressure_trace"] = str(trace)
+    if gas.model is not None:
+        out["model"] = _core_dict(gas.model)
+    out["crankcase_pressure"] = written(gas.crankcase_pressure, "pressure")
+    if gas.bore is not None:
+        out["bore"] = written(gas.bore, "length")
+    return out
+
+
+def _link_comments(layout: Engine) -> str:
+    """YAML comments with each cylinder's actual stroke and TDC for an engine with link
+    rods (computed, so not part of the layout)."""
+    if not layout.has_links:
+        return ""
+    assert layout.links is not None
+    from balance.core.links import dead_centres
+
+    stroke, tdc = dead_centres(
+        layout.throw,
+        layout.bank,
+        layout.crank_radius,
+        layout.conrod_length,
+        layout.offset,
+        layout.links,
+    )
+    lines = ["# articulated rods: each cylinder's actual stroke and top dead centre (computed)"]
+    for i in range(layout.n_cylinders):
+        m = int(layout.links.master[i])
+        rod = f"link rod on cylinder {m + 1}'s rod" if m >= 0 else "rod on the crank pin"
+        lines.append(
+            f"#   cylinder {i + 1}: {rod}; stroke {stroke[i] * 1e3:.6g} mm, "
+            f"TDC at {math.degrees(tdc[i]):.6g} deg"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def _wrap_deg(angle: float) -> float:
+    wrapped = math.fmod(angle, 360.0)
+    if wrapped < 0:
+        wrapped += 360.0
+    return 0.0 if wrapped == 360.0 else wrapped
