@@ -411,3 +411,16 @@ def test_image_forces():
 @image_compare
 def test_image_roll_half_orders():
     return plots.plot_roll(compute(balance.load_layout("v8-crossplane-gas"), Request()))
+
+
+def test_the_torque_views_read_the_indicated_work_from_the_catalogue():
+    """views/torque prints the catalogue's ``indicated_work`` (catalogue.value), the mean
+    torque times the cycle angle; a name the result lacks is a KeyError."""
+    from balance.core.catalogue import value
+    from balance.core.torque import indicated_work
+
+    result = compute(gas_layout(), Request())
+    assert value(result, "indicated_work") == indicated_work(result.part("torque"))
+    assert to_dict(result)["gas"]["indicated_work_J"] == indicated_work(result.part("torque"))
+    with pytest.raises(KeyError, match="mount_force_max"):
+        value(result, "mount_force_max")

@@ -36,6 +36,7 @@ __all__ = [
     "compared",
     "outputs_of",
     "speed_rpm",
+    "value",
 ]
 
 #: Schema name of the analysis JSON and the result Dataset.
@@ -393,6 +394,32 @@ def outputs_of(result: Result) -> Iterator[Output]:
         for output in load(section(name).outputs):
             if output.present(result):
                 yield output
+
+
+def value(result: Result, name: str) -> Any:
+    """The values of the output ``name`` of a result, as :attr:`Output.get` gives them.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`.
+    name : str
+        An output of the result (:func:`outputs_of`).
+
+    Returns
+    -------
+    array_like
+        Its values, in its ``units``.
+
+    Raises
+    ------
+    KeyError
+        For a name that is no output of the result.
+    """
+    for output in outputs_of(result):
+        if output.name == name:
+            return output.get(result)
+    raise KeyError(f"{name!r} is no output of this result")
 
 
 def compared() -> tuple[Output, ...]:

@@ -23,8 +23,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from balance.core.accuracy import series_parameters
 from balance.core.catalogue import CONVENTIONS, SCHEMA, speed_rpm
-from balance.core.kinematics import offset_ratio, rod_ratio
 from balance.core.phasors import phase_deg, safe_ratio
 from balance.core.sections import names
 from balance.views import signals as synthesis
@@ -214,12 +214,7 @@ def accuracy_statement(result: Result) -> str:
     """
     engine = result.engine
     model = str(result.model.name)
-    radius = np.asarray(engine.crank_radius, dtype=np.float64)
-    rod = np.asarray(engine.conrod_length, dtype=np.float64)
-    offset = np.asarray(engine.offset, dtype=np.float64)
-    lam = rod_ratio(radius, rod)
-    ratio = float(np.max(lam))
-    x = float(np.max(lam * (1.0 + np.abs(offset_ratio(offset, radius)))))
+    ratio, x = series_parameters(engine)
     if model == "exact":
         text = (
             "Exact crank-slider kinematics: the Fourier coefficients of the piston "

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from balance.core.torque import indicated_work
+from balance.core.catalogue import value
 from balance.views.fitted import Column, NumberTable
 from balance.views.polar import format_number, json_number
 
@@ -37,7 +37,7 @@ def json_block(result: Result) -> dict[str, Any]:
             "flywheel_inertia_kgm2": json_number(t.flywheel_inertia),
         },
         "gas": {
-            "indicated_work_J": json_number(indicated_work(t)),
+            "indicated_work_J": json_number(value(result, "indicated_work")),
             "torque_nonuniformity": json_number(t.nonuniformity),
             "excess_work_J": json_number(t.excess_work),
             "firing_tdc_deg": [json_number(v) for v in np.asarray(t.firing_tdc)],
@@ -45,14 +45,27 @@ def json_block(result: Result) -> dict[str, Any]:
     }
 
 
-def render_torque(t: TorqueResult) -> RenderableType:
-    """Rich renderable of the torque summary of an analysis with gas forces."""
+def render_torque(result: Result) -> RenderableType:
+    """Rich renderable of the torque summary of an analysis with gas forces.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`, with the ``torque`` section.
+
+    Returns
+    -------
+    rich.console.RenderableType
+        The table of the mean, largest and smallest torque, the non-uniformity, the
+        indicated and excess work, the speed fluctuation and the flywheel inertia.
+    """
+    t = _part(result)
     rows = [
         ("mean torque", "N m", float(t.mean)),
         ("largest torque", "N m", float(t.maximum)),
         ("smallest torque", "N m", float(t.minimum)),
         ("non-uniformity (M_max - M_min)/M_mean", "1", float(t.nonuniformity)),
-        ("indicated work per cycle", "J", float(indicated_work(t))),
+        ("indicated work per cycle", "J", float(value(result, "indicated_work"))),
         ("largest excess work", "J", float(t.excess_work)),
         ("speed fluctuation (w_max - w_min)/w_mean", "1", float(t.speed_fluctuation)),
         ("flywheel inertia", "kg m^2", float(t.flywheel_inertia)),
@@ -70,4 +83,4 @@ def render_torque(t: TorqueResult) -> RenderableType:
 
 def tables(result: Result) -> list[RenderableType]:
     """The section's table: :func:`render_torque`."""
-    return [render_torque(_part(result))]
+    return [render_torque(result)]
