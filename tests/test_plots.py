@@ -124,8 +124,7 @@ def test_inline4_second_order_is_a_vertical_line():
     per_order = synthesis.signal_of(result, theta, "force", per_order=True)
     x, y = synthesis.transverse_components(per_order[1])
     assert np.max(np.abs(x)) < 1e-9 * np.max(np.abs(y))
-    _, forward, backward = synthesis.phasors_of(result, "force", "reciprocating")
-    assert np.max(y) == pytest.approx(synthesis.peaks(forward, backward)[1])
+    assert np.max(y) == pytest.approx(synthesis.peak_of(result, "force", "reciprocating")[1])
 
 
 def test_crossplane_v8_first_order_moment_is_a_circle_turning_with_the_crank():
@@ -520,3 +519,24 @@ def test_save_plots_choices(tmp_path, monkeypatch):
         plots.save_plots(no_proposal, tmp_path, kinds=["pie"])
     with pytest.raises(InputError, match="format"):
         plots.save_plots(no_proposal, tmp_path, fmt="jpg")
+
+
+def test_peaks_are_the_phasor_bundles():
+    """The views form no peak or magnitude of their own: signals.peak_of and magnitude_of
+    are Phasors.peak and Phasors.magnitude of the source's bundle (bundle_of: the result's
+    phasors, their free() or the proposal's residual), NaN for what was not computed."""
+    result = analysed("v8-crossplane")
+    free = result.phasors.free()
+    assert synthesis.bundle_of(result, "reciprocating") is result.phasors
+    assert synthesis.bundle_of(result, "residual") is result.part("proposal").residual
+    for quantity in synthesis.QUANTITIES:
+        np.testing.assert_array_equal(synthesis.peak_of(result, quantity), free.peak(quantity))
+        np.testing.assert_array_equal(
+            synthesis.magnitude_of(result, quantity, "residual"),
+            result.part("proposal").residual.magnitude(quantity),
+        )
+    without = computed(balance.load_layout("v8-crossplane"), moments=False)
+    assert np.isnan(synthesis.peak_of(without, "moment")).all()
+    assert synthesis.magnitude_of(without, "moment").shape == (8, 2)
+    with pytest.raises(ValueError, match="no balancing proposal"):
+        synthesis.bundle_of(analysed("inline-4", proposal=False), "residual")

@@ -317,7 +317,7 @@ def _order_signals(
     ks, forward, backward = ks[keep], forward[keep], backward[keep]
     divisor, unit, _ = _scale(result, quantity, normalised)
     per_order = synthesis.signal_per_order(forward, backward, ks, theta_deg) / divisor
-    peaks = synthesis.peaks(forward, backward)
+    peaks = synthesis.peak_of(result, quantity, source)[keep]
     reference = float(np.nansum(peaks)) / divisor
     total = per_order.sum(axis=0)
     return ks, _denoise(per_order, reference), _denoise(total, reference), unit, _significant(peaks)
@@ -495,10 +495,10 @@ def _panel_phasors(
     for quantity in synthesis.QUANTITIES:
         ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
         keep = _pick_orders(ks, orders)
-        size = np.stack([np.abs(fwd[keep]), np.abs(bwd[keep])])
+        size = synthesis.magnitude_of(result, quantity, source)[keep]  # (orders, 2)
         shown: list[int] = []
         if not np.isnan(size).all():  # computed
-            significant = np.asarray(np.asarray(_significant(size)).any(axis=0), dtype=bool)
+            significant = np.asarray(np.asarray(_significant(size)).any(axis=1), dtype=bool)
             shown = [int(k) for k, s in zip(ks[keep], significant, strict=True) if s]
         note = "not computed" if np.isnan(fwd).all() else "all zero"
         out.append(_PanelPhasors(quantity, ks, fwd, bwd, shown, note))
@@ -1090,9 +1090,9 @@ def plot_spectrum(
     with _styled():
         fig, axes_list, owned = _new_figure(ax, 2, (10.0, 4.6), kind="spectrum")
         for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
-            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+            ks, _, _ = synthesis.phasors_of(result, quantity, source)
             divisor, unit, _ = _scale(result, quantity, normalised)
-            peak = synthesis.peaks(fwd, bwd) / divisor
+            peak = synthesis.peak_of(result, quantity, source) / divisor
             name = "peak force" if quantity == "force" else "peak moment"
             _order_bars(axes, ks, [(peak, "C0", None)], log=log)
             axes.set_title(name)
@@ -1275,7 +1275,9 @@ def plot_balance(
             divisor, unit, _ = _scale(result, quantity, normalised)
             ks, bf, bb = synthesis.phasors_of(result, quantity, "free")
             _, af, ab = synthesis.phasors_of(result, quantity, "residual")
-            reference = float(np.nansum(synthesis.peaks(bf, bb))) / divisor
+            before_peak = synthesis.peak_of(result, quantity, "free")
+            after_peak = synthesis.peak_of(result, quantity, "residual")
+            reference = float(np.nansum(before_peak)) / divisor
             before = _denoise(synthesis.phasor_signal(bf, bb, ks, theta) / divisor, reference)
             after = _denoise(synthesis.phasor_signal(af, ab, ks, theta) / divisor, reference)
             name = "force |F|" if quantity == "force" else "moment |Σ Δz·F|"
@@ -1300,8 +1302,8 @@ def plot_balance(
                 bottom,
                 ks,
                 [
-                    (synthesis.peaks(bf, bb) / divisor, BEFORE_COLOUR, "before"),
-                    (synthesis.peaks(af, ab) / divisor, f"C{col}", "after"),
+                    (before_peak / divisor, BEFORE_COLOUR, "before"),
+                    (after_peak / divisor, f"C{col}", "after"),
                 ],
             )
             bottom.set_ylabel(_axis_label("peak", unit))

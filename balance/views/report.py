@@ -425,12 +425,11 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
     unit = "N" if quantity == "force" else "N m"
     per = "F1" if quantity == "force" else "F1 a"
     reference = float(result.reference_force if quantity == "force" else result.reference_moment)
-    orders, forward, backward = synthesis.phasors_of(result, quantity, "reciprocating")
-    _, free_forward, free_backward = synthesis.phasors_of(result, quantity, "free")
-    size_fwd, size_bwd = np.abs(forward), np.abs(backward)
-    peak = size_fwd + size_bwd
-    free_peak = synthesis.peaks(free_forward, free_backward)
-    phase_fwd, phase_bwd = phase_deg(forward), phase_deg(backward)
+    bundle = result.phasors  # the reciprocating inertia; free() adds the rotating masses
+    orders = bundle.orders
+    size, phase = bundle.magnitude(quantity), bundle.phase(quantity)
+    peak = bundle.peak(quantity)
+    free_peak = bundle.free().peak(quantity)
     norm_peak = safe_ratio(peak, reference)
     norm_free = safe_ratio(free_peak, reference)
     headers = [
@@ -447,10 +446,10 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
     rows = [
         [
             str(int(k)),
-            _num(size_fwd[i]),
-            _num(phase_fwd[i]),
-            _num(size_bwd[i]),
-            _num(phase_bwd[i]),
+            _num(size[i, 0]),
+            _num(phase[i, 0]),
+            _num(size[i, 1]),
+            _num(phase[i, 1]),
             _num(peak[i]),
             _ratio(norm_peak[i], reference),
             _num(free_peak[i]),
@@ -661,14 +660,11 @@ def proposal_section(result: Result, figures: bool) -> str:
     else:
         out.append("<p>None needed.</p>")
     out.append("<h3>Residual with the proposal</h3>")
-    orders, ff, fb = synthesis.phasors_of(result, "force", "free")
-    _, mf, mb = synthesis.phasors_of(result, "moment", "free")
-    _, rff, rfb = synthesis.phasors_of(result, "force", "residual")
-    _, rmf, rmb = synthesis.phasors_of(result, "moment", "residual")
-    free_force = synthesis.peaks(ff, fb)
-    free_moment = synthesis.peaks(mf, mb)
-    residual_force = synthesis.peaks(rff, rfb)
-    residual_moment = synthesis.peaks(rmf, rmb)
+    part = result.part("proposal")
+    orders = result.phasors.orders
+    free = result.phasors.free()
+    free_force, free_moment = free.peak("force"), free.peak("moment")
+    residual_force, residual_moment = part.residual.peak("force"), part.residual.peak("moment")
     force_per = safe_ratio(residual_force, result.reference_force)
     moment_per = safe_ratio(residual_moment, result.reference_moment)
     roll_orders, roll = synthesis.roll_of(result)
