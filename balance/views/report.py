@@ -29,7 +29,7 @@ from balance.core.phasors import phase_deg, safe_ratio
 from balance.core.sections import names
 from balance.views import signals as synthesis
 from balance.views.polar import format_number
-from balance.views.sections import VIEWS, view
+from balance.views.sections import VIEWS, view, views_of
 from balance.views.signals import Quantity
 from balance.views.table import NO_PITCH, format_ratio, pitch_text
 
@@ -333,12 +333,14 @@ def _layout_section(result: Result, figures: bool) -> str:
         "m_rot [kg]",
         "rod inertia corr. [kg m²]",
     ]
-    dead_centres = result.part("cylinders")
-    stroke = None if dead_centres is None else dead_centres.stroke
-    tdc = None if dead_centres is None else np.degrees(dead_centres.tdc)
+    # the columns the sections add (each cylinder's dead centres), then the link rods
+    columns = [
+        column
+        for _, views in views_of(result)
+        for column in getattr(views, "report_columns", lambda result: [])(result)
+    ]
+    headers += [header for header, _ in columns]
     links = engine.links
-    if stroke is not None:
-        headers += ["actual stroke [mm]", "TDC at [deg]"]
     if links is not None:
         headers.append("link rod")
     throw = np.degrees(np.asarray(engine.throw, dtype=np.float64))
@@ -359,8 +361,7 @@ def _layout_section(result: Result, figures: bool) -> str:
                 _num(engine.conrod_inertia_correction[i]),
             ]
         )
-        if stroke is not None and tdc is not None:
-            rows[-1] += [_num(stroke[i], 1e3), _num(tdc[i])]
+        rows[-1] += [cells[i] for _, cells in columns]
         if links is not None:
             m = int(links.master[i])
             rows[-1].append(
