@@ -24,7 +24,9 @@ from balance.core.proposal import balance_engine
 from balance.core.result import Result
 from balance.io.request import build_request
 from balance.views import plots
+from balance.views import proposal as proposal_views
 from balance.views import signals as synthesis
+from balance.views.torque import GAS_KINDS
 
 #: The figure kinds of the bearing loads' section (balance.views.bearings).
 BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
@@ -213,12 +215,12 @@ def test_roll_inline4():
 
 @image_compare
 def test_balance_inline3():
-    return plots.plot_balance(analysed("inline-3"))
+    return proposal_views.plot_balance(analysed("inline-3"))
 
 
 @image_compare
 def test_balance_v8_crossplane():
-    return plots.plot_balance(analysed("v8-crossplane"))
+    return proposal_views.plot_balance(analysed("v8-crossplane"))
 
 
 #: One layout of each family for the smoke test of every kind: inline with gas forces (half
@@ -396,7 +398,7 @@ def test_every_kind_draws_what_was_computed(options):
         if "model" in options:
             fig = function(result)
             _assert_same_figure(fig, function(full), rel=1e-9)
-            if kind in plots.GAS_KINDS + BEARING_KINDS + ("mounts",):
+            if kind in GAS_KINDS + BEARING_KINDS + ("mounts",):
                 assert plots.figure_bytes(fig, "png").startswith(b"\x89PNG")
             continue
         if missing and kind not in missing:
@@ -425,7 +427,7 @@ def test_no_pyplot_and_lazy_matplotlib(fresh_process):
 
 def test_balance_without_a_proposal_is_a_clear_error():
     with pytest.raises(InputError, match="no balancing proposal"):
-        plots.plot_balance(analysed("inline-4", proposal=False))
+        proposal_views.plot_balance(analysed("inline-4", proposal=False))
 
 
 def test_drawing_into_given_axes():
@@ -502,8 +504,8 @@ def test_save_plots_choices(tmp_path, monkeypatch):
     # by default, the kinds of what was computed (no mounts, bearing loads or gas here)
     default = [
         k
-        for k in plots.PLOT_KINDS
-        if k != "mounts" and k not in BEARING_KINDS and k not in plots.GAS_KINDS
+        for k in plots.all_kinds()
+        if k != "mounts" and k not in BEARING_KINDS and k not in GAS_KINDS
     ]
     assert [p.name for p in written] == [f"i3-{kind}.png" for kind in default]
     gas = plots.save_plots(

@@ -40,9 +40,9 @@ __all__ = [
     "SECTIONS",
     "accuracy_statement",
     "escape",
+    "html_facts",
     "html_figure",
     "html_table",
-    "proposal_section",
     "render_report",
     "svg_fragment",
     "write_report",
@@ -137,7 +137,19 @@ def html_table(
     return "\n".join(out)
 
 
-def _facts(items: Iterable[tuple[str, str]]) -> str:
+def html_facts(items: Iterable[tuple[str, str]]) -> str:
+    """A list of facts, each a name and its value, as an HTML description list.
+
+    Parameters
+    ----------
+    items : iterable of (str, str)
+        Names and values, plain text (escaped here).
+
+    Returns
+    -------
+    str
+        A ``<dl class="facts">`` element.
+    """
     body = "".join(f"<dt>{escape(k)}</dt><dd>{escape(v)}</dd>" for k, v in items)
     return f'<dl class="facts">{body}</dl>'
 
@@ -385,7 +397,7 @@ def _layout_section(result: Result, figures: bool) -> str:
     ]
     items = "".join(f"<li>{escape(a)}</li>" for a in assumptions)
     out = [
-        _facts(facts),
+        html_facts(facts),
         "<h3>Cylinders</h3>",
         html_table(headers, rows),
         f"<h3>Assumptions</h3><ul>{items}</ul>",
@@ -592,134 +604,6 @@ def _roll_section(result: Result, figures: bool) -> str:
     return "\n".join(out)
 
 
-def proposal_section(result: Result, figures: bool) -> str:
-    """HTML of the proposal's section: its settings, notes, masses and the residual."""
-    proposal = result.part("proposal").proposal
-    factor = proposal.balance_factor
-    facts = [
-        ("strategy", str(proposal.strategy)),
-        ("orders cancelled", ",".join(map(str, proposal.orders))),
-        ("balance factor", "-" if factor is None else f"{float(factor):.0%}"),
-        ("roll cancelled", "yes" if proposal.cancel_roll else "no"),
-    ]
-    out = [_facts(facts)]
-    notes = [note for note in proposal.notes if note]
-    if notes:  # the proposal's remarks, one per line
-        items = "".join(f"<li>{escape(note)}</li>" for note in notes)
-        out.append(f'<ul class="note notes">{items}</ul>')
-    out.append("<h3>Counterweights (turn with the crank)</h3>")
-    if proposal.counterweights:
-        rows = [
-            [
-                _num(c.z, 1e3),
-                _num(c.mass),
-                _num(c.radius, 1e3),
-                _num(c.angle_deg),
-                _num(abs(c.unbalance), 1e3),
-            ]
-            for c in proposal.counterweights
-        ]
-        out.append(
-            html_table(
-                ["z [mm]", "mass [kg]", "radius [mm]", "angle at θ = 0 [deg]", "m R [kg mm]"],
-                rows,
-            )
-        )
-    else:
-        out.append("<p>None needed.</p>")
-    out.append("<h3>Balance shafts</h3>")
-    if proposal.shafts:
-        rows = []
-        for i, shaft in enumerate(proposal.shafts):
-            for j, (z, unbalance) in enumerate(shaft.planes):
-                first = j == 0
-                rows.append(
-                    [
-                        str(i + 1) if first else "",
-                        f"{float(shaft.speed_ratio):+g}" if first else "",
-                        _num(shaft.x, 1e3) if first else "",
-                        _num(shaft.y, 1e3) if first else "",
-                        _num(z, 1e3),
-                        _num(abs(unbalance), 1e3),
-                        _num(phase_deg(unbalance)),
-                    ]
-                )
-        out.append(
-            html_table(
-                [
-                    "shaft",
-                    "speed ratio",
-                    "x [mm]",
-                    "y [mm]",
-                    "plane z [mm]",
-                    "m e [kg mm]",
-                    "angle at θ = 0 [deg]",
-                ],
-                rows,
-            )
-        )
-    else:
-        out.append("<p>None needed.</p>")
-    out.append("<h3>Residual with the proposal</h3>")
-    part = result.part("proposal")
-    orders = result.phasors.orders
-    free = result.phasors.free()
-    free_force, free_moment = free.peak("force"), free.peak("moment")
-    residual_force, residual_moment = part.residual.peak("force"), part.residual.peak("moment")
-    force_per = safe_ratio(residual_force, result.reference_force)
-    moment_per = safe_ratio(residual_moment, result.reference_moment)
-    roll_orders, roll = synthesis.roll_of(result)
-    _, residual_roll = synthesis.roll_of(result, residual=True)
-    at = {float(k): j for j, k in enumerate(roll_orders)}
-    rows = []
-    for i, k in enumerate(orders):
-        r = at.get(float(k))
-        rows.append(
-            [
-                str(int(k)),
-                _num(free_force[i]),
-                _num(residual_force[i]),
-                _ratio(force_per[i], float(result.reference_force)),
-                _num(free_moment[i]),
-                _num(residual_moment[i]),
-                _ratio(moment_per[i], float(result.reference_moment)),
-                _num(abs(roll[r])) if r is not None else "-",
-                _num(abs(residual_roll[r])) if r is not None else "-",
-            ]
-        )
-    out.append(
-        "<p>Peaks per order before (free: reciprocating + rotating) and after the proposal "
-        "(residual: with every proposed mass), and the roll amplitude without and with the "
-        "balance shafts.</p>"
-    )
-    out.append(
-        html_table(
-            [
-                "order",
-                "force before [N]",
-                "force after [N]",
-                "after / F1",
-                "moment before [N m]",
-                "moment after [N m]",
-                "after / (F1 a)",
-                "roll before [N m]",
-                "roll after [N m]",
-            ],
-            rows,
-        )
-    )
-    if figures:
-        out.append(
-            html_figure(
-                result,
-                "balance",
-                "Before (free: reciprocating + rotating) and after the proposal (residual).",
-                7,
-            )
-        )
-    return "\n".join(out)
-
-
 def _model_section(result: Result) -> str:
     model = str(result.model.name)
     facts = [("piston acceleration model", model)]
@@ -730,7 +614,7 @@ def _model_section(result: Result) -> str:
         ("result schema", SCHEMA),
         ("balance version", _version()),
     ]
-    return f"{_facts(facts)}\n<p>{escape(accuracy_statement(result))}</p>"
+    return f"{html_facts(facts)}\n<p>{escape(accuracy_statement(result))}</p>"
 
 
 def render_report(result: Result, *, figures: bool = True) -> str:

@@ -128,7 +128,8 @@ def generate(srcdir: str | os.PathLike[str]) -> list[Path]:
     import balance
     from balance.core.analysis import compute
     from balance.core.result import Request
-    from balance.views.plots import PLOT_KINDS, applicable_kinds, figure_bytes, proposal_summary
+    from balance.views.plots import applicable_kinds, figure_bytes, plot_kind
+    from balance.views.proposal import proposal_summary
 
     root = Path(srcdir) / GENERATED
     written = []
@@ -138,7 +139,7 @@ def generate(srcdir: str | os.PathLike[str]) -> list[Path]:
         kinds = [k for k in applicable_kinds(result) if shown is None or k in shown]
         for kind in kinds:
             path = root / "gallery" / f"{name}-{kind}.png"
-            if _write_if_changed(path, figure_bytes(PLOT_KINDS[kind](result), "png")):
+            if _write_if_changed(path, figure_bytes(plot_kind(kind)(result), "png")):
                 written.append(path)
         sections.append((name, result.engine.name, proposal_summary(result), kinds))
     page = root / "gallery.md"
