@@ -127,7 +127,7 @@ def generate(srcdir: str | os.PathLike[str]) -> list[Path]:
     """
     import balance
     from balance.core.analysis import compute
-    from balance.core.result import Request
+    from balance.io.request import build_request
     from balance.views.plots import applicable_kinds, figure_bytes, plot_kind
     from balance.views.proposal import proposal_summary
 
@@ -135,7 +135,8 @@ def generate(srcdir: str | os.PathLike[str]) -> list[Path]:
     written = []
     sections = []
     for name, settings, shown in LAYOUTS:
-        result = compute(balance.load_layout(name), Request.of(range(1, 9), **settings))
+        layout = balance.load_layout(name)
+        result = compute(layout, build_request(layout, range(1, 9), figures=True, **settings))
         kinds = [k for k in applicable_kinds(result) if shown is None or k in shown]
         for kind in kinds:
             path = root / "gallery" / f"{name}-{kind}.png"
