@@ -1,6 +1,6 @@
 """Time drawing each figure kind and the HTML report, as users draw them.
 
-For each layout and each kind of :data:`balance.views.plots.PLOT_KINDS` that applies, the
+For each layout and each kind that applies (:func:`balance.views.plots.applicable_kinds`), the
 time to draw the figure and write it as PNG (what ``balance plot`` and ``save_plots``
 write) and as SVG (what the report inlines), and the time of ``render_report``.  Times are
 the CPU time of this process (:func:`time.process_time`), the best of ``RUNS`` repeats: on
@@ -41,7 +41,7 @@ def best(function: Callable[[], object], repeats: int) -> float:
 
 
 def drawn(result: Result, kind: str, fmt: str) -> Callable[[], bytes]:
-    return lambda: plots.figure_bytes(plots.PLOT_KINDS[kind](result), fmt)
+    return lambda: plots.figure_bytes(plots.plot_kind(kind)(result), fmt)
 
 
 print(f"CPU time [ms], best of {runs} runs")

@@ -235,3 +235,19 @@ def test_a_vanishing_piston_mass_gives_infinite_ratios_not_a_warning(tmp_path):
     rotating = doc["rotating"]["force"]
     assert rotating["peak"] > 0
     assert rotating["peak_normalised"] is None  # inf in the Dataset, null in JSON
+
+
+def test_series_parameters_are_the_largest_rod_and_offset_ratios():
+    """What the report's accuracy statement quotes: the largest lambda = r/l and the largest
+    lambda (1 + |e|/r) over the cylinders (here the second cylinder has the longer stroke
+    and an offset)."""
+    layout = engine([0, 180])
+    r = np.array([0.043, 0.05])
+    layout = dataclasses.replace(
+        layout, crank_radius=r, offset=np.array([0.0, -0.01]), conrod_length=np.array([0.143, 0.15])
+    )
+    ratio, x = accuracy.series_parameters(layout)
+    lam = r / layout.conrod_length
+    assert ratio == float(np.max(lam))
+    assert x == float(np.max(lam * (1.0 + np.abs(layout.offset / r))))
+    assert x == pytest.approx(0.05 / 0.15 * 1.2, rel=1e-15)

@@ -141,3 +141,40 @@ def test_cli_glob_and_errors(tmp_path):
     assert result.exit_code == 2 and "give layout files" in result.stderr
     result = runner.invoke(app, ["compare", "inline-4", "--displacement", "2 kg"])
     assert result.exit_code == 2 and "--displacement" in result.stderr
+
+
+def test_every_compared_output_is_a_column(monkeypatch):
+    """A section's output that declares itself a comparison column (Output.compare) is a
+    column of the Dataset, the table (CSV, Markdown) and the terminal table, in section
+    order, NaN (printed "-") for a layout without it: the mean torque made one here, beside
+    the mounts' largest force, which the catalogue declares."""
+    from dataclasses import replace
+
+    from rich.console import Console
+
+    from balance.core import catalogue
+    from balance.core.torque import OUTPUTS
+    from balance.views import compare as views
+
+    assert [o.name for o in catalogue.compared()] == ["mount_force_max"]
+    assert catalogue.compared()[0].compare.header == "mount F max [N]"
+    mean = next(o for o in OUTPUTS if o.name == "torque_mean")
+    torque = replace(
+        mean, compare=catalogue.Compared("M mean [N m]", "mean torque", "mean engine torque")
+    )
+    monkeypatch.setattr(views, "compared", lambda: (torque, *catalogue.compared()))
+    names = ["inline-4", "inline-4-gas", "inline-4-mounts"]
+    ds = compare([load_layout(n) for n in names], names, "1-2")
+    assert ds["torque_mean"].attrs == {"units": "N m", "long_name": "mean engine torque"}
+    assert np.isnan(ds["torque_mean"].sel(layout="inline-4"))
+    assert float(ds["torque_mean"].sel(layout="inline-4-gas")) > 0
+    headers, rows = compare_table(ds, normalised=False)
+    assert headers[-2:] == ["M mean [N m]", "mount F max [N]"]
+    by_layout = {row[0]: row[-2:] for row in rows}
+    assert by_layout["inline-4"] == ["-", "-"]
+    assert by_layout["inline-4-gas"][0] != "-" and by_layout["inline-4-gas"][1] == "-"
+    assert by_layout["inline-4-mounts"][0] == "-" and by_layout["inline-4-mounts"][1] != "-"
+    console = Console(width=240, record=True)
+    console.print(*views.render_comparison(ds, absolute=True))
+    text = console.export_text()
+    assert text.index("mean torque") < text.index("largest mount force")

@@ -334,3 +334,17 @@ def test_mounts_of_result_matches_compute():
     with_mounts = compute(engine, build_request(engine, mounts=True))
     again = mounts_of(compute(engine, Request()))
     assert np.array_equal(with_mounts.part("mounts").response.forces, again.forces)
+
+
+def test_mode_crossings_of_a_sweep_are_those_within_its_speeds():
+    """MountsResult.mode_crossings: :func:`balance.core.mounts.crossings` over the result's
+    own speeds (what the sweep's JSON and figure show, read from the result)."""
+    engine = load_layout("inline-4-mounts")
+    result = compute(engine, build_request(engine, (1, 2, 4), mounts=True, figures=True))
+    sweep = result.part("mounts").sweep
+    speeds = np.asarray(sweep.speed)
+    expected = mt.crossings(
+        sweep.modes.frequency, sweep.orders, float(speeds.min()), float(speeds.max())
+    )
+    assert sweep.mode_crossings() == expected and expected
+    assert all(speeds.min() <= w <= speeds.max() for _, _, w in expected)

@@ -25,7 +25,9 @@ from balance.core.proposal import balance_engine
 from balance.core.result import Result
 from balance.io.request import build_request
 from balance.views import plots
+from balance.views import proposal as proposal_views
 from balance.views import signals as synthesis
+from balance.views.torque import GAS_KINDS
 
 #: The figure kinds of the bearing loads' section (balance.views.bearings).
 BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
@@ -125,8 +127,7 @@ def test_inline4_second_order_is_a_vertical_line():
     per_order = synthesis.signal_of(result, theta, "force", per_order=True)
     x, y = synthesis.transverse_components(per_order[1])
     assert np.max(np.abs(x)) < 1e-9 * np.max(np.abs(y))
-    _, forward, backward = synthesis.phasors_of(result, "force", "reciprocating")
-    assert np.max(y) == pytest.approx(synthesis.peaks(forward, backward)[1])
+    assert np.max(y) == pytest.approx(synthesis.peak_of(result, "force", "reciprocating")[1])
 
 
 def test_crossplane_v8_first_order_moment_is_a_circle_turning_with_the_crank():
@@ -215,12 +216,12 @@ def test_roll_inline4():
 
 @image_compare
 def test_balance_inline3():
-    return plots.plot_balance(analysed("inline-3"))
+    return proposal_views.plot_balance(analysed("inline-3"))
 
 
 @image_compare
 def test_balance_v8_crossplane():
-    return plots.plot_balance(analysed("v8-crossplane"))
+    return proposal_views.plot_balance(analysed("v8-crossplane"))
 
 
 #: One layout of each family for the smoke test of every kind: inline with gas forces (half
@@ -398,7 +399,7 @@ def test_every_kind_draws_what_was_computed(options):
         if "model" in options:
             fig = function(result)
             _assert_same_figure(fig, function(full), rel=1e-9)
-            if kind in plots.GAS_KINDS + BEARING_KINDS + ("mounts",):
+            if kind in GAS_KINDS + BEARING_KINDS + ("mounts",):
                 assert plots.figure_bytes(fig, "png").startswith(b"\x89PNG")
             continue
         if missing and kind not in missing:
@@ -427,7 +428,7 @@ def test_no_pyplot_and_lazy_matplotlib(fresh_process):
 
 def test_balance_without_a_proposal_is_a_clear_error():
     with pytest.raises(InputError, match="no balancing proposal"):
-        plots.plot_balance(analysed("inline-4", proposal=False))
+        proposal_views.plot_balance(analysed("inline-4", proposal=False))
 
 
 def test_drawing_into_given_axes():
@@ -504,8 +505,8 @@ def test_save_plots_choices(tmp_path, monkeypatch):
     # by default, the kinds of what was computed (no mounts, bearing loads or gas here)
     default = [
         k
-        for k in plots.PLOT_KINDS
-        if k != "mounts" and k not in BEARING_KINDS and k not in plots.GAS_KINDS
+        for k in plots.all_kinds()
+        if k != "mounts" and k not in BEARING_KINDS and k not in GAS_KINDS
     ]
     assert [p.name for p in written] == [f"i3-{kind}.png" for kind in default]
     gas = plots.save_plots(
@@ -521,3 +522,24 @@ def test_save_plots_choices(tmp_path, monkeypatch):
         plots.save_plots(no_proposal, tmp_path, kinds=["pie"])
     with pytest.raises(InputError, match="format"):
         plots.save_plots(no_proposal, tmp_path, fmt="jpg")
+
+
+def test_peaks_are_the_phasor_bundles():
+    """The views form no peak or magnitude of their own: signals.peak_of and magnitude_of
+    are Phasors.peak and Phasors.magnitude of the source's bundle (bundle_of: the result's
+    phasors, their free() or the proposal's residual), NaN for what was not computed."""
+    result = analysed("v8-crossplane")
+    free = result.phasors.free()
+    assert synthesis.bundle_of(result, "reciprocating") is result.phasors
+    assert synthesis.bundle_of(result, "residual") is result.part("proposal").residual
+    for quantity in synthesis.QUANTITIES:
+        np.testing.assert_array_equal(synthesis.peak_of(result, quantity), free.peak(quantity))
+        np.testing.assert_array_equal(
+            synthesis.magnitude_of(result, quantity, "residual"),
+            result.part("proposal").residual.magnitude(quantity),
+        )
+    without = computed(balance.load_layout("v8-crossplane"), moments=False)
+    assert np.isnan(synthesis.peak_of(without, "moment")).all()
+    assert synthesis.magnitude_of(without, "moment").shape == (8, 2)
+    with pytest.raises(ValueError, match="no balancing proposal"):
+        synthesis.bundle_of(analysed("inline-4", proposal=False), "residual")

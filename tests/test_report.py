@@ -344,3 +344,22 @@ def _render_page(browser, path: Path, screenshot: Path):
     finally:
         page.close()
     return console, failed, requests, boxes, headings
+
+
+def test_cylinder_table_takes_the_columns_of_the_sections():
+    """The table of cylinders has the columns the sections add (views module's
+    ``report_columns``: the cylinders section's stroke and TDC), and only with them."""
+    from balance.views.cylinders import report_columns
+
+    layout = balance.load_layout("inline-3")
+    result = compute(layout, build_request(layout, proposal=False))
+    columns = report_columns(result)
+    assert [header for header, _ in columns] == ["actual stroke [mm]", "TDC at [deg]"]
+    assert all(len(cells) == 3 for _, cells in columns)
+    with_them = render_report(result, figures=False)
+    table = with_them.split("<h3>Cylinders</h3>", 1)[1].split("</table>", 1)[0]
+    assert "<th>actual stroke [mm]</th><th>TDC at [deg]</th>" in table
+    assert all(f">{cell}</td>" in table for _, cells in columns for cell in cells)
+    without = compute(layout, build_request(layout, proposal=False, cylinders=False))
+    table = render_report(without, figures=False).split("<h3>Cylinders</h3>", 1)[1]
+    assert "actual stroke" not in table.split("</table>", 1)[0]

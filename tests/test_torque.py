@@ -23,6 +23,7 @@ from balance.core.torque import compute_torque
 from balance.io.layout_file import builtin_layout_path
 from balance.io.traces import read_pressure_trace
 from balance.views import plots
+from balance.views import torque as torque_views
 from balance.views.json import to_dict
 
 ORDERS = np.arange(1, 13)
@@ -394,21 +395,34 @@ def test_dataset_variables_have_units_and_long_names():
 
 def test_gas_plots_without_gas_draw_only_a_note():
     result = compute(balance.load_layout("inline-4"), Request())
-    for function in (plots.plot_torque, plots.plot_forces):
+    for function in (torque_views.plot_torque, torque_views.plot_forces):
         fig = function(result)
         assert not fig.axes[0].lines
 
 
 @image_compare
 def test_image_torque():
-    return plots.plot_torque(compute(gas_layout(), Request()))
+    return torque_views.plot_torque(compute(gas_layout(), Request()))
 
 
 @image_compare
 def test_image_forces():
-    return plots.plot_forces(compute(gas_layout(), Request()))
+    return torque_views.plot_forces(compute(gas_layout(), Request()))
 
 
 @image_compare
 def test_image_roll_half_orders():
     return plots.plot_roll(compute(balance.load_layout("v8-crossplane-gas"), Request()))
+
+
+def test_the_torque_views_read_the_indicated_work_from_the_catalogue():
+    """views/torque prints the catalogue's ``indicated_work`` (catalogue.value), the mean
+    torque times the cycle angle; a name the result lacks is a KeyError."""
+    from balance.core.catalogue import value
+    from balance.core.torque import indicated_work
+
+    result = compute(gas_layout(), Request())
+    assert value(result, "indicated_work") == indicated_work(result.part("torque"))
+    assert to_dict(result)["gas"]["indicated_work_J"] == indicated_work(result.part("torque"))
+    with pytest.raises(KeyError, match="mount_force_max"):
+        value(result, "mount_force_max")

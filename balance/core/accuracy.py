@@ -63,6 +63,7 @@ __all__ = [
     "error_bound",
     "link_strip",
     "series_bound",
+    "series_parameters",
 ]
 
 #: Most binomial terms the series model takes.
@@ -326,6 +327,28 @@ def _link_parts(engine: Engine) -> tuple[LinkGeometry, NDArray[np.float64], NDAr
 def _plain_arrays(engine: Engine) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     r = engine.crank_radius
     return kinematics.rod_ratio(r, engine.conrod_length), kinematics.offset_ratio(engine.offset, r)
+
+
+def series_parameters(engine: Engine) -> tuple[float, float]:
+    r"""What the truncated models' errors grow with, for an engine's cylinders.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine (each cylinder's own crank radius, conrod and offset; a link cylinder's
+        link rod as its conrod).
+
+    Returns
+    -------
+    ratio : float
+        The largest rod ratio :math:`\lambda = r/l` [1]: the ``textbook`` model's second
+        order is low by about :math:`\lambda^2/4`.
+    x : float
+        The largest :math:`\lambda(1 + |e|/r)` [1]: the ``series`` model's error falls
+        like :math:`x^{2n+1}` with its terms n (:func:`series_bound`).
+    """
+    lam, eps = _plain_arrays(engine)
+    return float(np.max(lam)), float(np.max(lam * (1.0 + np.abs(eps))))
 
 
 def engine_error_bound(

@@ -21,13 +21,23 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from balance.core.phasors import phase_deg, safe_ratio
-from balance.core.sections import load, section
+from balance.core.sections import SECTIONS, load, section
 from balance.core.speed import rad_per_s_to_rpm
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
 
-__all__ = ["BASE", "CONVENTIONS", "SCHEMA", "Output", "outputs_of", "speed_rpm"]
+__all__ = [
+    "BASE",
+    "CONVENTIONS",
+    "SCHEMA",
+    "Compared",
+    "Output",
+    "compared",
+    "outputs_of",
+    "speed_rpm",
+    "value",
+]
 
 #: Schema name of the analysis JSON and the result Dataset.
 SCHEMA = "balance.analysis/1"
@@ -38,6 +48,27 @@ CONVENTIONS = (
     "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
     "direction of rotation; (x, y) as y + i x"
 )
+
+
+@dataclass(frozen=True)
+class Compared:
+    """How a comparison of layouts (``balance compare``, docs/cli.md) shows a scalar output:
+    one column, NaN (``-`` where printed) for a layout without it.
+
+    Attributes
+    ----------
+    header : str
+        Its column header, with its unit, in the comparison's CSV and Markdown tables.
+    title : str
+        Its column title in the comparison's terminal table (the unit is the output's
+        ``units``).
+    long_name : str
+        Its ``long_name`` in the comparison's Dataset.
+    """
+
+    header: str
+    title: str
+    long_name: str
 
 
 @dataclass(frozen=True)
@@ -64,6 +95,9 @@ class Output:
     when : callable or None
         ``when(result) -> bool``: whether the result has it (the moments when computed,
         the firing order when given); None: always.
+    compare : Compared or None
+        A scalar output that a comparison of layouts shows as a column of its own
+        (:func:`compared`); None: not compared.
     """
 
     name: str
@@ -74,6 +108,7 @@ class Output:
     kind: Literal["data", "coord", "attr"] = "data"
     per_variant: bool = False
     when: Callable[[Any], bool] | None = None
+    compare: Compared | None = None
 
     def describe(self, result: Any) -> str:
         """The ``long_name`` for this result."""
@@ -359,3 +394,43 @@ def outputs_of(result: Result) -> Iterator[Output]:
         for output in load(section(name).outputs):
             if output.present(result):
                 yield output
+
+
+def value(result: Result, name: str) -> Any:
+    """The values of the output ``name`` of a result, as :attr:`Output.get` gives them.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`.
+    name : str
+        An output of the result (:func:`outputs_of`).
+
+    Returns
+    -------
+    array_like
+        Its values, in its ``units``.
+
+    Raises
+    ------
+    KeyError
+        For a name that is no output of the result.
+    """
+    for output in outputs_of(result):
+        if output.name == name:
+            return output.get(result)
+    raise KeyError(f"{name!r} is no output of this result")
+
+
+def compared() -> tuple[Output, ...]:
+    """The outputs a comparison of layouts shows as columns of their own (those with a
+    :attr:`Output.compare`), of every section, in section order.
+
+    Returns
+    -------
+    tuple of Output
+        Scalar outputs (dims ``()``); a layout whose analysis has none of one shows NaN.
+    """
+    return tuple(
+        output for s in SECTIONS for output in load(s.outputs) if output.compare is not None
+    )

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core.catalogue import Output
+from balance.core.catalogue import Compared, Output
 from balance.core.errors import InputError
 from balance.core.mounts import (
     COORDINATES,
@@ -217,8 +217,10 @@ def _response(result: Any) -> MountsResult:
     return part.response
 
 
-def _output(name: str, dims: tuple[str, ...], units: str, long_name: str, get: Any) -> Output:
-    return Output(name, dims, units, long_name, lambda r: get(_response(r)))
+def _output(
+    name: str, dims: tuple[str, ...], units: str, long_name: str, get: Any, **options: Any
+) -> Output:
+    return Output(name, dims, units, long_name, lambda r: get(_response(r)), **options)
 
 
 def _coordinate(name: str, long_name: str, get: Any) -> Output:
@@ -275,6 +277,11 @@ OUTPUTS: tuple[Output, ...] = (
         "N",
         "largest force of any mount and order at the analysis speed",
         lambda m: float(np.max(m.largest_force)),
+        compare=Compared(
+            "mount F max [N]",
+            "largest mount force",
+            "largest mount force of any order at the layout's speed (NaN without mounts)",
+        ),
     ),
     _output(
         "torque_roll_axis",

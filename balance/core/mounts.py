@@ -825,6 +825,21 @@ class MountsResult:
         """The largest :attr:`force_peak` of all mounts [N], shape ``(..., K)``."""
         return np.asarray(np.max(self.force_peak, axis=-1), dtype=np.float64)
 
+    def mode_crossings(self) -> list[tuple[float, int, float]]:
+        """Where the orders cross the modes within the result's speeds (:func:`crossings`
+        from its lowest to its highest speed).
+
+        Returns
+        -------
+        list of (order, mode, speed)
+            Order :math:`k`, mode :math:`j` (0-based) and the crank speed [rad/s] at which
+            the order excites the mode; ascending speed.
+        """
+        speeds = np.atleast_1d(self.speed)
+        return crossings(
+            self.modes.frequency, self.orders, float(speeds.min()), float(speeds.max())
+        )
+
 
 def mount_response(
     system: MountSystem,

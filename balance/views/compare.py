@@ -3,7 +3,10 @@
 :func:`comparison_dataset` stacks the analyses along a ``layout`` dimension (the Dataset of
 ``balance compare --format netcdf`` and of :func:`balance.compare`); :func:`compare_table`,
 :func:`markdown_table`, :func:`compare_csv`, :func:`compare_json` and
-:func:`render_comparison` print it.
+:func:`render_comparison` print it.  Besides the free forces and the balancing needs, every
+output of a section that declares itself a comparison column (:attr:`Output.compare
+<balance.core.catalogue.Output.compare>`, :func:`balance.core.catalogue.compared`) is a
+column of its own, NaN (``-``) for a layout whose analysis lacks it.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from balance.core.catalogue import speed_rpm
+from balance.core.catalogue import Compared, Output, compared, speed_rpm
 from balance.core.speed import rad_per_s_to_rpm
 from balance.views.json import order_entries
 from balance.views.polar import json_number
@@ -53,7 +56,9 @@ def comparison_dataset(
     xarray.Dataset
         Per-order variables of :func:`balance.analyse` with a leading ``layout`` dimension,
         plus ``n_cylinders``, ``displacement``, ``scale_factor``,
-        ``counterweight_total_mass``, ``counterweight_total_unbalance`` and ``n_shafts``.
+        ``counterweight_total_mass``, ``counterweight_total_unbalance``, ``n_shafts`` and
+        every compared output (:func:`balance.core.catalogue.compared`; NaN for a layout
+        without it).
         ``speed`` and ``displacement`` are recorded in the attributes
         ``common_speed_rpm`` and ``displacement_m3`` when asked for; ``orders`` is an
         integer array.
@@ -96,12 +101,9 @@ def comparison_dataset(
                 "sum of the proposed counterweight unbalances",
             ),
             "n_shafts": (int(ds.sizes.get("shaft", 0)), "1", "number of proposed balance shafts"),
-            "mount_force_max": (
-                _scalar(ds, "mount_force_max"),
-                "N",
-                "largest mount force of any order at the layout's speed (NaN without mounts)",
-            ),
         }
+        for output in compared():
+            extra[output.name] = (_scalar(ds, output.name), output.units, _spec(output).long_name)
         for name, (value, units, long_name) in extra.items():
             piece[name] = xr.Variable((), value, attrs={"units": units, "long_name": long_name})
         piece = piece.expand_dims(layout=[label])
@@ -132,6 +134,22 @@ def comparison_dataset(
     return out
 
 
+def _columns(ds: xr.Dataset) -> list[Output]:
+    """The compared outputs (:func:`balance.core.catalogue.compared`) that some layout of
+    the comparison has (a finite value), in section order: a column each."""
+    return [
+        output
+        for output in compared()
+        if output.name in ds and bool(np.isfinite(ds[output.name].values).any())
+    ]
+
+
+def _spec(output: Output) -> Compared:
+    """How the comparison shows a compared output."""
+    assert output.compare is not None
+    return output.compare
+
+
 def _scalar(ds: xr.Dataset, name: str) -> float:
     """A scalar output of an analysis, NaN where the analysis has none (a section it did
     not compute)."""
@@ -154,9 +172,8 @@ def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], l
     headers += [f"rot F{force_unit}", f"rot M{moment_unit}"]
     headers += [f"roll {k}{roll_unit}" for k in ks]
     headers += ["cw mass [kg]", "shafts"]
-    mounts = "mount_force_max" in ds and bool(np.isfinite(ds["mount_force_max"].values).any())
-    if mounts:
-        headers += ["mount F max [N]"]
+    columns = _columns(ds)
+    headers += [_spec(output).header for output in columns]
     rows = []
     for label in ds["layout"].values:
         one = ds.sel(layout=label)
@@ -175,8 +192,7 @@ def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], l
         roll = "roll_amplitude_normalised" if normalised else "roll_amplitude"
         row += [format_number(float(one[roll].sel(roll_order=float(k)))) for k in ks]
         row += [format_number(float(one["counterweight_total_mass"])), str(int(one["n_shafts"]))]
-        if mounts:
-            row += [format_number(float(one["mount_force_max"]))]
+        row += [format_number(float(one[output.name])) for output in columns]
         rows.append(row)
     return headers, rows
 
@@ -270,11 +286,11 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
     r"""The comparison for the terminal: one table per quantity, a row per layout.
 
     Free force peaks per order (and the rotating force), free moment peaks, roll
-    amplitudes, and the balancing needs (cylinders, counterweight mass, shafts, the largest
-    mount force with mounts).  Normalised values are per each layout's own
-    :math:`F_1 = m_{rec} r\omega^2`, :math:`F_1 a` and :math:`m_{rec} r^2\omega^2`;
-    where a layout has no pitch (every cylinder in one plane) its moments per
-    :math:`F_1 a` print as ``n/a``, and a note under the table says why.
+    amplitudes, and the balancing needs (cylinders, counterweight mass, shafts, and each
+    compared output some layout has, :func:`balance.core.catalogue.compared`).  Normalised
+    values are per each layout's own :math:`F_1 = m_{rec} r\omega^2`, :math:`F_1 a` and
+    :math:`m_{rec} r^2\omega^2`; where a layout has no pitch (every cylinder in one plane)
+    its moments per :math:`F_1 a` print as ``n/a``, and a note under the table says why.
     """
     from rich.text import Text
 
@@ -349,15 +365,14 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
                 ],
             )
         )
-    mounts = "mount_force_max" in ds and bool(np.isfinite(ds["mount_force_max"].values).any())
+    extra = _columns(ds)
     columns = [
         layout,
         Column("cylinders"),
         Column("counterweight mass", "kg"),
         Column("balance shafts"),
+        *(Column(_spec(output).title, output.units) for output in extra),
     ]
-    if mounts:
-        columns.append(Column("largest mount force", "N"))
     rows = []
     for label in labels:
         one = ds.sel(layout=label)
@@ -367,8 +382,7 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
             format_number(float(one["counterweight_total_mass"])),
             str(int(one["n_shafts"])),
         ]
-        if mounts:
-            row.append(format_number(float(one["mount_force_max"])))
+        row += [format_number(float(one[output.name])) for output in extra]
         rows.append(row)
     out.append(NumberTable("Balancing needs: what each layout's proposal uses", columns, rows))
     return out

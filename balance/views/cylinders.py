@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.cylinders import DeadCentres
     from balance.core.result import Result
 
-__all__ = ["cylinder_entries", "cylinders_table", "json_block", "tables"]
+__all__ = ["cylinder_entries", "cylinders_table", "json_block", "report_columns", "tables"]
 
 
 def _part(result: Result) -> DeadCentres:
@@ -98,3 +98,25 @@ def cylinders_table(result: Result) -> NumberTable:
 def tables(result: Result) -> list[RenderableType]:
     """The section's table: :func:`cylinders_table`."""
     return [cylinders_table(result)]
+
+
+def report_columns(result: Result) -> list[tuple[str, list[str]]]:
+    """The section's columns in the report's table of cylinders: each cylinder's actual
+    stroke and the crank angle of its TDC.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`, with the ``cylinders`` section.
+
+    Returns
+    -------
+    list of (str, list of str)
+        Each column's header and its cells, one per cylinder (stroke [mm], TDC [deg]).
+    """
+    part = _part(result)
+    tdc = np.degrees(part.tdc)
+    return [
+        ("actual stroke [mm]", [format_number(float(v) * 1e3) for v in part.stroke]),
+        ("TDC at [deg]", [format_number(float(v)) for v in tdc]),
+    ]

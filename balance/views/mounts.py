@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from balance.core.mounts import COORDINATES, MountsResult, crossings
+from balance.core.mounts import COORDINATES, MountsResult
 from balance.views.fitted import Column, NumberTable
 from balance.views.polar import format_number, json_number, order_value
 
@@ -106,7 +106,6 @@ def mounts_json(m: MountsResult) -> dict[str, Any]:
 
 def crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
     """Which order crosses which mode at which speed, within a sweep's speed range."""
-    speeds = np.atleast_1d(m.speed)
     return [
         {
             "order": order_value(k),
@@ -114,9 +113,7 @@ def crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
             "frequency_Hz": json_number(m.modes.frequency[j]),
             "speed_rpm": json_number(w * RPM),
         }
-        for k, j, w in crossings(
-            m.modes.frequency, m.orders, float(speeds.min()), float(speeds.max())
-        )
+        for k, j, w in m.mode_crossings()
     ]
 
 
@@ -347,9 +344,7 @@ def plot_mount_sweep(m: MountsResult, *, title: str | None = None, layout: str =
         if np.max(largest[:, i]) <= 0:
             continue
         ax.semilogy(rpm, largest[:, i], label=f"order {order_value(k)}", color=f"C{i % 10}")
-    for k, j, w in crossings(
-        m.modes.frequency, m.orders, float(m.speed.min()), float(m.speed.max())
-    ):
+    for k, j, w in m.mode_crossings():
         i = int(np.searchsorted(m.orders, k))
         ax.axvline(w * RPM, color=f"C{i % 10}", linestyle=":", linewidth=0.8)
         ax.annotate(

@@ -1,5 +1,6 @@
 """Views of the ``proposal`` section: the counterweights and balance shafts proposed, and
-what remains with them (:mod:`balance.core.proposal`)."""
+what remains with them (:mod:`balance.core.proposal`): JSON, tables, the report's section
+and the figure ``balance``."""
 
 from __future__ import annotations
 
@@ -7,20 +8,48 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from balance.core.errors import InputError
 from balance.core.phasors import phase_deg, safe_ratio
+from balance.views import signals as synthesis
+from balance.views.figures import (
+    BEFORE_COLOUR,
+    AxesArg,
+    axis_label,
+    degree_axis,
+    denoise,
+    finish,
+    layout_name,
+    new_figure,
+    order_bars,
+    scale_of,
+    styled,
+)
 from balance.views.fitted import Column, NumberTable
 from balance.views.json import roll_entries
 from balance.views.polar import format_number, json_number
+from balance.views.signals import roll_of
 from balance.views.table import format_ratio, pitch_note
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
     from rich.console import RenderableType
 
     from balance.core.balancing import Proposal
     from balance.core.proposal import ProposalResult
     from balance.core.result import Result
 
-__all__ = ["json_block", "proposal_entries", "render_proposal", "tables"]
+__all__ = [
+    "PLOTS",
+    "REPORT_ABSENT",
+    "REPORT_TITLE",
+    "json_block",
+    "plot_balance",
+    "proposal_entries",
+    "proposal_summary",
+    "render_proposal",
+    "report_section",
+    "tables",
+]
 
 
 def _part(result: Result) -> ProposalResult:
@@ -227,8 +256,295 @@ REPORT_TITLE = "Balancing proposal and residual"
 REPORT_ABSENT = "No balancing proposal in this result (analysed without one)."
 
 
-def report_section(result: Result, figures: bool) -> str:
-    """HTML of the report's proposal section (:func:`balance.views.report.proposal_section`)."""
-    from balance.views.report import proposal_section
+def _num(value: Any, scale: float = 1.0) -> str:
+    """A number (float or numpy scalar) as the report prints it."""
+    return format_number(float(value) * scale)
 
-    return proposal_section(result, figures)
+
+def _ratio(value: Any, reference: float) -> str:
+    """A normalised value, ``n/a`` where the reference is undefined (no pitch)."""
+    return format_ratio(float(value), float(reference))
+
+
+def report_section(result: Result, figures: bool) -> str:
+    """HTML of the report's proposal section: its settings, notes, masses and the residual.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`, with the ``proposal`` section.
+    figures : bool
+        Include the ``balance`` figure (inline SVG).
+
+    Returns
+    -------
+    str
+        HTML of the section's body (:func:`balance.views.report.render_report` adds its
+        heading).
+    """
+    from balance.views.report import escape, html_facts, html_figure, html_table
+
+    part = _part(result)
+    proposal = part.proposal
+    factor = proposal.balance_factor
+    facts = [
+        ("strategy", str(proposal.strategy)),
+        ("orders cancelled", ",".join(map(str, proposal.orders))),
+        ("balance factor", "-" if factor is None else f"{float(factor):.0%}"),
+        ("roll cancelled", "yes" if proposal.cancel_roll else "no"),
+    ]
+    out = [html_facts(facts)]
+    notes = [note for note in proposal.notes if note]
+    if notes:  # the proposal's remarks, one per line
+        items = "".join(f"<li>{escape(note)}</li>" for note in notes)
+        out.append(f'<ul class="note notes">{items}</ul>')
+    out.append("<h3>Counterweights (turn with the crank)</h3>")
+    if proposal.counterweights:
+        rows = [
+            [
+                _num(c.z, 1e3),
+                _num(c.mass),
+                _num(c.radius, 1e3),
+                _num(c.angle_deg),
+                _num(abs(c.unbalance), 1e3),
+            ]
+            for c in proposal.counterweights
+        ]
+        out.append(
+            html_table(
+                ["z [mm]", "mass [kg]", "radius [mm]", "angle at θ = 0 [deg]", "m R [kg mm]"],
+                rows,
+            )
+        )
+    else:
+        out.append("<p>None needed.</p>")
+    out.append("<h3>Balance shafts</h3>")
+    if proposal.shafts:
+        rows = []
+        for i, shaft in enumerate(proposal.shafts):
+            for j, (z, unbalance) in enumerate(shaft.planes):
+                first = j == 0
+                rows.append(
+                    [
+                        str(i + 1) if first else "",
+                        f"{float(shaft.speed_ratio):+g}" if first else "",
+                        _num(shaft.x, 1e3) if first else "",
+                        _num(shaft.y, 1e3) if first else "",
+                        _num(z, 1e3),
+                        _num(abs(unbalance), 1e3),
+                        _num(phase_deg(unbalance)),
+                    ]
+                )
+        out.append(
+            html_table(
+                [
+                    "shaft",
+                    "speed ratio",
+                    "x [mm]",
+                    "y [mm]",
+                    "plane z [mm]",
+                    "m e [kg mm]",
+                    "angle at θ = 0 [deg]",
+                ],
+                rows,
+            )
+        )
+    else:
+        out.append("<p>None needed.</p>")
+    out.append("<h3>Residual with the proposal</h3>")
+    orders = result.phasors.orders
+    free = result.phasors.free()
+    free_force, free_moment = free.peak("force"), free.peak("moment")
+    residual_force, residual_moment = part.residual.peak("force"), part.residual.peak("moment")
+    force_per = safe_ratio(residual_force, result.reference_force)
+    moment_per = safe_ratio(residual_moment, result.reference_moment)
+    roll_orders, roll = roll_of(result)
+    _, residual_roll = roll_of(result, residual=True)
+    at = {float(k): j for j, k in enumerate(roll_orders)}
+    rows = []
+    for i, k in enumerate(orders):
+        r = at.get(float(k))
+        rows.append(
+            [
+                str(int(k)),
+                _num(free_force[i]),
+                _num(residual_force[i]),
+                _ratio(force_per[i], float(result.reference_force)),
+                _num(free_moment[i]),
+                _num(residual_moment[i]),
+                _ratio(moment_per[i], float(result.reference_moment)),
+                _num(abs(roll[r])) if r is not None else "-",
+                _num(abs(residual_roll[r])) if r is not None else "-",
+            ]
+        )
+    out.append(
+        "<p>Peaks per order before (free: reciprocating + rotating) and after the proposal "
+        "(residual: with every proposed mass), and the roll amplitude without and with the "
+        "balance shafts.</p>"
+    )
+    out.append(
+        html_table(
+            [
+                "order",
+                "force before [N]",
+                "force after [N]",
+                "after / F1",
+                "moment before [N m]",
+                "moment after [N m]",
+                "after / (F1 a)",
+                "roll before [N m]",
+                "roll after [N m]",
+            ],
+            rows,
+        )
+    )
+    if figures:
+        out.append(
+            html_figure(
+                result,
+                "balance",
+                "Before (free: reciprocating + rotating) and after the proposal (residual).",
+                7,
+            )
+        )
+    return "\n".join(out)
+
+
+# --------------------------------------------------------------------------- figures
+
+
+def plot_balance(
+    result: Result,
+    *,
+    ax: AxesArg = None,
+    normalised: bool = False,
+    samples: int = 721,
+    title: str | None = None,
+) -> Figure:
+    """The free force, moment and roll before and after the proposed balancing.
+
+    Top: the size of the force and moment vectors and the roll torque over a revolution
+    (before dashed grey, after solid); bottom: the peak of each order before and after.
+    "Before" is the free force and moment (reciprocating + rotating); "after" the residual
+    with every proposed counterweight and balance-shaft mass.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute` with a proposal (``proposal=True``).
+    ax : sequence of 6 Axes, optional
+        Axes in two rows of three (force, moment, roll); a new figure otherwise.
+    normalised : bool
+        Force and moment per ``reference_force`` and ``reference_moment`` [1].
+    samples : int
+        Crank angles over the revolution.
+    title : str, optional
+        Figure title; by default the layout name and the proposal.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    InputError
+        If the result holds no proposal.
+    """
+    if not synthesis.has_proposal(result):
+        raise InputError(
+            "plot_balance: this result has no balancing proposal; analyse with the proposal "
+            "enabled (Request(proposal=True), the default, with moments and roll)"
+        )
+    theta = synthesis.crank_angle_grid(samples)
+    with styled():
+        fig, axes_list, owned = new_figure(ax, 6, (13.0, 7.6), nrows=2, kind="balance")
+        for col, quantity in enumerate(synthesis.QUANTITIES):
+            divisor, unit, _ = scale_of(result, quantity, normalised)
+            ks, bf, bb = synthesis.phasors_of(result, quantity, "free")
+            _, af, ab = synthesis.phasors_of(result, quantity, "residual")
+            before_peak = synthesis.peak_of(result, quantity, "free")
+            after_peak = synthesis.peak_of(result, quantity, "residual")
+            reference = float(np.nansum(before_peak)) / divisor
+            before = denoise(synthesis.phasor_signal(bf, bb, ks, theta) / divisor, reference)
+            after = denoise(synthesis.phasor_signal(af, ab, ks, theta) / divisor, reference)
+            name = "force |F|" if quantity == "force" else "moment |Σ Δz·F|"
+            top = axes_list[col]
+            degree_axis(top)
+            top.plot(
+                theta,
+                np.abs(before),
+                color=BEFORE_COLOUR,
+                ls="--",
+                lw=1.8,
+                label="before (free)",
+                zorder=3,
+            )
+            top.plot(theta, np.abs(after), color=f"C{col}", lw=2.2, label="after (residual)")
+            top.set_ylim(bottom=0.0)
+            top.set_title(name)
+            top.set_ylabel(axis_label(name, unit))
+            top.legend(loc="upper right")
+            bottom = axes_list[3 + col]
+            order_bars(
+                bottom,
+                ks,
+                [
+                    (before_peak / divisor, BEFORE_COLOUR, "before"),
+                    (after_peak / divisor, f"C{col}", "after"),
+                ],
+            )
+            bottom.set_ylabel(axis_label("peak", unit))
+            bottom.legend(loc="upper right")
+        rk, roll = synthesis.roll_of(result)
+        _, residual_roll = synthesis.roll_of(result, residual=True)
+        ra, qa = np.abs(roll), np.abs(residual_roll)
+        span = synthesis.roll_span_deg(rk)
+        roll_theta = synthesis.crank_angle_grid(samples, span)
+        top = axes_list[2]
+        degree_axis(top, span)
+        roll_reference = float(np.nansum(ra))
+        top.plot(
+            roll_theta,
+            denoise(synthesis.roll_signal(roll, rk, roll_theta), roll_reference),
+            color=BEFORE_COLOUR,
+            ls="--",
+            lw=1.8,
+            label="before",
+            zorder=3,
+        )
+        top.plot(
+            roll_theta,
+            denoise(synthesis.roll_signal(residual_roll, rk, roll_theta), roll_reference),
+            color="C4",
+            lw=2.2,
+            label="after (with shafts)",
+        )
+        top.set_title("roll torque")
+        top.set_ylabel("roll torque [N m]")
+        top.legend(loc="upper right")
+        order_bars(axes_list[5], rk, [(ra, BEFORE_COLOUR, "before"), (qa, "C4", "after")])
+        axes_list[5].set_ylabel("roll amplitude [N m]")
+        axes_list[5].legend(loc="upper right")
+        return finish(fig, owned, title, f"{layout_name(result)}: {proposal_summary(result)}")
+
+
+def proposal_summary(result: Result) -> str:
+    """One line describing the proposal of a result (strategy, orders, masses)."""
+    part = result.part("proposal")
+    if part is None:
+        return "no balancing proposal"
+    proposal = part.proposal
+    n_cw = len(proposal.counterweights)
+    n_shaft = len(proposal.shafts)
+    parts = [
+        f"{n_cw} counterweight{'s' if n_cw != 1 else ''}",
+        f"{n_shaft} balance shaft{'s' if n_shaft != 1 else ''}",
+    ]
+    return (
+        f"balancing {proposal.strategy}, orders "
+        f"{','.join(map(str, proposal.orders))}: {' and '.join(parts)}"
+    )
+
+
+#: The figure kinds of the section.
+PLOTS = {"balance": plot_balance}

@@ -23,13 +23,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from balance.core.accuracy import series_parameters
 from balance.core.catalogue import CONVENTIONS, SCHEMA, speed_rpm
-from balance.core.kinematics import offset_ratio, rod_ratio
 from balance.core.phasors import phase_deg, safe_ratio
 from balance.core.sections import names
 from balance.views import signals as synthesis
 from balance.views.polar import format_number
-from balance.views.sections import VIEWS, view
+from balance.views.sections import VIEWS, view, views_of
 from balance.views.signals import Quantity
 from balance.views.table import NO_PITCH, format_ratio, pitch_text
 
@@ -40,9 +40,9 @@ __all__ = [
     "SECTIONS",
     "accuracy_statement",
     "escape",
+    "html_facts",
     "html_figure",
     "html_table",
-    "proposal_section",
     "render_report",
     "svg_fragment",
     "write_report",
@@ -137,7 +137,19 @@ def html_table(
     return "\n".join(out)
 
 
-def _facts(items: Iterable[tuple[str, str]]) -> str:
+def html_facts(items: Iterable[tuple[str, str]]) -> str:
+    """A list of facts, each a name and its value, as an HTML description list.
+
+    Parameters
+    ----------
+    items : iterable of (str, str)
+        Names and values, plain text (escaped here).
+
+    Returns
+    -------
+    str
+        A ``<dl class="facts">`` element.
+    """
     body = "".join(f"<dt>{escape(k)}</dt><dd>{escape(v)}</dd>" for k, v in items)
     return f'<dl class="facts">{body}</dl>'
 
@@ -214,12 +226,7 @@ def accuracy_statement(result: Result) -> str:
     """
     engine = result.engine
     model = str(result.model.name)
-    radius = np.asarray(engine.crank_radius, dtype=np.float64)
-    rod = np.asarray(engine.conrod_length, dtype=np.float64)
-    offset = np.asarray(engine.offset, dtype=np.float64)
-    lam = rod_ratio(radius, rod)
-    ratio = float(np.max(lam))
-    x = float(np.max(lam * (1.0 + np.abs(offset_ratio(offset, radius)))))
+    ratio, x = series_parameters(engine)
     if model == "exact":
         text = (
             "Exact crank-slider kinematics: the Fourier coefficients of the piston "
@@ -338,12 +345,14 @@ def _layout_section(result: Result, figures: bool) -> str:
         "m_rot [kg]",
         "rod inertia corr. [kg m²]",
     ]
-    dead_centres = result.part("cylinders")
-    stroke = None if dead_centres is None else dead_centres.stroke
-    tdc = None if dead_centres is None else np.degrees(dead_centres.tdc)
+    # the columns the sections add (each cylinder's dead centres), then the link rods
+    columns = [
+        column
+        for _, views in views_of(result)
+        for column in getattr(views, "report_columns", lambda result: [])(result)
+    ]
+    headers += [header for header, _ in columns]
     links = engine.links
-    if stroke is not None:
-        headers += ["actual stroke [mm]", "TDC at [deg]"]
     if links is not None:
         headers.append("link rod")
     throw = np.degrees(np.asarray(engine.throw, dtype=np.float64))
@@ -364,8 +373,7 @@ def _layout_section(result: Result, figures: bool) -> str:
                 _num(engine.conrod_inertia_correction[i]),
             ]
         )
-        if stroke is not None and tdc is not None:
-            rows[-1] += [_num(stroke[i], 1e3), _num(tdc[i])]
+        rows[-1] += [cells[i] for _, cells in columns]
         if links is not None:
             m = int(links.master[i])
             rows[-1].append(
@@ -389,7 +397,7 @@ def _layout_section(result: Result, figures: bool) -> str:
     ]
     items = "".join(f"<li>{escape(a)}</li>" for a in assumptions)
     out = [
-        _facts(facts),
+        html_facts(facts),
         "<h3>Cylinders</h3>",
         html_table(headers, rows),
         f"<h3>Assumptions</h3><ul>{items}</ul>",
@@ -430,12 +438,11 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
     unit = "N" if quantity == "force" else "N m"
     per = "F1" if quantity == "force" else "F1 a"
     reference = float(result.reference_force if quantity == "force" else result.reference_moment)
-    orders, forward, backward = synthesis.phasors_of(result, quantity, "reciprocating")
-    _, free_forward, free_backward = synthesis.phasors_of(result, quantity, "free")
-    size_fwd, size_bwd = np.abs(forward), np.abs(backward)
-    peak = size_fwd + size_bwd
-    free_peak = synthesis.peaks(free_forward, free_backward)
-    phase_fwd, phase_bwd = phase_deg(forward), phase_deg(backward)
+    bundle = result.phasors  # the reciprocating inertia; free() adds the rotating masses
+    orders = bundle.orders
+    size, phase = bundle.magnitude(quantity), bundle.phase(quantity)
+    peak = bundle.peak(quantity)
+    free_peak = bundle.free().peak(quantity)
     norm_peak = safe_ratio(peak, reference)
     norm_free = safe_ratio(free_peak, reference)
     headers = [
@@ -452,10 +459,10 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
     rows = [
         [
             str(int(k)),
-            _num(size_fwd[i]),
-            _num(phase_fwd[i]),
-            _num(size_bwd[i]),
-            _num(phase_bwd[i]),
+            _num(size[i, 0]),
+            _num(phase[i, 0]),
+            _num(size[i, 1]),
+            _num(phase[i, 1]),
             _num(peak[i]),
             _ratio(norm_peak[i], reference),
             _num(free_peak[i]),
@@ -597,137 +604,6 @@ def _roll_section(result: Result, figures: bool) -> str:
     return "\n".join(out)
 
 
-def proposal_section(result: Result, figures: bool) -> str:
-    """HTML of the proposal's section: its settings, notes, masses and the residual."""
-    proposal = result.part("proposal").proposal
-    factor = proposal.balance_factor
-    facts = [
-        ("strategy", str(proposal.strategy)),
-        ("orders cancelled", ",".join(map(str, proposal.orders))),
-        ("balance factor", "-" if factor is None else f"{float(factor):.0%}"),
-        ("roll cancelled", "yes" if proposal.cancel_roll else "no"),
-    ]
-    out = [_facts(facts)]
-    notes = [note for note in proposal.notes if note]
-    if notes:  # the proposal's remarks, one per line
-        items = "".join(f"<li>{escape(note)}</li>" for note in notes)
-        out.append(f'<ul class="note notes">{items}</ul>')
-    out.append("<h3>Counterweights (turn with the crank)</h3>")
-    if proposal.counterweights:
-        rows = [
-            [
-                _num(c.z, 1e3),
-                _num(c.mass),
-                _num(c.radius, 1e3),
-                _num(c.angle_deg),
-                _num(abs(c.unbalance), 1e3),
-            ]
-            for c in proposal.counterweights
-        ]
-        out.append(
-            html_table(
-                ["z [mm]", "mass [kg]", "radius [mm]", "angle at θ = 0 [deg]", "m R [kg mm]"],
-                rows,
-            )
-        )
-    else:
-        out.append("<p>None needed.</p>")
-    out.append("<h3>Balance shafts</h3>")
-    if proposal.shafts:
-        rows = []
-        for i, shaft in enumerate(proposal.shafts):
-            for j, (z, unbalance) in enumerate(shaft.planes):
-                first = j == 0
-                rows.append(
-                    [
-                        str(i + 1) if first else "",
-                        f"{float(shaft.speed_ratio):+g}" if first else "",
-                        _num(shaft.x, 1e3) if first else "",
-                        _num(shaft.y, 1e3) if first else "",
-                        _num(z, 1e3),
-                        _num(abs(unbalance), 1e3),
-                        _num(phase_deg(unbalance)),
-                    ]
-                )
-        out.append(
-            html_table(
-                [
-                    "shaft",
-                    "speed ratio",
-                    "x [mm]",
-                    "y [mm]",
-                    "plane z [mm]",
-                    "m e [kg mm]",
-                    "angle at θ = 0 [deg]",
-                ],
-                rows,
-            )
-        )
-    else:
-        out.append("<p>None needed.</p>")
-    out.append("<h3>Residual with the proposal</h3>")
-    orders, ff, fb = synthesis.phasors_of(result, "force", "free")
-    _, mf, mb = synthesis.phasors_of(result, "moment", "free")
-    _, rff, rfb = synthesis.phasors_of(result, "force", "residual")
-    _, rmf, rmb = synthesis.phasors_of(result, "moment", "residual")
-    free_force = synthesis.peaks(ff, fb)
-    free_moment = synthesis.peaks(mf, mb)
-    residual_force = synthesis.peaks(rff, rfb)
-    residual_moment = synthesis.peaks(rmf, rmb)
-    force_per = safe_ratio(residual_force, result.reference_force)
-    moment_per = safe_ratio(residual_moment, result.reference_moment)
-    roll_orders, roll = synthesis.roll_of(result)
-    _, residual_roll = synthesis.roll_of(result, residual=True)
-    at = {float(k): j for j, k in enumerate(roll_orders)}
-    rows = []
-    for i, k in enumerate(orders):
-        r = at.get(float(k))
-        rows.append(
-            [
-                str(int(k)),
-                _num(free_force[i]),
-                _num(residual_force[i]),
-                _ratio(force_per[i], float(result.reference_force)),
-                _num(free_moment[i]),
-                _num(residual_moment[i]),
-                _ratio(moment_per[i], float(result.reference_moment)),
-                _num(abs(roll[r])) if r is not None else "-",
-                _num(abs(residual_roll[r])) if r is not None else "-",
-            ]
-        )
-    out.append(
-        "<p>Peaks per order before (free: reciprocating + rotating) and after the proposal "
-        "(residual: with every proposed mass), and the roll amplitude without and with the "
-        "balance shafts.</p>"
-    )
-    out.append(
-        html_table(
-            [
-                "order",
-                "force before [N]",
-                "force after [N]",
-                "after / F1",
-                "moment before [N m]",
-                "moment after [N m]",
-                "after / (F1 a)",
-                "roll before [N m]",
-                "roll after [N m]",
-            ],
-            rows,
-        )
-    )
-    if figures:
-        out.append(
-            html_figure(
-                result,
-                "balance",
-                "Before (free: reciprocating + rotating) and after the proposal (residual).",
-                7,
-            )
-        )
-    return "\n".join(out)
-
-
 def _model_section(result: Result) -> str:
     model = str(result.model.name)
     facts = [("piston acceleration model", model)]
@@ -738,7 +614,7 @@ def _model_section(result: Result) -> str:
         ("result schema", SCHEMA),
         ("balance version", _version()),
     ]
-    return f"{_facts(facts)}\n<p>{escape(accuracy_statement(result))}</p>"
+    return f"{html_facts(facts)}\n<p>{escape(accuracy_statement(result))}</p>"
 
 
 def render_report(result: Result, *, figures: bool = True) -> str:

@@ -6,7 +6,9 @@ named in :data:`VIEWS`.  Such a module may define
 - ``json_block(result) -> dict``: the keys it adds to the analysis JSON;
 - ``tables(result) -> list``: its rich renderables in the table view;
 - ``REPORT_TITLE`` and ``report_section(result, figures) -> str``: its section of the HTML
-  design review;
+  design review (with ``REPORT_ABSENT``, what the review says where the result lacks it);
+- ``report_columns(result) -> list``: the ``(header, cells)`` columns it adds to the
+  review's table of cylinders, one cell per cylinder;
 - ``PLOTS``: a mapping of the figure kinds it draws to their functions
   (``function(result, **options) -> Figure``).
 

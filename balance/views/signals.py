@@ -14,7 +14,8 @@ with :math:`R_k` its complex phasor.  Crank angles are in degrees here, as every
 results.
 
 Three *sources* of the force and moment can be taken from a result
-(:func:`phasors_of`):
+(:func:`bundle_of` gives the :class:`~balance.core.phasors.Phasors` of each, whose methods form
+their magnitudes and peaks; :func:`phasors_of` its complex phasors):
 
 ``reciprocating``
     The inertia of the reciprocating masses only.
@@ -24,6 +25,9 @@ Three *sources* of the force and moment can be taken from a result
 ``residual``
     What is left with every proposed counterweight and balance-shaft mass (needs a
     proposal).
+
+The peak of an order is :meth:`balance.core.phasors.Phasors.peak` (:func:`peak_of`), never
+formed here.
 """
 
 from __future__ import annotations
@@ -34,17 +38,20 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.phasors import Phasors
     from balance.core.result import Result
 
 __all__ = [
     "QUANTITIES",
     "SOURCES",
+    "bundle_of",
     "couple_components",
     "crank_angle_grid",
     "has_moments",
     "has_proposal",
     "has_roll",
-    "peaks",
+    "magnitude_of",
+    "peak_of",
     "phasor_signal",
     "phasors_of",
     "roll_of",
@@ -206,6 +213,44 @@ def has_roll(result: Result) -> bool:
     return bool(result.has_roll)
 
 
+def bundle_of(result: Result, source: Source = "free") -> Phasors:
+    """The :class:`~balance.core.phasors.Phasors` of a source of a result.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`.
+    source : {'free', 'reciprocating', 'residual'}
+        What to include (see the module notes): ``result.phasors.free()``,
+        ``result.phasors`` or the proposal's residual.
+
+    Returns
+    -------
+    Phasors
+        The bundle; its magnitudes, phases and peaks are its own methods
+        (:meth:`~balance.core.phasors.Phasors.peak`, the one place a peak is formed).
+
+    Raises
+    ------
+    ValueError
+        For an unknown source, or ``residual`` without a proposal.
+    """
+    if source not in SOURCES:
+        raise ValueError(f"source must be one of {', '.join(SOURCES)}, got {source!r}")
+    if source == "residual":
+        part = result.part("proposal")
+        if part is None:
+            raise ValueError(
+                "this result has no balancing proposal (no residual); "
+                "analyse with the proposal asked for (with moments and roll)"
+            )
+        bundle: Phasors = part.residual
+        return bundle
+    if source == "free":
+        return result.phasors.free()
+    return result.phasors
+
+
 def phasors_of(
     result: Result, quantity: Quantity = "force", source: Source = "free"
 ) -> tuple[NDArray[np.intp], ComplexArray, ComplexArray]:
@@ -235,30 +280,63 @@ def phasors_of(
     """
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {', '.join(QUANTITIES)}, got {quantity!r}")
-    if source not in SOURCES:
-        raise ValueError(f"source must be one of {', '.join(SOURCES)}, got {source!r}")
     orders = np.asarray(result.phasors.orders, dtype=np.intp)
-    if source == "residual":
-        part = result.part("proposal")
-        if part is None:
-            raise ValueError(
-                "this result has no balancing proposal (no residual); "
-                "analyse with the proposal asked for (with moments and roll)"
-            )
-        bundle = part.residual
-    elif source == "free":
-        bundle = result.phasors.free()
-    else:
-        bundle = result.phasors
-    forward, backward = bundle.pair(quantity)
+    forward, backward = bundle_of(result, source).pair(quantity)
     if forward is None or backward is None:  # moments not computed: NaN phasors
         forward = backward = np.full(orders.size, np.nan + 0j)
     return orders, np.asarray(forward, np.complex128), np.asarray(backward, np.complex128)
 
 
-def peaks(forward: ArrayLike, backward: ArrayLike) -> FloatArray:
-    """Peak over a revolution of each order, ``|P+| + |P-|`` [N or N m]."""
-    return np.asarray(np.abs(forward) + np.abs(backward), dtype=np.float64)
+def peak_of(result: Result, quantity: Quantity = "force", source: Source = "free") -> FloatArray:
+    """Peak over a revolution of each order of a source's force or moment.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`.
+    quantity : {'force', 'moment'}
+        The shaking force [N] or the moment about ``reference_z`` [N m].
+    source : {'free', 'reciprocating', 'residual'}
+        What to include (see the module notes).
+
+    Returns
+    -------
+    ndarray
+        :meth:`Phasors.peak <balance.core.phasors.Phasors.peak>` of the source's bundle,
+        ``|P+| + |P-|`` per order [N or N m]; NaN where the analysis did not compute the
+        quantity (moments with ``moments=False``).
+    """
+    bundle = bundle_of(result, source)
+    if not bundle.has(quantity):
+        return np.full(np.asarray(bundle.orders).size, np.nan)
+    return bundle.peak(quantity)
+
+
+def magnitude_of(
+    result: Result, quantity: Quantity = "force", source: Source = "free"
+) -> FloatArray:
+    """``|P+|`` and ``|P-|`` per order of a source's force or moment.
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`.
+    quantity : {'force', 'moment'}
+        The shaking force [N] or the moment about ``reference_z`` [N m].
+    source : {'free', 'reciprocating', 'residual'}
+        What to include (see the module notes).
+
+    Returns
+    -------
+    ndarray, shape (orders, 2)
+        :meth:`Phasors.magnitude <balance.core.phasors.Phasors.magnitude>` of the
+        source's bundle, forward then backward [N or N m]; NaN where the analysis did not
+        compute the quantity.
+    """
+    bundle = bundle_of(result, source)
+    if not bundle.has(quantity):
+        return np.full((np.asarray(bundle.orders).size, 2), np.nan)
+    return bundle.magnitude(quantity)
 
 
 def signal_of(

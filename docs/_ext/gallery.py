@@ -127,18 +127,20 @@ def generate(srcdir: str | os.PathLike[str]) -> list[Path]:
     """
     import balance
     from balance.core.analysis import compute
-    from balance.core.result import Request
-    from balance.views.plots import PLOT_KINDS, applicable_kinds, figure_bytes, proposal_summary
+    from balance.io.request import build_request
+    from balance.views.plots import applicable_kinds, figure_bytes, plot_kind
+    from balance.views.proposal import proposal_summary
 
     root = Path(srcdir) / GENERATED
     written = []
     sections = []
     for name, settings, shown in LAYOUTS:
-        result = compute(balance.load_layout(name), Request.of(range(1, 9), **settings))
+        layout = balance.load_layout(name)
+        result = compute(layout, build_request(layout, range(1, 9), figures=True, **settings))
         kinds = [k for k in applicable_kinds(result) if shown is None or k in shown]
         for kind in kinds:
             path = root / "gallery" / f"{name}-{kind}.png"
-            if _write_if_changed(path, figure_bytes(PLOT_KINDS[kind](result), "png")):
+            if _write_if_changed(path, figure_bytes(plot_kind(kind)(result), "png")):
                 written.append(path)
         sections.append((name, result.engine.name, proposal_summary(result), kinds))
     page = root / "gallery.md"
