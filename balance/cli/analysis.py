@@ -78,6 +78,7 @@ def _prepare(
     force: bool = False,
     binary: bool = False,
     mounts_file: Path | None = None,
+    sweep_speeds: str | None = None,
     **settings: Any,
 ) -> "tuple[Engine, Request]":
     """The preamble of a command that analyses one layout, written once.
@@ -85,10 +86,11 @@ def _prepare(
     Reads ``--orders`` and ``--speed`` (each checked here, once), refuses an output that
     cannot be written (``output``/``force``; ``binary``: a format that needs ``-o``) before
     any work is done, loads the layout (with the mounts of ``--mounts FILE`` in place of its
-    ``mounts:`` section) and builds the :class:`~balance.core.result.Request` with
-    ``settings`` through the one front door (:func:`balance.io.request.build_request`, as
-    :func:`balance.analyse` does).  A command with another kind of output (a directory of
-    figures) checks it before calling this.
+    ``mounts:`` section), reads ``sweep_speeds`` (the ``--speed`` of ``balance mounts``:
+    start:stop:count or a list, each above zero) into the mounts' ``speeds`` and builds the
+    :class:`~balance.core.result.Request` with ``settings`` through the one front door
+    (:func:`balance.io.request.build_request`, as :func:`balance.analyse` does).  A command
+    with another kind of output (a directory of figures) checks it before calling this.
     """
     from balance.io.fields import parse_orders
     from balance.io.layout_file import load_layout
@@ -112,6 +114,13 @@ def _prepare(
                 "--with-proposal puts the proposal on the mounts, and layout "
                 f"'{engine.name}' has no mounts: section; give --mounts FILE (or add one)"
             )
+    if sweep_speeds is not None:
+        from balance.io.fields import parse_field, parse_values
+
+        speeds = parse_values(sweep_speeds, parse_field("speed", engine), "--speed")
+        if not (speeds.min() > 0):
+            raise InputError(f"--speed: {sweep_speeds!r}: every speed must be above zero")
+        settings["speeds"] = speeds
     return engine, build_request(engine, order_list, speed=speed_value, **settings)
 
 
@@ -479,7 +488,6 @@ def mounts_command(
     """Mount forces per order against speed, the modes, and which order crosses which mode
     where (a mounts: section or --mounts FILE)."""
     from balance.core.analysis import compute
-    from balance.io.fields import parse_field, parse_values
 
     if plot is not None and plot.suffix.lower().lstrip(".") not in ("png", "svg", "pdf"):
         raise InputError(f"-o {plot}: give a .png, .svg or .pdf file for the plot")
@@ -490,18 +498,16 @@ def mounts_command(
         output=plot,
         force=force,
         mounts_file=mounts,
+        sweep_speeds=speed,
         mounts=True,
         with_proposal=with_proposal,
         bearings=False,
     )
-    speeds = parse_values(speed, parse_field("speed", engine), "--speed")
-    if not (speeds.min() > 0):
-        raise InputError(f"--speed: {speed!r}: every speed must be above zero")
     from balance.core.plausibility import check_engine
 
-    warn(check_engine(engine.with_speed(float(speeds.max()))), quiet, layout)  # the top speed
-    options = {**request.options("mounts"), "speeds": speeds}
-    sweep = compute(engine, request.with_sections(mounts=options)).part("mounts").sweep
+    top = float(request.options("mounts")["speeds"].max())
+    warn(check_engine(engine.with_speed(top)), quiet, layout)  # at the top speed
+    sweep = compute(engine, request).part("mounts").sweep
     if format is MountsFormat.json:
         import json
 
