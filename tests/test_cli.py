@@ -305,6 +305,36 @@ def test_usage_errors_are_one_line_from_the_real_entry_point(args, message):
 
 
 @pytest.mark.parametrize(
+    ("args", "flag"),
+    [
+        (["analyse", "inline-4", "--on-mounts"], "--mounts FILE"),
+        (["analyse", "inline-4", "--with-proposal"], "--with-proposal"),
+        (["mounts", "inline-4", "--speed", "1000rpm:2000rpm:3"], "--mounts FILE"),
+    ],
+)
+def test_the_mounts_of_a_layout_without_them_one_line_naming_the_flag(args, flag):
+    """``--on-mounts`` (on the mounts, the default for a layout with a mounts: section), and
+    the other ways of asking for the mounts, on a layout without a mounts: section: exit 2,
+    one line naming the option that gives mounts, nothing on stdout (the real entry point)."""
+    proc = subprocess.run(
+        [sys.executable, "-m", "balance", *args], capture_output=True, text=True, check=False
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("balance: ")
+    assert "has no mounts: section" in proc.stderr and flag in proc.stderr
+    assert proc.stdout == ""
+
+
+def test_on_mounts_is_the_default_of_a_layout_with_mounts():
+    """``--on-mounts`` asks for what a layout's mounts: section turns on anyway."""
+    bare = run("analyse", "inline-4-mounts", "--orders", "1-2", "-f", "json")
+    on = run("analyse", "inline-4-mounts", "--orders", "1-2", "-f", "json", "--on-mounts")
+    assert bare.exit_code == on.exit_code == 0, bare.stderr + on.stderr
+    assert "mounts" in json.loads(bare.stdout)
+    assert on.stdout == bare.stdout
+
+
+@pytest.mark.parametrize(
     "args",
     [
         ["analyse", "--help"],
