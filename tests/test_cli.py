@@ -370,6 +370,33 @@ def test_other_command_lines_run_the_full_application(args):
     assert _app_for(args) is app
 
 
+def test_the_table_of_commands_says_where_each_command_is():
+    """balance.cli lists each command (in the order of ``balance --help``) with the module
+    that holds it; each module's ``COMMANDS`` holds exactly those."""
+    from balance.cli import _COMMANDS, _commands_of
+
+    for module in set(_COMMANDS.values()):
+        assert set(_commands_of(module)) == {n for n, m in _COMMANDS.items() if m == module}
+    assert [c.name for c in app.registered_commands] == list(_COMMANDS)
+
+
+@pytest.mark.parametrize(
+    ("command", "module"),
+    [("analyse", "analysis"), ("sweep", "studies"), ("layouts", "layouts")],
+)
+def test_a_command_imports_only_its_own_module_of_the_command_line(command, module):
+    """Start-up: ``balance COMMAND`` builds and imports only the module of that command."""
+    code = (
+        "import sys, typer.main\n"
+        "from balance.cli import _app_for\n"
+        f"typer.main.get_command(_app_for([{command!r}, 'inline-4']))\n"
+        "print(' '.join(sorted(m for m in sys.modules if m.startswith('balance.cli'))))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = set(proc.stdout.split())
+    assert loaded == {"balance.cli", f"balance.cli.{module}", "balance.cli.common"}
+
+
 def test_every_problem_of_a_file_at_once_one_line_each(tmp_path):
     """Each line: file:line:column: field: what was read; what would be valid (in file
     order), exit code 2, nothing on stdout, no traceback."""

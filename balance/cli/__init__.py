@@ -8,8 +8,9 @@ The commands live by job: :mod:`balance.cli.analysis` (one layout: ``analyse``,
 ``propose``, ``plot``, ``report``, ``mounts``), :mod:`balance.cli.studies` (``compare``,
 ``sweep``, ``search``, ``tolerance``) and :mod:`balance.cli.layouts` (``layouts``,
 ``layout expand``); :mod:`balance.cli.common` holds the error guard, the options several
-commands share and the writing of outputs.  This module makes the application of them, in
-the order ``balance --help`` lists them, and runs it (:func:`main`).
+commands share and the writing of outputs.  This module puts them together in the order
+``balance --help`` lists them (:data:`app`, made when first asked for) and runs the command
+line (:func:`main`), which imports only the module of the command it runs.
 """
 
 # No ``from __future__ import annotations`` in the modules of the command line: typer reads
@@ -18,15 +19,19 @@ the order ``balance --help`` lists them, and runs it (:func:`main`).
 # start, the most that balance's own code costs there).  Names imported for type checking
 # only are quoted.
 
+import functools
 import os
 import signal
 import sys
-from typing import Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import typer
 
-from balance.cli import analysis, layouts, studies
 from balance.cli.common import main_options
+
+if TYPE_CHECKING:  # pragma: no cover
+    app: typer.Typer
 
 __all__ = ["app", "main"]
 
@@ -42,33 +47,58 @@ _APP_SETTINGS: dict[str, Any] = {
     "pretty_exceptions_enable": False,
     "rich_markup_mode": None,
 }
-#: The commands, in the order ``balance --help`` lists them (each module's ``COMMANDS``).
-_ORDER = (
-    "analyse",
-    "propose",
-    "compare",
-    "plot",
-    "report",
-    "mounts",
-    "sweep",
-    "search",
-    "tolerance",
-    "layouts",
-)
+#: Each command, in the order ``balance --help`` lists them, and the module of
+#: :mod:`balance.cli` that holds it (in its ``COMMANDS``); the group ``layout`` is
+#: :mod:`balance.cli.layouts`'s.
+_COMMANDS = {
+    "analyse": "analysis",
+    "propose": "analysis",
+    "compare": "studies",
+    "plot": "analysis",
+    "report": "analysis",
+    "mounts": "analysis",
+    "sweep": "studies",
+    "search": "studies",
+    "tolerance": "studies",
+    "layouts": "layouts",
+}
 
 
+def _commands_of(module: str) -> dict[str, Callable[..., None]]:
+    """The commands of one module of the command line, by name (importing only it)."""
+    if module == "analysis":
+        from balance.cli.analysis import COMMANDS
+    elif module == "studies":
+        from balance.cli.studies import COMMANDS
+    else:
+        from balance.cli.layouts import COMMANDS
+    return COMMANDS
+
+
+def _with_command(application: typer.Typer, name: str) -> typer.Typer:
+    application.command(name)(_commands_of(_COMMANDS[name])[name])
+    return application
+
+
+@functools.cache
 def _application() -> typer.Typer:
-    """The application: its options, every command in :data:`_ORDER`, the group ``layout``."""
+    """The application: its options, every command in the order of :data:`_COMMANDS`, and
+    the group ``layout``."""
+    from balance.cli.layouts import layout_app
+
     full = typer.Typer(**_APP_SETTINGS)
-    full.add_typer(layouts.layout_app, name="layout")
+    full.add_typer(layout_app, name="layout")
     full.callback()(main_options)
-    commands = {**analysis.COMMANDS, **studies.COMMANDS, **layouts.COMMANDS}
-    for name in sorted(commands, key=_ORDER.index):
-        full.command(name)(commands[name])
+    for name in _COMMANDS:
+        _with_command(full, name)
     return full
 
 
-app = _application()
+def __getattr__(name: str) -> Any:
+    """``app``, the whole application, made when first asked for (PEP 562)."""
+    if name == "app":
+        return _application()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _terminate(signum: int, frame: Any) -> None:
@@ -122,20 +152,21 @@ def _app_for(args: list[str]) -> typer.Typer:
     Typer builds the click objects of every command it knows, with their type adapters,
     before it parses anything, which costs a start-up a few tens of milliseconds.  When
     the arguments name one of the plain commands, an application with the same settings,
-    the same global options and that one command is run instead; the command line, its
-    help and its errors are the same.  Anything else (no command, ``--help``, a group
-    such as ``layout``, a misspelt name) runs the full application.
+    the same global options and that one command is run instead (and only the module of
+    that command is imported); the command line, its help and its errors are the same.
+    Anything else (no command, ``--help``, a group such as ``layout``, a misspelt name) runs
+    the full application.
     """
     words = [a for a in args if not a.startswith("-")]
-    if not words or any(a in ("--help", "-h") for a in args[: args.index(words[0])]):
-        return app
-    chosen = [c for c in app.registered_commands if c.name == words[0]]
-    if not chosen:
-        return app
+    if (
+        not words
+        or words[0] not in _COMMANDS
+        or any(a in ("--help", "-h") for a in args[: args.index(words[0])])
+    ):
+        return _application()
     single = typer.Typer(**_APP_SETTINGS)
-    single.registered_callback = app.registered_callback
-    single.registered_commands = chosen
-    return single
+    single.callback()(main_options)
+    return _with_command(single, words[0])
 
 
 def _click_exceptions() -> tuple[tuple[type[BaseException], ...], tuple[type[BaseException], ...]]:
