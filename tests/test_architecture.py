@@ -1,7 +1,8 @@
 """The package's layers, read from the source: what may import what, and no cycles.
 
 ``balance/core`` is the physics on numpy and the standard library; ``io`` reads inputs,
-``views`` writes outputs, ``studies`` runs many analyses; ``api`` and ``cli`` sit on top.
+``views`` writes outputs, ``studies`` runs many analyses; ``api`` and the command line
+(the package ``cli``) sit on top.
 Arrows point down only (docs/architecture.md).  Every import counts: module level, inside
 functions and under ``TYPE_CHECKING``.
 """
@@ -74,10 +75,28 @@ def _layer(module: str) -> str | None:
 
 
 def test_the_layers_are_the_folders():
-    for layer in ("core", "io", "views", "studies"):
+    for layer in ("core", "io", "views", "studies", "cli"):
         assert (PACKAGE / layer / "__init__.py").is_file(), layer
     loose = {p.stem for p in PACKAGE.glob("*.py")} - {"__init__", "__main__", "_version"}
-    assert loose == {"api", "cli"}, f"modules outside the four layers: {sorted(loose)}"
+    assert loose == {"api"}, f"modules outside the layers: {sorted(loose)}"
+
+
+#: The command line's own modules: the application (``balance.cli``), what its commands
+#: share, and the commands by job.
+CLI_COMMANDS = {"balance.cli.analysis", "balance.cli.studies", "balance.cli.layouts"}
+
+
+def test_the_command_line_is_the_application_over_its_commands():
+    """Only the application (``balance.cli``) puts the commands together: a module of
+    commands imports ``balance.cli.common`` and no other module of the command line, and
+    ``common`` imports none (so none imports the application, which imports them all)."""
+    cli = {m for m in MODULES if m == "balance.cli" or m.startswith("balance.cli.")}
+    assert cli == {"balance.cli", "balance.cli.common", *CLI_COMMANDS}, sorted(cli)
+    assert {"balance.cli.common", *CLI_COMMANDS} <= GRAPH["balance.cli"]
+    for module in sorted(cli - {"balance.cli"}):
+        own = {i for i in GRAPH[module] if i == "balance.cli" or i.startswith("balance.cli.")}
+        allowed = {"balance.cli.common"} if module in CLI_COMMANDS else set()
+        assert own <= allowed, f"{module} imports {sorted(own - allowed)}"
 
 
 @pytest.mark.parametrize("module", sorted(m for m in MODULES if _layer(m)))

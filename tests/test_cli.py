@@ -305,6 +305,36 @@ def test_usage_errors_are_one_line_from_the_real_entry_point(args, message):
 
 
 @pytest.mark.parametrize(
+    ("args", "flag"),
+    [
+        (["analyse", "inline-4", "--on-mounts"], "--mounts FILE"),
+        (["analyse", "inline-4", "--with-proposal"], "--with-proposal"),
+        (["mounts", "inline-4", "--speed", "1000rpm:2000rpm:3"], "--mounts FILE"),
+    ],
+)
+def test_the_mounts_of_a_layout_without_them_one_line_naming_the_flag(args, flag):
+    """``--on-mounts`` (on the mounts, the default for a layout with a mounts: section), and
+    the other ways of asking for the mounts, on a layout without a mounts: section: exit 2,
+    one line naming the option that gives mounts, nothing on stdout (the real entry point)."""
+    proc = subprocess.run(
+        [sys.executable, "-m", "balance", *args], capture_output=True, text=True, check=False
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.count("\n") == 1 and proc.stderr.startswith("balance: ")
+    assert "has no mounts: section" in proc.stderr and flag in proc.stderr
+    assert proc.stdout == ""
+
+
+def test_on_mounts_is_the_default_of_a_layout_with_mounts():
+    """``--on-mounts`` asks for what a layout's mounts: section turns on anyway."""
+    bare = run("analyse", "inline-4-mounts", "--orders", "1-2", "-f", "json")
+    on = run("analyse", "inline-4-mounts", "--orders", "1-2", "-f", "json", "--on-mounts")
+    assert bare.exit_code == on.exit_code == 0, bare.stderr + on.stderr
+    assert "mounts" in json.loads(bare.stdout)
+    assert on.stdout == bare.stdout
+
+
+@pytest.mark.parametrize(
     "args",
     [
         ["analyse", "--help"],
@@ -338,6 +368,33 @@ def test_other_command_lines_run_the_full_application(args):
     from balance.cli import _app_for
 
     assert _app_for(args) is app
+
+
+def test_the_table_of_commands_says_where_each_command_is():
+    """balance.cli lists each command (in the order of ``balance --help``) with the module
+    that holds it; each module's ``COMMANDS`` holds exactly those."""
+    from balance.cli import _COMMANDS, _commands_of
+
+    for module in set(_COMMANDS.values()):
+        assert set(_commands_of(module)) == {n for n, m in _COMMANDS.items() if m == module}
+    assert [c.name for c in app.registered_commands] == list(_COMMANDS)
+
+
+@pytest.mark.parametrize(
+    ("command", "module"),
+    [("analyse", "analysis"), ("sweep", "studies"), ("layouts", "layouts")],
+)
+def test_a_command_imports_only_its_own_module_of_the_command_line(command, module):
+    """Start-up: ``balance COMMAND`` builds and imports only the module of that command."""
+    code = (
+        "import sys, typer.main\n"
+        "from balance.cli import _app_for\n"
+        f"typer.main.get_command(_app_for([{command!r}, 'inline-4']))\n"
+        "print(' '.join(sorted(m for m in sys.modules if m.startswith('balance.cli'))))\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = set(proc.stdout.split())
+    assert loaded == {"balance.cli", f"balance.cli.{module}", "balance.cli.common"}
 
 
 def test_every_problem_of_a_file_at_once_one_line_each(tmp_path):
