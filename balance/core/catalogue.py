@@ -422,6 +422,17 @@ def value(result: Result, name: str) -> Any:
     raise KeyError(f"{name!r} is no output of this result")
 
 
+def compared_sections() -> tuple[str, ...]:
+    """The sections with an output that a comparison of layouts shows (:func:`compared`).
+
+    Returns
+    -------
+    tuple of str
+        Section names, in section order.
+    """
+    return tuple(s.name for s in SECTIONS if any(o.compare is not None for o in load(s.outputs)))
+
+
 def compared() -> tuple[Output, ...]:
     """The outputs a comparison of layouts shows as columns of their own (those with a
     :attr:`Output.compare`), of every section, in section order.

@@ -16,13 +16,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core.analysis import compute
+from balance.core.catalogue import compared_sections
 from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.core.result import Result
 from balance.io.fields import parse_orders
 from balance.io.request import build_request
 
-__all__ = ["Compared", "compare_results", "scale_layout"]
+__all__ = ["COMPARED", "Compared", "compare_results", "scale_layout"]
+
+#: The sections of each analysis that a comparison shows beside the free forces and the
+#: columns that sections declare (:func:`balance.core.catalogue.compared_sections`): a
+#: section that a layout turns on but the comparison does not show is not computed.
+COMPARED = ("cylinders", "torque", "proposal")
 
 
 def scale_layout(layout: Engine, factor: float) -> Engine:
@@ -130,8 +136,7 @@ def compare_results(
                 )
             factor = (displacement / layout.displacement) ** (1.0 / 3.0)
             layout = scale_layout(layout, factor)
-        # what the comparison shows: the free forces, the proposal, and the engine on its
-        # mounts where the layout has a mounts: section (no bearing loads)
-        request = build_request(layout, ks, speed=speed, model=model, terms=terms, bearings=False)
+        request = build_request(layout, ks, speed=speed, model=model, terms=terms)
+        request = request.only(*COMPARED, *compared_sections())
         out.append(Compared(_label(given, taken), factor, compute(layout, request)))
     return out
