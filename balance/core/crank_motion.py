@@ -216,9 +216,7 @@ def crank_train(engine: Engine, theta_deg: ArrayLike) -> CrankTrain:
     )
     crank_mass = np.array(engine.rotating_mass, dtype=np.float64)
     pin_mass = np.zeros(n)
-    pin_rate = np.zeros(beta.shape, dtype=np.complex128)
-    pin_curve = np.zeros(beta.shape, dtype=np.complex128)
-    pin_place = np.zeros(beta.shape, dtype=np.complex128)
+    motion = None
     if engine.has_links:
         from balance.core.links import engine_geometry, link_motion, pin_masses
 
@@ -229,64 +227,61 @@ def crank_train(engine: Engine, theta_deg: ArrayLike) -> CrankTrain:
         ds[j], d2s[j], dg[j], d2g[j] = motion.ds, motion.d2s, motion.drod, motion.d2rod
         pin_mass = pin_masses(engine)
         crank_mass = crank_mass - pin_mass
-        bore = _turn(engine.bank[j])[:, None] * r[j]
-        pin_place[j] = bore * (motion.pin_y + 1j * motion.pin_x)
-        pin_rate[j] = bore * (motion.dpin_y + 1j * motion.dpin_x)
-        pin_curve[j] = bore * (motion.d2pin_y + 1j * motion.d2pin_x)
-    # the pistons: along the bore e^{i psi}, across it by the offset
+    # the pistons: along the bore e^{i psi} (s' and s'' in metres), across it by the offset
     along = _turn(engine.bank)[:, None]
     piston_rate = r * ds
-    z1 = along * piston_rate
-    z2 = along * (r * d2s)
+    piston_curve = r * d2s
     m_rec = engine.reciprocating_mass[:, None]
     lever = (engine.z - engine.reference_z)[:, None]
     # the crank pins: r e^{i(theta + phi)}, z' = i z, z'' = -z
     crank = r * _turn(theta[None, :] + engine.throw[:, None])
     m_crank = crank_mass[:, None]
-    m_pin = pin_mass[:, None]
     delta_i = engine.conrod_inertia_correction[:, None]
     # rotors turn through Gamma = psi - gamma: Gamma' = -gamma', Gamma'' = -gamma''
     g1 = -dg
     g2 = -d2g
-
-    inertia = np.sum(
-        m_rec * piston_rate**2 + m_crank * r**2 + m_pin * np.abs(pin_rate) ** 2 + delta_i * g1**2,
-        axis=0,
-    )
-    slope = 2.0 * np.sum(
-        m_rec * piston_rate * (r * d2s)
-        + m_pin * np.real(np.conj(pin_rate) * pin_curve)
-        + delta_i * g1 * g2,
-        axis=0,
-    )
-    rate_terms = m_rec * z1 + m_crank * 1j * crank + m_pin * pin_rate
-    curve_terms = m_rec * z2 - m_crank * crank + m_pin * pin_curve
+    rec_rate = m_rec * piston_rate
+    rec_curve = m_rec * piston_curve
+    inertia_terms = rec_rate * piston_rate + m_crank * r**2 + delta_i * g1**2
+    slope_terms = 2.0 * (rec_rate * piston_curve + delta_i * g1 * g2)
+    rate_terms = along * rec_rate + 1j * m_crank * crank
+    curve_terms = along * rec_curve - m_crank * crank
     # roll: a piston gives m s''(s' + e) w^2 and m s'(s' + e) w-dot; a mass on the crank pin
     # nothing; a link pin m [Re(conj z' a) - Im(conj z a)]; a rotor dI Gamma-dd (Gamma' - 1)
-    roll_rate_terms = (
-        m_rec * piston_rate * (piston_rate + e)
-        + m_pin * (np.abs(pin_rate) ** 2 - np.imag(np.conj(pin_place) * pin_rate))
-        + delta_i * g1 * (g1 - 1.0)
-    )
-    roll_curve_terms = (
-        m_rec * (r * d2s) * (piston_rate + e)
-        + m_pin * (np.real(np.conj(pin_rate) * pin_curve) - np.imag(np.conj(pin_place) * pin_curve))
-        + delta_i * g2 * (g1 - 1.0)
-    )
-    size_1 = np.abs(m_rec * z1) + np.abs(m_crank) * r + np.abs(m_pin * pin_rate)
-    size_2 = np.abs(m_rec * z2) + np.abs(m_crank) * r + np.abs(m_pin * pin_curve)
-    points = 2 * n + (int(np.count_nonzero(pin_mass)) if engine.has_links else 0)
-    rotors = int(np.count_nonzero(engine.conrod_inertia_correction))
+    roll_rate_terms = rec_rate * (piston_rate + e) + delta_i * g1 * (g1 - 1.0)
+    roll_curve_terms = rec_curve * (piston_rate + e) + delta_i * g2 * (g1 - 1.0)
+    size_1 = np.abs(rec_rate) + np.abs(m_crank) * r
+    size_2 = np.abs(rec_curve) + np.abs(m_crank) * r
     velocity_reach = float(
-        np.sum(np.abs(m_rec[:, 0]) * np.max(np.abs(piston_rate), axis=1, initial=0.0))
+        np.sum(np.max(np.abs(rec_rate), axis=1, initial=0.0))
         + np.sum(np.abs(crank_mass) * engine.crank_radius)
-        + np.sum(np.abs(pin_mass) * np.max(np.abs(pin_rate), axis=1, initial=0.0))
     )
     acceleration_reach = float(
-        np.sum(np.abs(m_rec[:, 0]) * np.max(np.abs(r * d2s), axis=1, initial=0.0))
+        np.sum(np.max(np.abs(rec_curve), axis=1, initial=0.0))
         + np.sum(np.abs(crank_mass) * engine.crank_radius)
-        + np.sum(np.abs(pin_mass) * np.max(np.abs(pin_curve), axis=1, initial=0.0))
     )
+    if motion is not None:  # the link rods' link-pin shares, on their link pins
+        j = geometry.cylinder
+        m_pin = pin_mass[j][:, None]
+        bore = _turn(engine.bank[j])[:, None] * r[j]
+        place = bore * (motion.pin_y + 1j * motion.pin_x)
+        rate = bore * (motion.dpin_y + 1j * motion.dpin_x)
+        curve = bore * (motion.d2pin_y + 1j * motion.d2pin_x)
+        power = np.real(np.conj(rate) * curve)
+        inertia_terms[j] += m_pin * np.abs(rate) ** 2
+        slope_terms[j] += 2.0 * m_pin * power
+        rate_terms[j] += m_pin * rate
+        curve_terms[j] += m_pin * curve
+        roll_rate_terms[j] += m_pin * (np.abs(rate) ** 2 - np.imag(np.conj(place) * rate))
+        roll_curve_terms[j] += m_pin * (power - np.imag(np.conj(place) * curve))
+        size_1[j] += np.abs(m_pin * rate)
+        size_2[j] += np.abs(m_pin * curve)
+        velocity_reach += float(np.sum(np.max(np.abs(m_pin * rate), axis=1, initial=0.0)))
+        acceleration_reach += float(np.sum(np.max(np.abs(m_pin * curve), axis=1, initial=0.0)))
+    inertia = np.sum(inertia_terms, axis=0)
+    slope = np.sum(slope_terms, axis=0)
+    points = 2 * n + int(np.count_nonzero(pin_mass))
+    rotors = int(np.count_nonzero(engine.conrod_inertia_correction))
     return CrankTrain(
         theta=theta,
         inertia=np.asarray(inertia, dtype=np.float64),
@@ -732,7 +727,8 @@ def orders_in_time(
     n = motion_speed.size
     k = np.asarray(orders, dtype=np.float64)
     bins = k * cycle / (2.0 * math.pi)
-    if np.all(motion_speed == motion_speed[0]) and np.all(bins == np.round(bins)):
+    whole = np.all(np.abs(bins - np.round(bins)) <= 1e-9)
+    if np.all(motion_speed == motion_speed[0]) and whole:
         # constant speed: the mean crank angle is the crank angle, and the sums are the
         # discrete Fourier transform of the samples
         spectrum = np.fft.fft(np.asarray(values), axis=-1) / n
@@ -745,10 +741,9 @@ def orders_in_time(
     shift = float(np.sum(weight * (theta - mean_speed * time)))
     mean_angle = mean_speed * time + shift
     angle = k[:, None] * mean_angle[None, :]
-    turn = np.cos(angle) - 1j * np.sin(angle)
     weighted = (np.asarray(values) * weight)[..., None, :]
     # summed along the angles by numpy's pairwise sum: the same bits on every machine
     # (a BLAS product's order of summation depends on its threads)
-    forward = np.sum(weighted * turn, axis=-1)
-    backward = np.sum(weighted * np.conj(turn), axis=-1)
-    return np.asarray(forward), np.asarray(backward)
+    cosine = np.sum(weighted * np.cos(angle), axis=-1)
+    sine = np.sum(weighted * np.sin(angle), axis=-1)
+    return np.asarray(cosine - 1j * sine), np.asarray(cosine + 1j * sine)
