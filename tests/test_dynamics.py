@@ -863,3 +863,17 @@ def test_tables_plots_and_report(inline4_gas):
 
     html = views.report_section(out, figures=False)
     assert "<table>" in html and "periodic steady state" in html
+
+
+def test_without_moments_and_roll_the_block_has_the_force_only(inline4_gas):
+    from balance.views.dynamics import json_block
+
+    engine, _ = inline4_gas
+    request = Request.of(range(1, 5), moments=False, roll=False)
+    result = compute(engine, request)
+    part = dynamics_part(engine, request, result).part("dynamics")
+    assert not part.has("moment") and not part.has("roll") and part.has("force")
+    block = json_block(result.with_part("dynamics", part))["dynamics"]
+    assert "moment" not in block and "roll" not in block
+    assert set(block["largest_difference"]) == {"force"}
+    assert [e["order"] for e in block["force"]] == [0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4]
