@@ -877,3 +877,12 @@ def test_without_moments_and_roll_the_block_has_the_force_only(inline4_gas):
     assert "moment" not in block and "roll" not in block
     assert set(block["largest_difference"]) == {"force"}
     assert [e["order"] for e in block["force"]] == [0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4]
+
+
+@pytest.mark.parametrize("load", [PropellerLoad(), PowerLawLoad(600.0, 400.0, 1.5)])
+def test_sizing_under_a_speed_dependent_load(load):
+    """The flywheel is sized for the exact fluctuation whatever the load."""
+    engine = balance.load_layout("v8-crossplane-gas")
+    part = _dynamics(engine, load=load).part("dynamics")
+    assert part.flywheel_sized
+    assert part.speed_fluctuation == pytest.approx(0.01, rel=1e-9)
