@@ -386,6 +386,13 @@ def periodic_integral(values: FloatArray, cycle: float) -> tuple[float, FloatArr
     r"""The integral :math:`\int_0^\theta f\,\mathrm d\theta` of samples on the periodic
     grid of N angles over ``cycle`` [rad], as its mean slope and its periodic part.
 
+    Parameters
+    ----------
+    values : ndarray
+        :math:`f` at :math:`\theta_j = j\,\Theta/N` (any unit u).
+    cycle : float
+        The period :math:`\Theta` [rad].
+
     Returns
     -------
     mean : float
@@ -473,6 +480,31 @@ def find_root(
     """A root of ``f`` in ``[low, high]`` where ``f_low`` and ``f_high`` differ in sign:
     Brent's method (inverse quadratic interpolation, secant and bisection).
 
+    Parameters
+    ----------
+    f : callable
+        The function (any units).
+    low, high : float
+        The bracket, in the units of the argument.
+    f_low, f_high : float
+        ``f(low)`` and ``f(high)``, of opposite signs (or one of them 0).
+    xtol, rtol : float
+        Absolute and relative tolerance of the root.
+    steps : int
+        Most evaluations of ``f``.
+
+    Returns
+    -------
+    float
+        The root, within ``xtol/2 + 2 rtol |x|``.
+
+    Raises
+    ------
+    AnalysisError
+        When ``f_low`` and ``f_high`` have the same sign.
+
+    References
+    ----------
     Brent, *Algorithms for Minimization without Derivatives*, Prentice-Hall 1973, ch. 4.
     """
     a, b, fa, fb = low, high, f_low, f_high
@@ -608,9 +640,23 @@ def _power_law(inertia: FloatArray, torque: FloatArray, cycle: float, load: Powe
 
 
 def time_over_cycle(speed: FloatArray, cycle: float) -> tuple[FloatArray, float]:
-    r"""The time :math:`t(\theta) = \int_0^\theta \mathrm d\theta/\omega` [s] on the
-    periodic grid of ``speed`` [rad/s] over ``cycle`` [rad], and the cycle's period [s]
-    (:func:`periodic_integral` of :math:`1/\omega`)."""
+    r"""The time since :math:`\theta = 0` over one cycle, and the cycle's period.
+
+    Parameters
+    ----------
+    speed : ndarray
+        :math:`\omega > 0` [rad/s] on the periodic grid.
+    cycle : float
+        The cycle angle :math:`\Theta` [rad].
+
+    Returns
+    -------
+    time : ndarray
+        :math:`t(\theta) = \int_0^\theta \mathrm d\theta/\omega` [s]
+        (:func:`periodic_integral` of :math:`1/\omega`).
+    period : float
+        :math:`\oint \mathrm d\theta/\omega` [s].
+    """
     mean, periodic = periodic_integral(1.0 / speed, cycle)
     theta = cycle * np.arange(speed.size) / speed.size
     return np.asarray(mean * theta + periodic), mean * cycle

@@ -282,6 +282,11 @@ def size_flywheel(
     target : float
         :math:`\delta` [1].
 
+    Returns
+    -------
+    float
+        :math:`J_f` [kg m^2], to a relative 1e-12.
+
     Raises
     ------
     AnalysisError

@@ -86,6 +86,7 @@ __all__ = [
     "SpeedBound",
     "constant_speed_bound",
     "constant_speed_warning",
+    "rpm_text",
     "settings_of",
     "steady_load",
     "warning",
@@ -99,13 +100,35 @@ WARN_CONSTANT_SPEED_BOUND = 0.05
 
 
 def warning(rule: str, field_name: str, message: str, excess: float) -> PlausibilityWarning:
-    """A warning record of the speed model (``excess``: how far beyond its threshold, at
-    least 1)."""
+    """A warning record of the speed model.
+
+    Parameters
+    ----------
+    rule, field_name, message : str
+        As :class:`~balance.core.plausibility.PlausibilityWarning`.
+    excess : float
+        How far beyond its threshold the value is [1] (at least 1 is recorded).
+
+    Returns
+    -------
+    PlausibilityWarning
+    """
     return PlausibilityWarning(rule, field_name, message, max(float(excess), 1.0))
 
 
 def rpm_text(speed: float) -> str:
-    """A crank speed [rad/s] as messages write it (``800 rpm``)."""
+    """A crank speed as messages write it.
+
+    Parameters
+    ----------
+    speed : float
+        [rad/s].
+
+    Returns
+    -------
+    str
+        Four significant digits and the unit, ``800 rpm``.
+    """
     return f"{rad_per_s_to_rpm(speed):.4g} rpm"
 
 
@@ -201,6 +224,19 @@ def settings_of(
 ) -> DynamicsSettings:
     """The settings of a dynamic analysis: the load given (else the mean load) and the
     flywheel given (else the engine's, :meth:`Flywheel.of`).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine (its ``flywheel:`` section when no flywheel is given).
+    load : Load, optional
+        The load on the crank.
+    flywheel : Flywheel, optional
+        :math:`J_f` [kg m^2] or the speed fluctuation to size it for [1].
+
+    Returns
+    -------
+    DynamicsSettings
 
     Raises
     ------
@@ -375,8 +411,19 @@ def constant_speed_warning(
     engine: Engine, torque: TorqueResult, flywheel: Flywheel | None = None
 ) -> PlausibilityWarning | None:
     """The warning of a constant-speed analysis with gas and flywheel whose error bound
-    (:func:`constant_speed_bound`) exceeds 5 % of :math:`\\sum m r\\omega^2`; None
-    otherwise (and without a flywheel)."""
+    (:func:`constant_speed_bound`) exceeds 5 % of :math:`\\sum m r\\omega^2`.
+
+    Parameters
+    ----------
+    engine, torque, flywheel
+        As :func:`constant_speed_bound`.
+
+    Returns
+    -------
+    PlausibilityWarning or None
+        Rule ``constant_speed_bound``, field ``flywheel``; None below 5 % and without a
+        flywheel.
+    """
     bound = constant_speed_bound(engine, torque, flywheel)
     if bound is None or not bound.ratio > WARN_CONSTANT_SPEED_BOUND:
         return None
