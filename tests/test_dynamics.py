@@ -120,7 +120,7 @@ def single_idle():
 
 def _dynamics(engine, result=None, **options):
     result = compute(engine, REQUEST) if result is None else result
-    return dynamics_part(engine, REQUEST, result, **options)
+    return dynamics_part(engine, REQUEST, result, **{"speed_model": "dynamic", **options})
 
 
 # --------------------------------------------------------------------------- textbook
@@ -617,7 +617,8 @@ def test_the_constant_speed_bound_holds(name, flywheel, rpm):
         engine = balance.load_layout(name).with_speed(rpm_to_rad_per_s(rpm))
     wheel = Flywheel(flywheel)
     result = compute(engine, REQUEST)
-    part = dynamics_part(engine, REQUEST, result, flywheel=wheel).part("dynamics")
+    part = dynamics_part(engine, REQUEST, result, speed_model="dynamic", flywheel=wheel)
+    part = part.part("dynamics")
     bound = constant_speed_bound(engine, result.part("torque"), wheel)
     measured = float(np.max(np.abs(part.force - part.force_constant)))
     assert measured <= bound.force
@@ -797,26 +798,13 @@ def test_two_stroke_orders_are_whole():
 
 
 @pytest.fixture
-def registered(monkeypatch):
-    """The section in the registries (as the command line will have it), for the writers
-    that loop over them."""
-    from balance.core import analysis, sections
+def registered():
+    """The section in the registries, for the writers that loop over them."""
+    from balance.core import sections
     from balance.views import sections as views
 
-    if "dynamics" not in sections.names():
-        entry = sections.Section(
-            "dynamics",
-            "Variable crank speed",
-            part="balance.core.dynamics:dynamics_part",
-            outputs="balance.core.dynamics:OUTPUTS",
-            options=("load", "flywheel"),
-        )
-        monkeypatch.setattr(sections, "SECTIONS", (*sections.SECTIONS, entry))
-        monkeypatch.setattr(analysis, "SECTIONS", sections.SECTIONS)
-        monkeypatch.setitem(views.VIEWS, "dynamics", "balance.views.dynamics")
-        sections.section.cache_clear()
-    yield
-    sections.section.cache_clear()
+    assert sections.section("dynamics").part == "balance.core.dynamics:dynamics_part"
+    assert views.VIEWS["dynamics"] == "balance.views.dynamics"
 
 
 def test_the_section_through_the_writers(registered, inline4_gas):
@@ -825,7 +813,7 @@ def test_the_section_through_the_writers(registered, inline4_gas):
     from balance.views.report import render_report
 
     engine, _ = inline4_gas
-    request = REQUEST.with_sections(dynamics={"flywheel": Flywheel(0.03)})
+    request = REQUEST.with_sections(dynamics={"speed_model": "dynamic", "flywheel": Flywheel(0.03)})
     result = compute(engine, request)
     assert "dynamics" in result.parts
     ds = build_dataset(result)
@@ -871,7 +859,7 @@ def test_without_moments_and_roll_the_block_has_the_force_only(inline4_gas):
     engine, _ = inline4_gas
     request = Request.of(range(1, 5), moments=False, roll=False)
     result = compute(engine, request)
-    part = dynamics_part(engine, request, result).part("dynamics")
+    part = dynamics_part(engine, request, result, speed_model="dynamic").part("dynamics")
     assert not part.has("moment") and not part.has("roll") and part.has("force")
     block = json_block(result.with_part("dynamics", part))["dynamics"]
     assert "moment" not in block and "roll" not in block

@@ -31,6 +31,9 @@ from balance.views.torque import GAS_KINDS
 
 #: The figure kinds of the bearing loads' section (balance.views.bearings).
 BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
+#: The figure kinds of the variable-speed analysis (balance.views.dynamics): drawn for a
+#: result with the dynamic speed model's solution.
+SPEED_MODEL_KINDS = ("crank_speed", "reduced_inertia", "speed_model_orders")
 
 ORDERS = 40
 REL = 1e-9
@@ -267,6 +270,7 @@ def test_every_kind_draws_the_numbers_of_the_result(name):
         if (k != "balance" or synthesis.has_proposal(result))
         and (k != "mounts" or result.part("mounts") is not None)
         and (k not in BEARING_KINDS or result.part("bearings") is not None)
+        and k not in SPEED_MODEL_KINDS  # not asked for: drawn in tests/test_dynamics.py
     ]
     figures = {kind: plots.plot_kind(kind)(result) for kind in kinds}
     for kind, fig in figures.items():
@@ -506,7 +510,10 @@ def test_save_plots_choices(tmp_path, monkeypatch):
     default = [
         k
         for k in plots.all_kinds()
-        if k != "mounts" and k not in BEARING_KINDS and k not in GAS_KINDS
+        if k != "mounts"
+        and k not in BEARING_KINDS
+        and k not in GAS_KINDS
+        and k not in SPEED_MODEL_KINDS
     ]
     assert [p.name for p in written] == [f"i3-{kind}.png" for kind in default]
     gas = plots.save_plots(

@@ -50,6 +50,13 @@ __all__ = [
 ]
 
 
+class SpeedModel(StrEnum):
+    """Speed models (docs/dynamics.md)."""
+
+    constant = "constant"
+    dynamic = "dynamic"
+
+
 class Format(StrEnum):
     """Output formats of ``balance analyse``."""
 
@@ -156,6 +163,22 @@ def analyse_command(
             help="Largest coefficient error allowed; picks the cheapest model that meets it.",
         ),
     ] = None,
+    speed_model: Annotated[
+        SpeedModel | None,
+        typer.Option(
+            "--speed-model",
+            help="constant (the default) or dynamic: the crank train's own motion over the "
+            "cycle (needs a flywheel: section; default dynamic with a dynamics: section).",
+        ),
+    ] = None,
+    load: Annotated[
+        str | None,
+        typer.Option(
+            "--load",
+            help="Load of the dynamic speed model: mean (default), propeller, a torque "
+            "(150Nm) or a power law (80Nm@3000rpm^2).",
+        ),
+    ] = None,
     no_moments: Annotated[bool, typer.Option("--no-moments", help="Skip the moments.")] = False,
     no_roll: Annotated[bool, typer.Option("--no-roll", help="Skip the roll torque.")] = False,
     no_proposal: Annotated[
@@ -188,6 +211,7 @@ def analyse_command(
 ) -> None:
     """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
     from balance.core.analysis import compute
+    from balance.io.fields import load_of
 
     engine, request = _prepare(
         layout,
@@ -207,6 +231,8 @@ def analyse_command(
         mounts=True if (mounts is not None or on_mounts) else None,
         with_proposal=with_proposal,
         bearings=True if bearings else None,
+        speed_model=None if speed_model is None else speed_model.value,
+        load=None if load is None else load_of(load, "--load"),
     )
     result = compute(engine, request)
     warn(result.warnings, quiet, layout)
@@ -327,6 +353,7 @@ def propose_command(
         cancel_roll=cancel_roll,
         factor_study=factor_study,
         bearings=True if bearings else None,
+        speed_model="constant",  # proposals are made at constant speed
     )
     if request.wants("bearings"):  # each strategy's bearing loads beside the proposal's
         request = request.with_sections(bearings={"strategies": True})
@@ -352,7 +379,8 @@ def plot_command(
             "--kind",
             "-k",
             help="crank_star, phasors, crank_angle, locus, spectrum, roll, balance, torque, "
-            "forces, mounts, pin_load, main_loads or internal_moment, as in the file names "
+            "forces, mounts, pin_load, main_loads, internal_moment, crank_speed, "
+            "reduced_inertia or speed_model_orders, as in the file names "
             "(- may stand for _; repeat for several; default: all that apply).",
         ),
     ] = None,

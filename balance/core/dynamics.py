@@ -11,13 +11,13 @@ it refuses and warns about is listed in :mod:`balance.core.speed_model`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.core import phasors as phasor_sums
+from balance.core import phasors
 from balance.core.catalogue import Output
 from balance.core.crank_motion import (
     ConstantTorque,
@@ -41,6 +41,9 @@ from balance.core.speed_model import (
     Flywheel,
     Load,
     PowerLawLoad,
+    SpeedBound,
+    bound_warning,
+    constant_speed_bound,
     rpm_text,
     settings_of,
     steady_load,
@@ -113,6 +116,9 @@ class DynamicsResult:
         at the mean speed [J].
     warnings : tuple of PlausibilityWarning
         What the steady state warns about.
+    bound : SpeedBound or None
+        The constant-speed rung's bound on its own error (:class:`SpeedBound`), with gas
+        forces; None without them.
     """
 
     load: Load
@@ -132,6 +138,7 @@ class DynamicsResult:
     force_constant: ComplexArray
     excess_work: float
     warnings: tuple[PlausibilityWarning, ...] = field(default=())
+    bound: SpeedBound | None = None
 
     speed_model: ClassVar[str] = "dynamic"
 
@@ -463,7 +470,7 @@ def _phasors(
     scales = [float(np.sum(weight * size)) for size in sizes]
 
     def clean(values: ComplexArray, i: int, factor: float = 1.0) -> ComplexArray:
-        return phasor_sums.cancel_to_zero(factor * values, factor * scales[i], n_terms)
+        return phasors.cancel_to_zero(factor * values, factor * scales[i], n_terms)
 
     roll_phasors = None
     if roll:
@@ -481,8 +488,6 @@ def _phasors(
 
 def _with_warnings(part: DynamicsResult, engine: Engine) -> DynamicsResult:
     """The part with what its steady state warns about (module notes)."""
-    from dataclasses import replace
-
     found = []
     delta = part.speed_fluctuation
     low = f"{rad_per_s_to_rpm(part.speed_min):.4g}"
@@ -524,44 +529,91 @@ def _with_warnings(part: DynamicsResult, engine: Engine) -> DynamicsResult:
     return replace(part, warnings=tuple(found))
 
 
+@dataclass(frozen=True)
+class ConstantSpeed:
+    """The section's part of a constant-speed analysis with gas forces and a flywheel: the
+    constant rung's bound on its own error (the speed/accuracy ladder's second axis).
+
+    Attributes
+    ----------
+    bound : SpeedBound
+        :func:`balance.core.speed_model.constant_speed_bound`.
+    """
+
+    bound: SpeedBound
+
+    speed_model: ClassVar[str] = "constant"
+
+
 def dynamics_part(
     engine: Engine,
     request: Request,
     result: Result,
     *,
+    speed_model: str | None = None,
     load: Load | None = None,
     flywheel: Flywheel | None = None,
 ) -> Result:
-    """The ``dynamics`` section: the crank train's periodic motion and its free forces
-    (:func:`analyse_dynamics`), its warnings added to the result's.
+    r"""The ``dynamics`` section: the speed model, the second axis of the speed/accuracy
+    ladder (docs/dynamics.md).
+
+    With the constant speed model and gas forces and a flywheel, the constant rung's bound
+    on its own error (:class:`ConstantSpeed`, and its warning above 5 % of
+    :math:`\sum m r\omega^2`); with the dynamic one, the crank train's periodic motion
+    and its free forces (:func:`analyse_dynamics`), its warnings added to the result's.  A
+    request with a tolerance takes the dynamic model where the constant rung's bound
+    exceeds it.  Without gas forces or a flywheel and without the dynamic model asked for,
+    the result is returned as it is.
 
     Parameters
     ----------
     engine : Engine
         The engine at the request's speed (the mean speed).
     request : Request
-        Its orders, and whether moments and roll are wanted.
+        Its orders, its tolerance, and whether moments and roll are wanted.
     result : Result
         The analysis so far; its ``torque`` part (gas forces) is used when present.
+    speed_model : {'constant', 'dynamic'}, optional
+        Default: ``dynamic`` for a layout with a ``dynamics:`` section, else ``constant``
+        (or what the request's tolerance needs).
     load : Load, optional
-        The load (default: the mean load).
+        The load (default: the layout's ``dynamics:`` section's, else the mean load).
     flywheel : Flywheel, optional
         The flywheel (default: the engine's ``flywheel:`` section).
 
     Returns
     -------
     Result
-        With the part ``dynamics`` (:class:`DynamicsResult`).
+        With the part ``dynamics`` (:class:`DynamicsResult` or :class:`ConstantSpeed`).
     """
+    given = engine.section("dynamics")
+    if speed_model is None:
+        speed_model = "dynamic" if given is not None else "constant"
+    if load is None and given is not None:
+        load = given
+    torque = result.part("torque")
+    bound = constant_speed_bound(engine, torque, flywheel) if torque is not None else None
+    if speed_model == "constant" and request.tolerance is not None and bound is not None:
+        speed_model = bound.speed_model_for(request.tolerance)
+    if speed_model == "constant":
+        if bound is None:
+            return result
+        found = bound_warning(bound)
+        return result.with_part(
+            "dynamics",
+            ConstantSpeed(bound),
+            warnings=(*result.warnings, *(() if found is None else (found,))),
+        )
     settings = settings_of(engine, load, flywheel)
     part = analyse_dynamics(
         engine,
         np.asarray(request.orders, dtype=np.intp),
         settings,
-        result.part("torque"),
+        torque,
         moments=request.moments,
         roll=request.roll,
     )
+    part = replace(part, bound=bound)
     return result.with_part("dynamics", part, warnings=(*result.warnings, *part.warnings))
 
 
@@ -571,6 +623,16 @@ def dynamics_part(
 def _part(result: Any) -> DynamicsResult:
     part: DynamicsResult = result.part("dynamics")
     return part
+
+
+def _dynamic(result: Any) -> bool:
+    """Whether the result holds the dynamic model's solution (not only the bound)."""
+    return isinstance(result.part("dynamics"), DynamicsResult)
+
+
+def _bound(result: Any) -> float:
+    bound = result.part("dynamics").bound
+    return math.nan if bound is None else float(bound.ratio)
 
 
 def _moments(result: Any) -> bool:
@@ -651,10 +713,15 @@ def _order_outputs(quantity: str) -> tuple[Output, ...]:
     )
 
 
-#: The outputs of the ``dynamics`` section.
-OUTPUTS: tuple[Output, ...] = (
+def _only_dynamic(output: Output) -> Output:
+    """An output of the dynamic model's solution: absent from a constant-speed result."""
+    when = output.when
+    return replace(output, when=lambda r: _dynamic(r) and (when is None or bool(when(r))))
+
+
+#: The outputs of the dynamic model's solution.
+_SOLUTION: tuple[Output, ...] = (
     _scalar("load_kind", "", "dynamics_load_kind", lambda p: p.load.kind, kind="attr"),
-    _scalar("speed_model", "", "dynamics_speed_model", lambda p: p.speed_model, kind="attr"),
     _scalar("load_torque", "N m", "load torque on the crank (cycle mean)", lambda p: p.load_torque),
     _scalar(
         "load_coefficient",
@@ -765,4 +832,18 @@ OUTPUTS: tuple[Output, ...] = (
         lambda r: _part(r).largest_difference("roll"),
         when=_roll,
     ),
+)
+
+#: The outputs of the ``dynamics`` section: the speed model and its bound always, the
+#: solution's with the dynamic model.
+OUTPUTS: tuple[Output, ...] = (
+    _scalar("speed_model", "", "dynamics_speed_model", lambda p: p.speed_model, kind="attr"),
+    Output(
+        "dynamics_speed_bound",
+        (),
+        "1",
+        "bound of the constant-speed model's force error per sum(m r w^2)",
+        _bound,
+    ),
+    *(_only_dynamic(output) for output in _SOLUTION),
 )

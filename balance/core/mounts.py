@@ -565,12 +565,12 @@ def harmonic_response(
     m = np.asarray(mass, dtype=np.float64)
     k = np.asarray(stiffness, dtype=np.float64)
     c = np.asarray(damping, dtype=np.float64)
-    dynamic = k - w**2 * m + 1j * w * c
+    complex_stiffness = k - w**2 * m + 1j * w * c
     f = np.asarray(load, dtype=np.complex128)
-    batch = np.broadcast_shapes(dynamic.shape[:-2], f.shape[:-1])
-    dynamic = np.broadcast_to(dynamic, (*batch, 6, 6))
+    batch = np.broadcast_shapes(complex_stiffness.shape[:-2], f.shape[:-1])
+    complex_stiffness = np.broadcast_to(complex_stiffness, (*batch, 6, 6))
     f = np.broadcast_to(f, (*batch, 6))
-    return np.asarray(np.linalg.solve(dynamic, f[..., None])[..., 0], dtype=np.complex128)
+    return np.asarray(np.linalg.solve(complex_stiffness, f[..., None])[..., 0], dtype=np.complex128)
 
 
 def point_motion(offsets: ArrayLike, response: ArrayLike) -> ComplexArray:

@@ -90,6 +90,15 @@ SECTIONS: tuple[Section, ...] = (
         default=True,
     ),
     Section(
+        "dynamics",
+        "Variable crank speed",
+        part="balance.core.dynamics:dynamics_part",
+        outputs="balance.core.dynamics:OUTPUTS",
+        layout_key="dynamics",
+        default=True,
+        options=("speed_model", "load", "flywheel"),
+    ),
+    Section(
         "proposal",
         "Balancing proposal",
         part="balance.core.proposal:proposal_part",

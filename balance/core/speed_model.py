@@ -84,6 +84,7 @@ __all__ = [
     "PowerLawLoad",
     "PropellerLoad",
     "SpeedBound",
+    "bound_warning",
     "constant_speed_bound",
     "constant_speed_warning",
     "rpm_text",
@@ -425,7 +426,24 @@ def constant_speed_warning(
         flywheel.
     """
     bound = constant_speed_bound(engine, torque, flywheel)
-    if bound is None or not bound.ratio > WARN_CONSTANT_SPEED_BOUND:
+    return None if bound is None else bound_warning(bound)
+
+
+def bound_warning(bound: SpeedBound) -> PlausibilityWarning | None:
+    r"""The constant-speed analysis' warning of a bound above 5 % of
+    :math:`\sum m r\omega^2` (:func:`constant_speed_warning`).
+
+    Parameters
+    ----------
+    bound : SpeedBound
+        The constant rung's bound (:func:`constant_speed_bound`).
+
+    Returns
+    -------
+    PlausibilityWarning or None
+        Rule ``constant_speed_bound``, field ``flywheel``; None at 5 % or below.
+    """
+    if not bound.ratio > WARN_CONSTANT_SPEED_BOUND:
         return None
     return warning(
         "constant_speed_bound",

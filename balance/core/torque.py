@@ -131,6 +131,29 @@ class TorqueResult:
     cycle_deg: float
 
 
+def layout_inertia(layout: Engine, theta_deg: FloatArray) -> float:
+    r"""The cycle mean of the reduced moment of inertia of the layout's moving masses
+    [kg m^2]: :math:`\langle J_{layout}(\theta)\rangle`, what the crank train adds to a
+    flywheel's inertia (:func:`balance.core.crank_motion.crank_train`).
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    theta_deg : ndarray
+        The crank angles of the cycle's grid [deg] (equally spaced over the cycle).
+
+    Returns
+    -------
+    float
+        :math:`\sum_i [m_{rot,i} r_i^2 + m_{rec,i}\langle s_i'^2\rangle +
+        \Delta I_i \langle\gamma_i'^2\rangle]` (link rods as their motion has it).
+    """
+    from balance.core.crank_motion import crank_train
+
+    return float(np.mean(crank_train(layout, theta_deg).inertia))
+
+
 def roll_orders(orders: NDArray[np.intp], cycle: str) -> FloatArray:
     """Roll orders reported with gas: halves up to the highest order for a four-stroke."""
     top = int(np.max(orders))
@@ -169,7 +192,11 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         A = \max E - \min E, \qquad \delta = \frac{\omega_{max}-\omega_{min}}{\omega} =
         \frac{A}{J\omega^2}, \qquad J = \frac{A}{\delta\,\omega^2}
 
-    (from :math:`\tfrac12 J(\omega_{max}^2 - \omega_{min}^2) = A`).
+    (from :math:`\tfrac12 J(\omega_{max}^2 - \omega_{min}^2) = A`), with
+    :math:`J = J_f + \langle J_{layout}\rangle` the flywheel's inertia and the cycle mean of
+    the layout's moving masses' (:func:`layout_inertia`): ``flywheel_inertia`` is
+    :math:`J_f`, sized beyond what the layout's masses already give (0 when they give the
+    fluctuation asked for by themselves).
     """
     gas = layout.gas
     if gas is None:
@@ -238,12 +265,14 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     step = math.radians(cycle_deg / samples)
     excess = np.concatenate([[0.0], np.cumsum(0.5 * (engine + np.roll(engine, -1)) - mean) * step])
     excess_work = float(excess.max() - excess.min())
+    # the layout's own moving masses turn with the crank too: the cycle mean of their
+    # reduced inertia is added to the flywheel's (docs/torque.md, "Speed fluctuation")
     if gas.flywheel_inertia is not None:
         inertia = gas.flywheel_inertia
-        delta = excess_work / (inertia * w2)
+        delta = excess_work / ((inertia + layout_inertia(layout, theta)) * w2)
     elif gas.speed_fluctuation is not None:
         delta = gas.speed_fluctuation
-        inertia = excess_work / (delta * w2)
+        inertia = max(excess_work / (delta * w2) - layout_inertia(layout, theta), 0.0)
     else:
         inertia = delta = math.nan
     return TorqueResult(
@@ -489,7 +518,8 @@ OUTPUTS: tuple[Output, ...] = (
         "flywheel_inertia",
         "flywheel_inertia",
         "kg m2",
-        "moment of inertia of the rotating assembly",
+        "flywheel inertia J_f beyond the layout's moving masses (given, or sized for the "
+        "speed fluctuation)",
     ),
     Output(
         "indicated_work",

@@ -67,8 +67,9 @@ from balance.io.layout_fields import (
     placed,
 )
 
-if TYPE_CHECKING:  # pragma: no cover
+if TYPE_CHECKING:
     from balance.core.engine import Engine
+    from balance.core.speed_model import Load
 
 __all__ = [
     "DEFAULT_ORDERS",
@@ -77,6 +78,7 @@ __all__ = [
     "Scatter",
     "Vary",
     "check_speed",
+    "load_of",
     "option_error",
     "parse_field",
     "parse_option_quantity",
@@ -525,3 +527,48 @@ def _tolerance_unit(kind: str) -> Callable[[float], str]:
         return likely_unit(number, kind)
 
     return likely
+
+
+_POWER_LAW = re.compile(r"^(?P<torque>[^@]+)@(?P<at>[^^]+)\^(?P<exponent>.+)$")
+
+
+def load_of(text: str, option: str = "load") -> Load:
+    """A load written as text (the command line's ``--load``).
+
+    Parameters
+    ----------
+    text : str
+        ``mean``, ``propeller``, a torque (``150Nm``: a constant load) or a power law
+        ``TORQUE@SPEED^EXPONENT`` (``80Nm@3000rpm^2``).
+    option : str
+        How messages name the value.
+
+    Returns
+    -------
+    Load
+
+    Raises
+    ------
+    InputError
+        For text that is none of these, naming what would be valid.
+    """
+    from balance.core.speed_model import ConstantLoad, MeanLoad, PowerLawLoad, PropellerLoad
+    from balance.io.units import parse_quantity
+
+    word = text.strip().lower()
+    if word in ("mean", "propeller"):
+        return MeanLoad() if word == "mean" else PropellerLoad()
+    match = _POWER_LAW.match(text.replace(" ", ""))
+    try:
+        if match is None:
+            return ConstantLoad(parse_quantity(text, "torque"))
+        return PowerLawLoad(
+            parse_quantity(match["torque"], "torque"),
+            parse_quantity(match["at"], "speed"),
+            float(match["exponent"]),
+        )
+    except (ValueError, InputError) as exc:
+        raise InputError(
+            f"{option}: {text!r}: {exc}; give mean, propeller, a torque such as 150Nm, or a "
+            "power law such as 80Nm@3000rpm^2"
+        ) from None

@@ -75,6 +75,7 @@ LAYOUT_UNITS: dict[str, str] = {
     "fraction": "%",
     "pressure": "bar",
     "energy": "J",
+    "torque": "N m",
 }
 #: Unit kind -> a value (SI; degrees for angles) in its :data:`LAYOUT_UNITS` unit.
 _TO_LAYOUT: dict[str, Callable[[float], float]] = {
@@ -86,6 +87,7 @@ _TO_LAYOUT: dict[str, Callable[[float], float]] = {
     "fraction": lambda v: v * 100,
     "pressure": lambda v: v * 1e-5,
     "energy": lambda v: v * 1.0,
+    "torque": lambda v: v * 1.0,
 }
 #: Unit kind -> the unit of a checked value (SI; degrees for angles), as studies label it.
 SI_UNITS: dict[str, str] = {

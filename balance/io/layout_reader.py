@@ -120,10 +120,11 @@ def _specs(doc: SourceDocument) -> tuple[LayoutSpec | None, dict[str, Any], list
     spec, problems = validate(LayoutSpec, rest, doc, hints=LAYOUT_HINTS, also=keys)
     sections: dict[str, Any] = {}
     for key in keys:
-        if doc.data.get(key) is None:
+        if key not in doc.data:
             continue
         reader = section_reader(key)
-        section, found = validate(reader.spec, doc.data[key], doc, (key,), reader.hints)
+        given = doc.data[key] if doc.data[key] is not None else {}  # "key:" alone: defaults
+        section, found = validate(reader.spec, given, doc, (key,), reader.hints)
         problems += found
         if section is not None:
             sections[key] = section
@@ -301,7 +302,11 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         links=links,
         **arrays,
     )
-    built = {}
+    built: dict[str, Any] = {}
+    if spec.flywheel is not None and gas is None:  # a crank that coasts (docs/dynamics.md)
+        from balance.core.speed_model import Flywheel
+
+        built["flywheel"] = Flywheel(spec.flywheel.inertia, spec.flywheel.speed_fluctuation)
     for key, section in sections.items():  # each on the engine read from the rest
         value = _collect(problems, functools.partial(_section, doc, key, section, engine))
         if value is not None:

@@ -68,6 +68,7 @@ class SectionReader:
 LAYOUT_SECTIONS: dict[str, str] = {
     "mounts": "balance.io.mounts_section:SECTION",
     "bearings": "balance.io.bearings_section:SECTION",
+    "dynamics": "balance.io.dynamics_section:SECTION",
 }
 
 

@@ -23,10 +23,14 @@ from balance.core.result import Request
 from balance.core.sections import SECTIONS, Section
 from balance.io.fields import check_speed, parse_orders
 
-__all__ = ["MODELS", "SECTION_OPTIONS", "build_request", "turned_on"]
+__all__ = ["MODELS", "SECTION_OPTIONS", "SPEED_MODELS", "build_request", "turned_on"]
 
 #: The piston acceleration models, and ``time`` (sampled).
 MODELS = (*kinematics.MODELS, "time")
+
+#: The speed models: the crank speed constant, or the crank train's own motion solved
+#: (docs/dynamics.md).
+SPEED_MODELS = ("constant", "dynamic")
 
 #: Each section option, and the section it belongs to.
 SECTION_OPTIONS: dict[str, str] = {
@@ -111,6 +115,14 @@ def build_request(
     if model is not None and model not in MODELS:
         raise InputError(f"model: {model!r}; use one of {', '.join(MODELS)}")
     wanted = _sections(engine, sections, figures)
+    speed_model = wanted.get("dynamics", {}).get("speed_model")
+    if speed_model is None and "dynamics" in engine.sections:
+        speed_model = "dynamic"
+    if speed_model == "dynamic" and model in ("series", "textbook"):
+        raise InputError(
+            f"model: {model!r} with the dynamic speed model, which samples the exact "
+            "kinematics; give the exact model (or none)"
+        )
     if not (moments and roll):
         wanted.pop("proposal", None)
     return Request.of(
@@ -197,6 +209,14 @@ def _checked(name: str, options: dict[str, Any]) -> dict[str, Any]:
         if factors.size == 0 or not np.all((factors >= 0) & (factors <= 2)):
             raise InputError("factors: balance factors between 0 and 2 (0 % to 200 %)")
         out["factors"] = factors
+    if "speed_model" in out and out["speed_model"] not in SPEED_MODELS:
+        raise InputError(
+            f"speed_model: {out['speed_model']!r}; use one of {', '.join(SPEED_MODELS)}"
+        )
+    if isinstance(out.get("load"), str):
+        from balance.io.fields import load_of
+
+        out["load"] = load_of(out["load"])
     for flag in ("cancel_roll", "with_proposal", "strategies"):
         if flag in out:
             out[flag] = bool(out[flag])

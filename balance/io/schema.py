@@ -670,10 +670,11 @@ class LayoutSpec(Strict):
                 f"speed is {self.speed:g} rad/s", "speed must be more than zero", ("speed",)
             )
         positive(self.pitch, "pitch")
-        if self.flywheel is not None and self.gas is None:
+        if self.flywheel is not None and self.gas is None and self.flywheel.inertia is None:
             raise FieldProblem(
-                "'flywheel' needs a 'gas' section",
-                "the speed fluctuation comes from the gas torque; add gas: {pressure_trace: ...}",
+                "a speed fluctuation to size the flywheel for needs a 'gas' section",
+                "the speed fluctuation comes from the gas torque; add gas: {pressure_trace: "
+                "...}, or give the flywheel's inertia (a crank that coasts, docs/dynamics.md)",
                 ("flywheel",),
             )
         if self.gas is not None and self.gas.bore is None and self.geometry.bore is None:

@@ -85,6 +85,7 @@ KINDS: dict[str, tuple[str, str, str, float]] = {
     "fraction": ("", "a fraction (0.5 = 50 %)", "'50 %'", 1e3),
     "pressure": ("Pa", "", "'1 bar'", 1e10),
     "volume": ("m ** 3", "", "'2.0 L'", 1e3),
+    "torque": ("N * m", "", "'150 N m'", 1e9),
 }
 
 #: Kinds whose bare numbers (other than 0) are refused: every kind with a dimension.
@@ -151,7 +152,7 @@ def likely_unit(number: float, kind: str) -> str:
         return "cc" if size >= 50 else "L"
     if kind == "inertia":
         return "kg cm^2" if size >= 1 else "kg m^2"
-    return {"speed": "rpm", "angle": "deg", "fraction": "%"}[kind]
+    return {"speed": "rpm", "angle": "deg", "fraction": "%", "torque": "N m"}[kind]
 
 
 def _number_text(value: float | int | str) -> str:
@@ -284,7 +285,18 @@ _FAST_UNITS: dict[str, tuple[str, float]] = {
     "l": ("volume", 1e-3),
     "cc": ("volume", 1e-6),
     "cm^3": ("volume", 1e-6),
+    "N m": ("torque", 1.0),
+    "N*m": ("torque", 1.0),
+    "N·m": ("torque", 1.0),
+    "kN m": ("torque", 1e3),
+    "kN*m": ("torque", 1e3),
+    "lbf ft": ("torque", 1.3558179483314004),
+    "ft lbf": ("torque", 1.3558179483314004),
 }
+
+#: How a torque's unit may be written run together: ``150Nm`` is 150 newton metres where a
+#: torque is read (pint alone would read a nanometre).
+TORQUE_SPELLINGS = {"Nm": "N m", "kNm": "kN m"}
 
 #: Unit names read in any letter case (lower case -> the name as in the fast table): each
 #: has two or more letters in every word, and no other capitalisation of it is a unit of
@@ -312,6 +324,8 @@ ANY_CASE: dict[str, str] = {
         "bar",
         "cc",
         "cm^3",
+        "lbf ft",
+        "ft lbf",
     )
 }
 
@@ -361,6 +375,8 @@ def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
         return number, True
     if _BIG_EXPONENT.search(unit_text):
         raise UnitProblem(f"unit {unit_text!r} has an absurd exponent", valid)
+    if kind == "torque":  # the engineer's newton metre, not pint's nanometre
+        unit_text = TORQUE_SPELLINGS.get(unit_text, unit_text)
     fast = _FAST_UNITS.get(unit_text)
     if fast is None and unit_text.lower() in ANY_CASE:
         fast = _FAST_UNITS[ANY_CASE[unit_text.lower()]]
@@ -401,6 +417,7 @@ _KIND_ARTICLE = {
     "fraction": "a fraction",
     "pressure": "a pressure",
     "volume": "a volume",
+    "torque": "a torque",
 }
 
 

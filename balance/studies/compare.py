@@ -27,7 +27,8 @@ __all__ = ["COMPARED", "Compared", "compare_results", "scale_layout"]
 
 #: The sections of each analysis that a comparison shows beside the free forces and the
 #: columns that sections declare (:func:`balance.core.catalogue.compared_sections`): a
-#: section that a layout turns on but the comparison does not show is not computed.
+#: section that a layout turns on but the comparison does not show is not computed, and
+#: layouts are compared at constant speed.
 COMPARED = ("cylinders", "torque", "proposal")
 
 
@@ -136,7 +137,9 @@ def compare_results(
                 )
             factor = (displacement / layout.displacement) ** (1.0 / 3.0)
             layout = scale_layout(layout, factor)
-        request = build_request(layout, ks, speed=speed, model=model, terms=terms)
+        request = build_request(
+            layout, ks, speed=speed, model=model, terms=terms, speed_model="constant"
+        )
         request = request.only(*COMPARED, *compared_sections())
         out.append(Compared(_label(given, taken), factor, compute(layout, request)))
     return out

@@ -50,6 +50,7 @@ __all__ = [
     "DEFAULT_CHUNK_SIZE",
     "check_output",
     "chunk_slices",
+    "refuse_variable_speed",
     "sweep",
     "sweep_arrays",
     "sweep_to_file",
@@ -285,6 +286,30 @@ def _variables(plan: _Plan) -> dict[str, tuple[tuple[str, ...], str, str]]:
     }
 
 
+def refuse_variable_speed(layout: Engine, study: str) -> None:
+    """Refuse a study of a layout that asks for the variable-speed analysis (its
+    ``dynamics:`` section): studies run at constant speed in this version.
+
+    Parameters
+    ----------
+    layout : Engine
+        The layout studied.
+    study : str
+        The study, as messages name it (``sweep``, ``tolerance``).
+
+    Raises
+    ------
+    InputError
+        When the layout has a ``dynamics:`` section.
+    """
+    if "dynamics" in layout.sections:
+        raise InputError(
+            f"{study}: layout '{layout.name}' asks for the variable-speed analysis (its "
+            f"dynamics: section), which a {study} does not run in this version; remove the "
+            "section to study the engine at constant speed"
+        )
+
+
 def _plan(
     layout: Engine,
     vary: Mapping[str, Any] | Sequence[Vary | str],
@@ -296,6 +321,7 @@ def _plan(
 ) -> _Plan:
     if model not in kinematics.MODELS:
         raise InputError(f"--model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
+    refuse_variable_speed(layout, "sweep")
     ks = parse_orders(orders)
     return _Plan(layout, tuple(_as_varies(layout, vary)), ks, model, terms, moments, roll)
 

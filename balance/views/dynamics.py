@@ -31,6 +31,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "PLOTS",
     "REPORT_TITLE",
+    "drawn",
     "dynamics_json",
     "json_block",
     "load_text",
@@ -50,14 +51,38 @@ _num = json_number
 
 
 def _part(result: Result) -> DynamicsResult | None:
-    part: DynamicsResult | None = result.part("dynamics")
-    return part
+    """The dynamic model's solution, or None (a constant-speed result: only the bound)."""
+    from balance.core.dynamics import DynamicsResult
+
+    part = result.part("dynamics")
+    return part if isinstance(part, DynamicsResult) else None
 
 
 def _given(result: Result) -> DynamicsResult:
     part = _part(result)
-    assert part is not None, "the result has no dynamics part"
+    assert part is not None, "the result has no dynamic solution"
     return part
+
+
+def drawn(result: Result) -> bool:
+    """Whether the section's figures have something to draw: the dynamic model's solution.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the section's part.
+
+    Returns
+    -------
+    bool
+    """
+    return _part(result) is not None
+
+
+def _bound_ratio(result: Result) -> float:
+    """The constant rung's error bound per sum(m r w^2) (NaN without gas forces)."""
+    bound = result.part("dynamics").bound
+    return math.nan if bound is None else float(bound.ratio)
 
 
 # --------------------------------------------------------------------------- JSON
@@ -152,8 +177,17 @@ def dynamics_json(p: DynamicsResult) -> dict[str, Any]:
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``dynamics`` (:func:`dynamics_json`)."""
-    return {"dynamics": dynamics_json(_given(result))}
+    """The section's part of the analysis JSON: the speed model and the constant rung's
+    error bound in ``accuracy`` (docs/dynamics.md, "The ladder"), and with the dynamic
+    model the ``dynamics`` block (:func:`dynamics_json`)."""
+    part = result.part("dynamics")
+    out: dict[str, Any] = {
+        "accuracy": {"speed_model": part.speed_model, "speed_bound": _num(_bound_ratio(result))}
+    }
+    solution = _part(result)
+    if solution is not None:
+        out["dynamics"] = dynamics_json(solution)
+    return out
 
 
 # --------------------------------------------------------------------------- tables
@@ -229,7 +263,15 @@ def tables(result: Result) -> list[RenderableType]:
 
     from balance.views.fitted import Column, NumberTable
 
-    p = _given(result)
+    p = _part(result)
+    bound = 100.0 * _bound_ratio(result)
+    if p is None:  # the constant speed model: what it may be off by
+        return [
+            Text(
+                "Speed model constant: the crank speed's fluctuation may change the free "
+                f"forces by up to {format_number(bound, 3)} % of sum(m r w^2) (bound)"
+            )
+        ]
     out: list[RenderableType] = [
         NumberTable(
             "Crank speed over the working cycle (periodic steady state)",
@@ -464,7 +506,15 @@ def report_section(result: Result, figures: bool) -> str:
     """HTML of the report's variable-speed section, with its three figures."""
     from balance.views.report import escape, html_figure, html_table
 
-    p = _given(result)
+    p = _part(result)
+    if p is None:
+        bound = format_number(100.0 * _bound_ratio(result), 3)
+        return (
+            f"<p>{escape('Speed model constant: the crank speed is taken as constant; its ')}"
+            f"{escape(f'fluctuation may change the free forces by up to {bound} % of ')}"
+            f"{escape('sum(m r w²) (a bound from the constant-speed data, docs/dynamics.md).')}"
+            "</p>"
+        )
     text = (
         "The rigid crank train's equation of motion, J(θ) dω/dt + ½ J'(θ) ω² = Q(θ) − T_L(ω), "
         "solved for its periodic steady state over the working cycle; the mean speed is the "

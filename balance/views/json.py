@@ -23,6 +23,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
 
 __all__ = [
+    "merge",
     "order_entries",
     "phasor_entries",
     "roll_entries",
@@ -127,9 +128,27 @@ def to_dict(result: Result) -> dict[str, Any]:
     for _, views in views_of(result):
         block = getattr(views, "json_block", None)
         if block is not None:
-            out.update(block(result))
+            merge(out, block(result))
     out["warnings"] = warnings_json(result)
     return out
+
+
+def merge(out: dict[str, Any], block: dict[str, Any]) -> None:
+    """Add a section's JSON block to ``out``: its new keys at the end, and its objects
+    under a key ``out`` has (``accuracy``) merged into that object, key by key.
+
+    Parameters
+    ----------
+    out : dict
+        The JSON document so far (changed in place).
+    block : dict
+        What a section adds (its views module's ``json_block``).
+    """
+    for key, value in block.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            merge(out[key], value)
+        else:
+            out[key] = value
 
 
 def warnings_json(result: Result) -> list[dict[str, str]]:

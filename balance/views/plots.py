@@ -627,8 +627,17 @@ def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
 
 def applicable_kinds(result: Result) -> list[str]:
     """The figure kinds that have something to draw for ``result``, in order: those of
-    :data:`PLOT_KINDS` (always), then those of every section the result holds."""
-    return [*PLOT_KINDS] + [k for k, (name, _) in section_kinds().items() if name in result.parts]
+    :data:`PLOT_KINDS` (always), then those of every section the result holds whose views
+    draw for it (a views module's ``drawn(result)``, true when it has none)."""
+    from balance.views.sections import view
+
+    def drawn(name: str) -> bool:
+        if name not in result.parts:
+            return False
+        check = getattr(view(name), "drawn", None)
+        return check is None or bool(check(result))
+
+    return [*PLOT_KINDS] + [k for k, (name, _) in section_kinds().items() if drawn(name)]
 
 
 def save_plots(
