@@ -587,3 +587,64 @@ def test_part_without_a_result_torque():
 
 def test_chain_helper():
     assert chain([1, 2], [3]).masses[0].shaft.stiffness == 3
+
+
+def test_two_stroke_whole_orders():
+    """A two-stroke fires every revolution: whole orders 1 to 12 by default, its cycle one
+    revolution, major orders the multiples of its cylinder count (a four-cylinder: 4, 8,
+    12)."""
+    engine = replace(load_layout("inline-4-gas"), cycle="two-stroke", gas=None)
+    t = analysed(with_train(engine, inline4_train()), speeds=[300.0, 500.0]).part("torsion")
+    np.testing.assert_allclose(t.orders, np.arange(1, 13))
+    np.testing.assert_allclose(t.excitation.firing_tdc, [0.0, 180.0, 180.0, 0.0])
+    assert [float(k) for k in t.orders[t.major]] == [2.0, 4.0, 6.0, 8.0, 10.0, 12.0]
+    assert t.damped and np.all(np.isfinite(t.free_end_synthesis))
+
+
+def test_link_rods_and_lumped_masses():
+    """An engine with master and link rods (the V12 of the Kharkiv V-2): the moving parts'
+    inertia of its link cylinders, and its excitation, come from the link kinematics; with
+    whole-station inertias a lumped engine is analysed too, its moving parts' inertia
+    undefined (NaN)."""
+    engine = load_layout("v12-60-articulated")
+    order = np.argsort(engine.z, kind="stable")
+    masses = [TorsionMass("pulley", inertia=0.05, shaft=Shaft(3e6, 2.0))]
+    for t in range(6):
+        cyl = tuple(int(c) + 1 for c in order[2 * t : 2 * t + 2])
+        masses.append(
+            TorsionMass(
+                f"throw {t + 1}",
+                crank_inertia=0.05,
+                cylinders=cyl,
+                damping=2.0,
+                shaft=Shaft(3e6, 2.0),
+            )
+        )
+    masses.append(TorsionMass("flywheel", inertia=3.0, damping=5.0))
+    # the layout gives no firing order: every cylinder's nominal TDC, as a reader would pass
+    nominal = list(np.mod(np.degrees(engine.bank - engine.throw), 360.0))
+    firing = tx.place_firing_tdc(engine, nominal)
+    train = TorsionTrain(tuple(masses), firing_tdc=tuple(firing))
+    result = analysed(with_train(engine, train), speeds=[100.0, 200.0])
+    t = result.part("torsion")
+    assert np.all(np.isfinite(t.moving_inertia)) and np.all(t.moving_inertia > 0)
+    linked = engine.links.linked
+    assert not np.allclose(t.moving_inertia[linked], t.moving_inertia[~linked])
+    from helpers import engine as compact
+
+    lumped = compact([0, 180, 180, 0], firing_order=[1, 3, 4, 2])
+    whole = TorsionTrain(
+        tuple(
+            TorsionMass(
+                m.name,
+                inertia=m.inertia or 0.006,
+                cylinders=m.cylinders,
+                damping=m.damping,
+                shaft=m.shaft,
+            )
+            for m in inline4_train().masses
+        )
+    )
+    t = analysed(with_train(lumped, whole), speeds=[400.0]).part("torsion")
+    assert np.all(np.isnan(t.moving_inertia))
+    assert np.all(np.isfinite(t.inertias))

@@ -350,16 +350,20 @@ def _not_negative(value: float) -> bool:
     return math.isfinite(value) and value >= 0.0
 
 
-def _by_part(engine: Engine, cylinders: Sequence[int]) -> bool:
-    """Whether these cylinders' masses are given by part (no lumped override)."""
+def _by_part_cylinders(engine: Engine) -> NDArray[np.bool_]:
+    """Which cylinders have their masses by part, with no lumped override (their moving
+    parts' inertia is defined: a lumped ``rotating`` mass holds the crank's own unbalance
+    too)."""
     parts = engine.mass_parts
     if parts is None:
-        return False
+        return np.zeros(engine.n_cylinders, dtype=bool)
+    return np.asarray(np.isnan(parts.reciprocating_given) & np.isnan(parts.rotating_given))
+
+
+def _by_part(engine: Engine, cylinders: Sequence[int]) -> bool:
+    """Whether these cylinders' masses are all given by part."""
     idx = [c - 1 for c in cylinders if 1 <= c <= engine.n_cylinders]
-    return bool(
-        np.all(np.isnan(parts.reciprocating_given[idx]))
-        and np.all(np.isnan(parts.rotating_given[idx]))
-    )
+    return bool(np.all(_by_part_cylinders(engine)[idx]))
 
 
 def _mass_problems(engine: Engine | None, train: TorsionTrain) -> list[TrainProblem]:
@@ -724,7 +728,7 @@ class TorsionResult:
         Each mass's inertia as used [kg m^2].
     moving_inertia : ndarray, shape (c,)
         Mean inertia of each cylinder's moving parts [kg m^2] (added to a
-        ``crank_inertia`` mass).
+        ``crank_inertia`` mass); NaN for a cylinder with lumped masses.
     cylinder_mass : ndarray of int, shape (c,)
         The mass (0-based) each cylinder is on.
     excitation : Excitation
@@ -871,7 +875,7 @@ def torsion_analysis(
         if train.firing_tdc is not None
         else np.asarray(place_firing_tdc(engine), dtype=np.float64)
     )
-    moving = moving_parts_inertia(engine)
+    moving = np.where(_by_part_cylinders(engine), moving_parts_inertia(engine), np.nan)
     inertias = mass_inertias(engine, train, moving)
     matrices = train_matrices(train, inertias)
     frequencies, shapes = normal_modes(matrices)
@@ -898,7 +902,7 @@ def torsion_analysis(
         )
         for n, (j, i, wr) in enumerate(meets)
     )
-    warnings = torsion_warnings(engine, train, inertias, frequencies)
+    warnings = torsion_warnings(engine, train, inertias)
     return TorsionResult(
         train=train,
         cycle=engine.cycle,
@@ -1068,7 +1072,6 @@ def torsion_warnings(
     engine: Engine,
     train: TorsionTrain,
     inertias: FloatArray | None = None,
-    frequencies: FloatArray | None = None,
 ) -> tuple[PlausibilityWarning, ...]:
     """The plausibility warnings of a torsion train, in the order of :data:`WARNING_RULES`.
 
@@ -1080,9 +1083,6 @@ def torsion_warnings(
         The table (checked: :func:`train_problems` finds nothing).
     inertias : ndarray, optional
         The masses' inertias as used [kg m^2] (:func:`mass_inertias` when not given).
-    frequencies : ndarray, optional
-        Not used (the tuned dampers are compared with the modes of the train without
-        them); accepted so that a caller holding the modes may pass them.
 
     Returns
     -------
@@ -1092,7 +1092,6 @@ def torsion_warnings(
         damper whose own frequency is more than :data:`TUNING_BAND` away from every
         natural frequency of the train without it.
     """
-    del frequencies
     j = mass_inertias(engine, train) if inertias is None else np.asarray(inertias)
     found = [
         _no_damping(train),
@@ -1252,7 +1251,8 @@ OUTPUTS: tuple[Output, ...] = (
         "torsion_moving_inertia",
         ("cylinder",),
         "kg m2",
-        "mean inertia of each cylinder's piston group and rod about the crank axis",
+        "mean inertia of each cylinder's piston group and rod about the crank axis "
+        "(NaN with lumped masses)",
         lambda t: t.moving_inertia,
     ),
     _out(

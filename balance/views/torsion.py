@@ -545,6 +545,20 @@ def _not_computed(result: Result, kind: str, title: str | None, text: str) -> Fi
 _ABSENT = "no torsion in this result: give the layout a torsion: section"
 
 
+def _labels(t: TorsionResult, width: float, height: float) -> list[tuple[float, float, str]]:
+    """The resonances labelled in the Campbell diagram: the :data:`LABELLED` largest vector
+    sums, each skipped where it would overlap one labelled before it."""
+    placed: list[tuple[float, float, str]] = []
+    for r in sorted(t.resonances, key=lambda r: -r.vector_sum):
+        if len(placed) == LABELLED or r.vector_sum <= 0:
+            break
+        n_r, f_r = speed_rpm(r.speed), float(t.frequencies[r.mode - 1])
+        if any(abs(n_r - n) < 0.07 * width and abs(f_r - f) < 0.04 * height for n, f, _ in placed):
+            continue
+        placed.append((n_r, f_r, f"{order_value(r.order)}: {format_number(r.vector_sum, 3)}"))
+    return placed
+
+
 def plot_campbell(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``torsion_campbell``: the Campbell (interference) diagram, natural
     frequencies against crank speed with the order lines :math:`f = k n / 60` (major orders
@@ -582,22 +596,19 @@ def plot_campbell(result: Result, *, title: str | None = None) -> Figure:
             f = float(t.frequencies[j])
             ax.axhline(f, color=f"C{j % 10}", lw=1.2, label=f"mode {j + 1}: {format_number(f)} Hz")
         sums = np.array([r.vector_sum for r in t.resonances])
-        ranked = sorted(t.resonances, key=lambda r: -r.vector_sum)[:LABELLED]
-        labelled = [r for r in ranked if r.vector_sum > 0]
         largest = float(sums.max()) if sums.size else 1.0
         for r in t.resonances:
-            n_r = speed_rpm(r.speed)
-            f_r = float(t.frequencies[r.mode - 1])
             size = 20.0 + 120.0 * (r.vector_sum / largest if largest > 0 else 0.0)
-            ax.scatter([n_r], [f_r], s=size, color=f"C{(r.mode - 1) % 10}", zorder=3, edgecolor="k")
-            if r in labelled:
-                ax.annotate(
-                    f"{order_value(r.order)}: {format_number(r.vector_sum, 3)}",
-                    (n_r, f_r),
-                    textcoords="offset points",
-                    xytext=(3, 4),
-                    fontsize=7,
-                )
+            ax.scatter(
+                [speed_rpm(r.speed)],
+                [float(t.frequencies[r.mode - 1])],
+                s=size,
+                color=f"C{(r.mode - 1) % 10}",
+                zorder=3,
+                edgecolor="k",
+            )
+        for n_r, f_r, text in _labels(t, top_speed, top_freq):
+            ax.annotate(text, (n_r, f_r), textcoords="offset points", xytext=(3, 4), fontsize=7)
         hidden = len(t.frequencies) - len(shown)
         ax.set_xlim(0.0, top_speed)
         ax.set_ylim(0.0, top_freq)
