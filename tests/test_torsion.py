@@ -20,7 +20,6 @@ from balance.core.errors import InputError
 from balance.core.result import Request
 from balance.core.torsion import (
     OUTPUTS,
-    WARNING_RULES,
     Shaft,
     TorsionDamper,
     TorsionMass,
@@ -31,6 +30,7 @@ from balance.core.torsion import (
     torsion_warnings,
     train_problems,
 )
+from balance.core.torsion_train import WARNING_RULES
 from balance.io.layout_file import load_layout
 
 # --------------------------------------------------------------------------- checks
