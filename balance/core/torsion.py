@@ -364,10 +364,19 @@ def _response(
     res_speed = np.array([wr for _, _, wr in meets], dtype=np.float64)
     res_order = np.array([i for _, i, _ in meets], dtype=np.intp)
     all_speeds = np.concatenate([speeds, res_speed])
-    per_cylinder = exc.at_crank(all_speeds)  # (S + R, K, c)
-    forces = cancel_to_zero(
-        per_cylinder @ to_mass, np.abs(per_cylinder) @ to_mass, engine.n_cylinders
-    )  # (S + R, K, size): what cancels on a mass by symmetry is exactly zero
+    # each part's torques summed on the masses, once: what cancels on a mass by symmetry
+    # is exactly zero (the gas part holds at every speed, the inertia part scales)
+    on_mass = [
+        None
+        if part is None
+        else cancel_to_zero(part @ to_mass, np.abs(part) @ to_mass, engine.n_cylinders)
+        for part in exc.crank_parts()
+    ]  # (K, size) each
+    gas, inertia = on_mass
+    assert inertia is not None
+    forces = inertia[None] * exc.speed_scale(all_speeds)[:, None, None]  # (S + R, K, size)
+    if gas is not None:
+        forces = forces + gas[None]
     grid_forces = forces[: speeds.size]
     res_forces = forces[speeds.size + np.arange(res_speed.size), res_order]
     grid_freq = np.outer(speeds, orders)  # (S, K)

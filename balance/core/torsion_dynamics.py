@@ -58,7 +58,7 @@ IntArray = NDArray[np.intp]
 SAMPLES_PER_HARMONIC = 8
 #: Newton steps that refine an extreme of a trigonometric sum (its value is then taken to
 #: third order, :func:`_newton`).
-NEWTON_STEPS = 3
+NEWTON_STEPS = 2
 
 
 @dataclass(frozen=True, eq=False)
@@ -272,20 +272,41 @@ def harmonic_response(
     Notes
     -----
     No modal truncation: every frequency's system is solved as it stands, all of them
-    stacked into one call of :func:`numpy.linalg.solve`.
+    stacked into one call of :func:`numpy.linalg.solve`.  A damper ring with damping is held
+    by its coupling alone, :math:`Z = k_r + i\omega c_r` to its hub; its equation,
+    :math:`-Z Q_h + (Z - \omega^2 J_r) Q_r = F_r`, is solved for :math:`Q_r` and put into the
+    hub's (exact elimination, never singular since :math:`\operatorname{Im} D = \omega c_r
+    > 0`), so that the stacked systems are smaller by one row per such ring.
     """
     w = np.asarray(frequency, dtype=np.float64)
     f = np.asarray(forces, dtype=np.complex128)
     size = matrices.size
-    system = np.empty((*w.shape, size, size), dtype=np.complex128)
-    # real part K - w^2 M (M diagonal), imaginary part eta K_s + w C
-    system.real = matrices.stiffness
-    diagonal = np.arange(size)
-    system.real[..., diagonal, diagonal] -= (w * w)[..., None] * np.diag(matrices.mass)
-    system.imag = matrices.loss_factor * matrices.section_stiffness
-    row, col = np.nonzero(matrices.damping)  # C is sparse: the chain and the couplings
-    system.imag[..., row, col] += w[..., None] * matrices.damping[row, col]
-    return np.asarray(np.linalg.solve(system, f[..., None])[..., 0], dtype=np.complex128)
+    rings = matrices.rings
+    damped = rings[np.diag(matrices.damping)[rings] > 0.0]  # rings eliminated exactly
+    keep = np.setdiff1d(np.arange(size), damped)
+    static = matrices.stiffness + 1j * matrices.loss_factor * matrices.section_stiffness
+    damping = matrices.damping[np.ix_(keep, keep)]
+    system = np.empty((*w.shape, keep.size, keep.size), dtype=np.complex128)
+    system[...] = static[np.ix_(keep, keep)]
+    diagonal = np.arange(keep.size)  # M is diagonal
+    system[..., diagonal, diagonal] -= (w * w)[..., None] * np.diag(matrices.mass)[keep]
+    row, col = np.nonzero(damping)  # C is sparse: the chain and the couplings
+    system[..., row, col] += (1j * w)[..., None] * damping[row, col]
+    rhs = f[..., keep]
+    eliminated = []
+    for ring in damped:
+        hub = int(np.searchsorted(keep, matrices.hubs[ring - matrices.n_masses]))
+        coupling = matrices.stiffness[ring, ring] + 1j * w * matrices.damping[ring, ring]
+        dynamic = coupling - w * w * matrices.mass[ring, ring]
+        system[..., hub, hub] -= coupling * coupling / dynamic
+        rhs[..., hub] += coupling * f[..., ring] / dynamic
+        eliminated.append((ring, hub, coupling, dynamic))
+    reduced = np.linalg.solve(system, rhs[..., None])[..., 0]
+    q = np.empty(f.shape, dtype=np.complex128)
+    q[..., keep] = reduced
+    for ring, hub, coupling, dynamic in eliminated:
+        q[..., ring] = (f[..., ring] + coupling * reduced[..., hub]) / dynamic
+    return q
 
 
 def coupling_power(
@@ -375,7 +396,7 @@ def half_range(coefficients: ArrayLike, harmonics: ArrayLike) -> FloatArray:
     if h.size == 0:
         return np.zeros(lead)
     top = int(h.max())
-    n = 1 << max(6, math.ceil(math.log2(SAMPLES_PER_HARMONIC * top)))
+    n = max(64, SAMPLES_PER_HARMONIC * top)
     flat = x.reshape(-1, h.size)
     m = flat.shape[0]
     spectrum = np.zeros((m, n // 2 + 1), dtype=np.complex128)
@@ -384,36 +405,57 @@ def half_range(coefficients: ArrayLike, harmonics: ArrayLike) -> FloatArray:
     step = 2.0 * math.pi / n
     bound = step * step / 8.0 * (np.abs(flat) @ (h * h).astype(np.float64))
     extreme = np.concatenate([np.max(samples, axis=1), -np.min(samples, axis=1)])
-    for sense in (1.0, -1.0):
-        g = sense * samples
-        best = extreme[:m] if sense > 0 else extreme[m:]
-        row, col = np.nonzero(g >= (best - bound)[:, None])
-        here = g[row, col]
-        peak = (here > g[row, col - 1]) & (here >= g[row, (col + 1) % n])
-        row, col = row[peak], col[peak]
-        start = np.asarray(step * col, dtype=np.float64)
-        refined = sense * _newton(flat[row], h, start, np.full(row.size, sense))
-        np.maximum.at(best, row, refined)
+    rows, starts = [], []
+    for sign, best in ((1.0, extreme[:m]), (-1.0, extreme[m:])):
+        g = sign * samples
+        near = np.flatnonzero(g >= (best - bound)[:, None])  # flat: faster than 2-D nonzero
+        row, col = near // n, near % n
+        before, here, after = g[row, col - 1], g[row, col], g[row, (col + 1) % n]
+        peak = (here > before) & (here >= after)
+        # the vertex of the parabola through the three samples of each local extreme: a
+        # start within a small fraction of a step of the extreme
+        before, here, after, col = before[peak], here[peak], after[peak], col[peak]
+        curve = before - 2.0 * here + after
+        shift = np.where(curve < 0.0, 0.5 * (before - after) / np.where(curve < 0, curve, 1), 0.0)
+        rows.append(row[peak] + (0 if sign > 0 else m))
+        starts.append(step * (col + np.clip(shift, -0.5, 0.5)))
+    row = np.concatenate(rows)
+    sense = np.asarray(np.where(row < m, 1.0, -1.0), dtype=np.float64)
+    start = np.asarray(np.concatenate(starts), dtype=np.float64)
+    refined = sense * _newton(flat[row % m], h, start, sense)
+    np.maximum.at(extreme, row, refined)  # a refined extreme replaces its sample if beyond
     return np.asarray(0.5 * (extreme[:m] + extreme[m:]), dtype=np.float64).reshape(lead)
 
 
 def _newton(x: ComplexArray, h: IntArray, start: FloatArray, sense: FloatArray) -> FloatArray:
-    """The value of each trigonometric sum (rows of ``x``) at the extreme (``sense`` +1: a
+    r"""The value of each trigonometric sum (rows of ``x``) at the extreme (``sense`` +1: a
     maximum, -1: a minimum) found by Newton's method on its derivative from ``start``:
     :data:`NEWTON_STEPS` steps, then the value at the last point corrected by its Taylor
-    series, :math:`f - f'^2/(2f'')`, the value at the next Newton point to third order."""
+    series, :math:`f - f'^2/(2f'')`, the value at the next Newton point to third order.
+
+    :math:`f`, :math:`f'` and :math:`f''` are the real parts of the polynomials
+    :math:`\sum_h X_h z^h`, :math:`i\sum_h h X_h z^h` and :math:`-\sum_h h^2 X_h z^h` in
+    :math:`z = e^{it}`, evaluated by Horner's rule."""
     t = np.array(start, dtype=np.float64, copy=True)
-    hf = h.astype(np.float64)
-    re, im = x.real, x.imag
+    top = int(h.max()) if h.size else 1
+    dense = np.zeros((top, x.shape[0]), dtype=np.complex128)  # X_h of h = 1..top, rows
+    dense[h - 1] = x.T
     for step in range(NEWTON_STEPS + 1):
-        phase = np.multiply.outer(t, hf)
-        cos, sin = np.cos(phase), np.sin(phase)
-        real = re * cos - im * sin  # Re(X e^{iht})
-        d1 = -((re * sin + im * cos) @ hf)
-        d2 = -(real @ (hf * hf))
+        z = np.exp(1j * t)
+        s0 = np.zeros(t.shape, dtype=np.complex128)
+        s1 = np.zeros(t.shape, dtype=np.complex128)
+        s2 = np.zeros(t.shape, dtype=np.complex128)
+        last = step == NEWTON_STEPS  # the value is needed at the last point only
+        for power in range(top, 0, -1):
+            c = dense[power - 1]
+            if last:
+                s0 = s0 * z + c
+            s1 = s1 * z + power * c
+            s2 = s2 * z + (power * power) * c
+        value, d1, d2 = (s0 * z).real, -(s1 * z).imag, -(s2 * z).real
         ok = sense * d2 < 0.0  # curving the right way: a step towards the extreme
         move = np.where(ok, d1 / np.where(ok, d2, 1.0), 0.0)
-        if step == NEWTON_STEPS:
-            return np.asarray(np.sum(real, axis=-1) - 0.5 * move * d1, dtype=np.float64)
+        if last:
+            return np.asarray(value - 0.5 * move * d1, dtype=np.float64)
         t = t - move
     raise AssertionError("unreachable")  # pragma: no cover

@@ -302,6 +302,21 @@ class Excitation:
     tangential_pressure: FloatArray | None
     cycle: str
 
+    def crank_parts(self) -> tuple[ComplexArray | None, ComplexArray]:
+        r"""The gas part (None without gas) and the moving parts' part at the reference
+        speed of each cylinder's torque per order in the crank angle :math:`\theta`,
+        :math:`G\,e^{-ik\theta_c}`, each of shape (K, c) [N m]."""
+        lag = np.exp(-1j * np.outer(self.orders, np.radians(self.firing_tdc)))  # (K, c)
+        inertia = np.asarray(self.inertia.T * lag, dtype=np.complex128)
+        gas = None if self.gas is None else np.asarray(self.gas.T * lag, dtype=np.complex128)
+        return gas, inertia
+
+    def speed_scale(self, speeds: ArrayLike) -> FloatArray:
+        r""":math:`(\Omega/\Omega_{ref})^2` of each speed [rad/s]: the inertia part's
+        factor."""
+        w = np.asarray(speeds, dtype=np.float64).reshape(-1)
+        return np.asarray(speed_squared(w) / float(speed_squared(self.reference_speed)))
+
     def at_crank(self, speeds: ArrayLike) -> ComplexArray:
         r"""Each cylinder's torque per order in the crank angle :math:`\theta`, at each
         speed: :math:`F = (G_{gas} + (\Omega/\Omega_{ref})^2 G_{inertia})\,e^{-ik\theta_c}`.
@@ -315,13 +330,11 @@ class Excitation:
         -------
         ndarray of complex, shape (S, K, c) [N m]
         """
-        w = np.asarray(speeds, dtype=np.float64).reshape(-1)
-        scale = speed_squared(w) / float(speed_squared(self.reference_speed))
-        lag = np.exp(-1j * np.outer(self.orders, np.radians(self.firing_tdc)))  # (K, c)
-        inertia = (self.inertia.T * lag)[None] * scale[:, None, None]
-        if self.gas is None:
-            return np.asarray(inertia, dtype=np.complex128)
-        return np.asarray(inertia + (self.gas.T * lag)[None], dtype=np.complex128)
+        gas, inertia = self.crank_parts()
+        total = inertia[None] * self.speed_scale(speeds)[:, None, None]
+        if gas is not None:
+            total = total + gas[None]
+        return np.asarray(total, dtype=np.complex128)
 
 
 def _null_gas(engine: Engine, firing: FloatArray) -> GasInput:
