@@ -518,6 +518,7 @@ def test_json_document_and_block():
     assert json.loads(text)["layout"] == engine.name
     block = views.json_block(analysed(engine, speeds="analysis"))
     assert "schema" not in block["torsion"]
+    assert list(block["torsion"])[:3] == ["layout", "cycle", "speed_rpm"]
     assert len(block["torsion"]["speed_rpm"]) == 1
     inertia_only = views.torsion_document(
         analysed(with_train("inline-6", _throw_train(6)), speeds=[300.0])

@@ -265,9 +265,10 @@ def _response_json(t: TorsionResult) -> dict[str, Any]:
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``torsion`` (:func:`torsion_json`, at the
-    speeds analysed)."""
-    return {"torsion": torsion_json(_part(result))}
+    """The section's part of the analysis JSON: ``torsion``, the ``balance.torsion/1``
+    object without ``schema`` (``layout``, then :func:`torsion_json`) at the speeds
+    analysed, with the part's own warnings."""
+    return {"torsion": {"layout": result.engine.name, **torsion_json(_part(result))}}
 
 
 def torsion_document(result: Result) -> dict[str, Any]:
