@@ -121,7 +121,7 @@ def test_untuned_viscous_damper_fixed_point(mu):
 def test_three_rotor_frequency_equation(rng):
     """Three inertias on two shafts, free at both ends (Thomson, *Theory of Vibration with
     Applications*, ch. "Multi-degree of freedom systems", the three-disc torsional system;
-    Den Hartog 1956, §5.3): the non-zero natural frequencies are the roots of
+    Den Hartog 1956, ch. 4): the non-zero natural frequencies are the roots of
 
         J1 J2 J3 w^4 - [k1 J3 (J1 + J2) + k2 J1 (J2 + J3)] w^2 + k1 k2 (J1 + J2 + J3) = 0.
     """
@@ -174,7 +174,7 @@ def _random_system(rng, n: int, tuned: bool = True) -> td.TrainMatrices:
 def test_energy_balance_per_order(rng):
     """The mean power the excitation puts in at each order, Re(F . conj(i w Q)) / 2, equals
     the power dissipated, w^2 Q^H C Q / 2 + w eta Q^H K_s Q / 2 (the viscous and the
-    hysteretic damping); Den Hartog 1956, §2.6-2.7 (work per cycle of viscous and
+    hysteretic damping); Den Hartog 1956, ch. 2 (work per cycle of viscous and
     hysteretic damping)."""
     for _ in range(10):
         m = _random_system(rng, int(rng.integers(2, 10)))
@@ -422,7 +422,7 @@ def test_inertia_torque_is_the_rate_of_kinetic_energy(layout):
     """The moving parts' torque on the crank pin (balance.core.torque.compute_torque with no
     gas force, link rods included) is -w^2/2 dJ/dtheta of the instantaneous inertia whose
     mean is added to a crank_inertia mass: the excitation and the inertia are one
-    kinetic energy (Wilson 1956; Den Hartog 1956, §5.7)."""
+    kinetic energy (Wilson 1956; Den Hartog 1956, ch. 5)."""
     engine = load_layout(layout)
     firing = tx.place_firing_tdc(engine)
     if isinstance(firing, str):

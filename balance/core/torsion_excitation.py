@@ -36,7 +36,7 @@ W. K. Wilson, *Practical Solution of Torsional Vibration Problems*, vol. 1, 3rd 
 analysis of the turning moment; N. Nestorides, *A Handbook on Torsional Vibration*,
 B.I.C.E.R.A., Cambridge University Press 1958 (harmonic components of the tangential
 pressure, the moving parts' inertia); Den Hartog, *Mechanical Vibrations*, 4th ed. 1956,
-§5.7-5.8.
+ch. 5 (multicylinder engines).
 """
 
 from __future__ import annotations
