@@ -23,10 +23,11 @@ relative amplitude sums (:func:`vector_sums`) and the power a damper dissipates
 References
 ----------
 J. P. Den Hartog, *Mechanical Vibrations*, 4th ed., McGraw-Hill 1956, §3.3-3.4 (the damped
-vibration absorber, the untuned damper), chs. 4-5 (many-mass torsional systems); W. K. Wilson, *Practical
-Solution of Torsional Vibration Problems*, vol. 1, 3rd ed., Chapman & Hall 1956 (the
-mass-elastic system, Holzer's tabulation); W. T. Thomson, *Theory of Vibration with
-Applications*, Prentice Hall (the generalised eigenproblem and its Cholesky reduction).
+vibration absorber, the untuned damper) and chs. 4-5 (many-mass torsional systems);
+W. K. Wilson, *Practical Solution of Torsional Vibration Problems*, vol. 1, 3rd ed.,
+Chapman & Hall 1956 (the mass-elastic system, Holzer's tabulation); W. T. Thomson, *Theory
+of Vibration with Applications*, Prentice Hall (the generalised eigenproblem and its
+Cholesky reduction).
 """
 
 from __future__ import annotations
