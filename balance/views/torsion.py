@@ -436,19 +436,20 @@ def _resonance_table(t: TorsionResult) -> Any:
                 stress,
             ]
         )
+    columns = [
+        Column("mode", key=True),
+        Column("order", key=True),
+        Column("speed", "rpm"),
+        Column("vector sum"),
+        Column("free end", "deg"),
+        Column("section"),
+        Column("torque", "N m"),
+        Column("stress", "MPa"),
+    ]
+    if not _stress_sections(t):  # no section has a diameter: no stress column
+        columns, rows = columns[:-1], [row[:-1] for row in rows]
     return NumberTable(
-        "Resonances in the speed range: order k meets mode j at 60 f_j / k rpm",
-        [
-            Column("mode", key=True),
-            Column("order", key=True),
-            Column("speed", "rpm"),
-            Column("vector sum"),
-            Column("free end", "deg"),
-            Column("section"),
-            Column("torque", "N m"),
-            Column("stress", "MPa"),
-        ],
-        rows,
+        "Resonances in the speed range: order k meets mode j at 60 f_j / k rpm", columns, rows
     )
 
 
