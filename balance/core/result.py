@@ -134,7 +134,9 @@ class Request:
 
     def only(self, *names: str) -> Request:
         """The same request with only the sections ``names`` of those it asks for."""
-        return self.with_sections(**{name: None for name in self.sections if name not in names})
+        return self.with_sections(
+            **{name: None for name in self.sections if name not in names}
+        )
 
     def with_sections(self, **sections: Mapping[str, Any] | None) -> Request:
         """The same request with sections added (a mapping of options) or removed (None)."""
