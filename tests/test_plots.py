@@ -34,6 +34,7 @@ BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
 #: The figure kinds of the variable-speed analysis (balance.views.dynamics): drawn for a
 #: result with the dynamic speed model's solution.
 SPEED_MODEL_KINDS = ("crank_speed", "reduced_inertia", "speed_model_orders")
+TORSION_KINDS = {"torsion_campbell", "torsion_modes", "torsion_response"}
 
 ORDERS = 40
 REL = 1e-9
@@ -514,6 +515,7 @@ def test_save_plots_choices(tmp_path, monkeypatch):
         and k not in BEARING_KINDS
         and k not in GAS_KINDS
         and k not in SPEED_MODEL_KINDS
+        and k not in TORSION_KINDS
     ]
     assert [p.name for p in written] == [f"i3-{kind}.png" for kind in default]
     gas = plots.save_plots(

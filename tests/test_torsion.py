@@ -14,8 +14,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 from torsion_trains import analysed, chain, inline4_train, v8_train, with_train
 
-from balance.core import torsion_dynamics as td
 from balance.core import torsion_excitation as tx
+from balance.core import torsion_response as td
+from balance.core.analysis import compute
 from balance.core.errors import InputError
 from balance.core.result import Request
 from balance.core.torsion import (
@@ -194,6 +195,9 @@ def test_section_part_defaults():
     assert t.damper_power.shape == (1, 24, 200)
     one = analysed(engine, speeds="analysis").part("torsion")
     np.testing.assert_allclose(one.speeds, [engine.speed])
+    # without speeds the part is at the analysis speed alone (balance analyse --torsion)
+    bare = torsion_part(engine, Request(), compute(engine, Request())).part("torsion")
+    np.testing.assert_allclose(bare.speeds, [engine.speed])
     # the warnings join the result's
     assert result.warnings == ()
 

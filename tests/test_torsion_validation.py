@@ -2,7 +2,7 @@
 
 Each test names its source.  The model is that of docs/torsion.md,
 ``M q'' + C q' + (K + i eta K_s) q = T``, solved exactly per order
-(:mod:`balance.core.torsion_dynamics`); the inertia of the moving parts and the excitation
+(:mod:`balance.core.torsion_response`); the inertia of the moving parts and the excitation
 come from :mod:`balance.core.torsion_excitation`.
 """
 
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from torsion_trains import analysed, chain, inline4_train, with_train
 
-from balance.core import torsion_dynamics as td
 from balance.core import torsion_excitation as tx
+from balance.core import torsion_response as td
 from balance.core.torque import compute_torque
 from balance.io.layout_file import layout_from_dict, load_layout
 

@@ -80,7 +80,9 @@ def with_train(layout: str | Engine, train: TorsionTrain) -> Engine:
 
 
 def analysed(engine: Engine, **options: Any) -> Result:
-    """The analysis of the engine (its default sections) and then its ``torsion`` part."""
+    """The analysis of the engine (its default sections) and then its ``torsion`` part, over
+    the default sweep of speeds unless ``speeds`` says otherwise."""
+    options.setdefault("speeds", "sweep")
     result = compute(engine, Request())
     if engine.gas is not None:
         from balance.core.torque import torque_part

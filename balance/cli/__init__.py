@@ -57,6 +57,7 @@ _COMMANDS = {
     "plot": "analysis",
     "report": "analysis",
     "mounts": "analysis",
+    "torsion": "analysis",
     "sweep": "studies",
     "search": "studies",
     "tolerance": "studies",

@@ -86,6 +86,7 @@ def _prepare(
     binary: bool = False,
     mounts_file: Path | None = None,
     sweep_speeds: str | None = None,
+    sweep_of: str = "mounts",
     **settings: Any,
 ) -> "tuple[Engine, Request]":
     """The preamble of a command that analyses one layout, written once.
@@ -93,8 +94,9 @@ def _prepare(
     Reads ``--orders`` and ``--speed`` (each checked here, once), refuses an output that
     cannot be written (``output``/``force``; ``binary``: a format that needs ``-o``) before
     any work is done, loads the layout (with the mounts of ``--mounts FILE`` in place of its
-    ``mounts:`` section), reads ``sweep_speeds`` (the ``--speed`` of ``balance mounts``:
-    start:stop:count or a list, each above zero) into the mounts' ``speeds`` and builds the
+    ``mounts:`` section), reads ``sweep_speeds`` (the ``--speed`` of ``balance mounts`` and
+    ``balance torsion``: start:stop:count or a list, each above zero) into the ``speeds`` of
+    the section ``sweep_of`` and builds the
     :class:`~balance.core.result.Request` with ``settings`` through the one front door
     (:func:`balance.io.request.build_request`, as :func:`balance.analyse` does).  A command
     with another kind of output (a directory of figures) checks it before calling this.
@@ -127,7 +129,8 @@ def _prepare(
         speeds = parse_values(sweep_speeds, parse_field("speed", engine), "--speed")
         if not (speeds.min() > 0):
             raise InputError(f"--speed: {sweep_speeds!r}: every speed must be above zero")
-        settings["speeds"] = speeds
+        given = settings.get(sweep_of)
+        settings[sweep_of] = {**(given if isinstance(given, dict) else {}), "speeds": speeds}
     return engine, build_request(engine, order_list, speed=speed_value, **settings)
 
 
@@ -205,6 +208,14 @@ def analyse_command(
         typer.Option("--with-proposal", help="Load the mounts with the proposal added."),
     ] = False,
     bearings: _Bearings = False,
+    torsion: Annotated[
+        bool,
+        typer.Option(
+            "--torsion",
+            help="Torsional vibration at the analysis speed (the default for a layout with "
+            "a torsion: section; 'balance torsion' sweeps the speed).",
+        ),
+    ] = False,
     output: OutputFile = None,
     force: ReplaceOutput = False,
     quiet: Quiet = False,
@@ -233,6 +244,7 @@ def analyse_command(
         bearings=True if bearings else None,
         speed_model=None if speed_model is None else speed_model.value,
         load=None if load is None else load_of(load, "--load"),
+        torsion=True if torsion else None,
     )
     result = compute(engine, request)
     warn(result.warnings, quiet, layout)
@@ -380,7 +392,8 @@ def plot_command(
             "-k",
             help="crank_star, phasors, crank_angle, locus, spectrum, roll, balance, torque, "
             "forces, mounts, pin_load, main_loads, internal_moment, crank_speed, "
-            "reduced_inertia or speed_model_orders, as in the file names "
+            "reduced_inertia, speed_model_orders, torsion_campbell, torsion_modes or "
+            "torsion_response, as in the file names "
             "(- may stand for _; repeat for several; default: all that apply).",
         ),
     ] = None,
@@ -562,6 +575,96 @@ def mounts_command(
         sys.stderr.write(f"balance: wrote {plot}\n")
 
 
+class TorsionFormat(StrEnum):
+    """Output formats of ``balance torsion``."""
+
+    table = "table"
+    json = "json"
+    csv = "csv"
+
+
+@guarded
+def torsion_command(
+    layout: Annotated[
+        str, typer.Argument(help="Layout file or built-in name (see 'balance layouts').")
+    ],
+    speed: Annotated[
+        str | None,
+        typer.Option(
+            "--speed",
+            help="Speeds: start:stop:count or a list, e.g. 800rpm:7200rpm:200 "
+            "(default: 200 from 20 % to 120 % of the layout's speed).",
+        ),
+    ] = None,
+    orders: Annotated[
+        str | None,
+        typer.Option(
+            "--orders",
+            help="Orders: a range or list, halves on a four-stroke, e.g. 0.5-12 or 4.5,6 "
+            "(default 0.5-12, a two-stroke 1-12).",
+        ),
+    ] = None,
+    format: Annotated[
+        TorsionFormat, typer.Option("--format", "-f", help="Output format.")
+    ] = TorsionFormat.table,
+    plot: Annotated[
+        Path | None,
+        typer.Option("--plot", "-o", help="Also draw the Campbell diagram (png, svg, pdf)."),
+    ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="Replace an existing output file.")
+    ] = False,
+    quiet: Quiet = False,
+) -> None:
+    """Torsional vibration of the crank train over a speed range: modes, vector sums,
+    resonances, forced response, stresses and damper power (a torsion: section)."""
+    from balance.core.analysis import compute
+    from balance.io.fields import parse_half_orders
+    from balance.io.layout_file import load_layout
+
+    if plot is not None and plot.suffix.lower().lstrip(".") not in ("png", "svg", "pdf"):
+        raise InputError(f"-o {plot}: give a .png, .svg or .pdf file for the plot")
+    cycle = load_layout(layout).cycle if orders is not None else "four-stroke"
+    section: dict[str, Any] = {"speeds": "sweep"}
+    if orders is not None:
+        section["orders"] = parse_half_orders(orders, cycle, "--orders")
+    engine, request = _prepare(
+        layout,
+        "1-8",
+        None,
+        output=plot,
+        force=force,
+        sweep_speeds=speed,
+        sweep_of="torsion",
+        torsion=section,
+        moments=False,
+        roll=False,
+    )
+    result = compute(engine, request.only("torque", "torsion"))
+    warn(result.warnings, quiet, layout)
+    if format is TorsionFormat.json:
+        from balance.views.torsion import torsion_text
+
+        sys.stdout.write(torsion_text(result))
+    elif format is TorsionFormat.csv:
+        from balance.views.torsion import torsion_csv
+
+        sys.stdout.write(torsion_csv(result))
+    else:
+        from rich.console import Group
+
+        from balance.views.torsion import tables
+
+        console().print(Group(*tables(result)))
+    if plot is not None:
+        from balance.io.atomic import write_atomic
+        from balance.views.plots import figure_bytes, plot_kind
+
+        fig = plot_kind("torsion_campbell")(result)
+        write_atomic(plot, figure_bytes(fig, plot.suffix.lower().lstrip(".")), force)
+        sys.stderr.write(f"balance: wrote {plot}\n")
+
+
 #: The commands of this module, by name (:mod:`balance.cli` puts them in order).
 COMMANDS: dict[str, Callable[..., None]] = {
     "analyse": analyse_command,
@@ -569,4 +672,5 @@ COMMANDS: dict[str, Callable[..., None]] = {
     "plot": plot_command,
     "report": report_command,
     "mounts": mounts_command,
+    "torsion": torsion_command,
 }

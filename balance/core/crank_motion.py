@@ -109,6 +109,9 @@ class CrankTrain:
     inertia, inertia_slope : ndarray
         The layout's part of the reduced inertia, :math:`J - J_f` [kg m^2], and
         :math:`J'` [kg m^2/rad].
+    cylinder_inertia : ndarray
+        Each cylinder's part of :attr:`inertia` [kg m^2], shape (cylinders, N): twice the
+        kinetic energy of its piston group, rod and crank-pin mass per :math:`\omega^2`.
     force_rate, force_curvature : ndarray of complex
         :math:`\sum m z'` [kg m/rad] and :math:`\sum m z''` [kg m/rad^2]: the shaking force
         is :math:`-(\omega^2\sum m z'' + \dot\omega\sum m z')` [N].
@@ -133,6 +136,7 @@ class CrankTrain:
     theta: FloatArray
     inertia: FloatArray
     inertia_slope: FloatArray
+    cylinder_inertia: FloatArray
     force_rate: ComplexArray
     force_curvature: ComplexArray
     moment_rate: ComplexArray
@@ -286,6 +290,7 @@ def crank_train(engine: Engine, theta_deg: ArrayLike) -> CrankTrain:
         theta=theta,
         inertia=np.asarray(inertia, dtype=np.float64),
         inertia_slope=np.asarray(slope, dtype=np.float64),
+        cylinder_inertia=np.asarray(inertia_terms, dtype=np.float64),
         force_rate=np.sum(rate_terms, axis=0),
         force_curvature=np.sum(curve_terms, axis=0),
         moment_rate=np.sum(lever * rate_terms, axis=0),

@@ -165,7 +165,10 @@ def summarise(
                 worst[key] = w
             count[key] = count.get(key, 0) + 1
     total = len(warnings)
-    ordered = sorted(worst, key=lambda key: (RULES.index(key[0]), key[1]))
+    # the engine's rules in their order, then the sections' (torsion, speed model) by name
+    ordered = sorted(
+        worst, key=lambda key: (RULES.index(key[0]) if key[0] in RULES else len(RULES), key)
+    )
     return tuple(
         PlausibilityWarning(
             key[0],

@@ -130,6 +130,15 @@ SECTIONS: tuple[Section, ...] = (
         layout_key="bearings",
         options=("strategies",),
     ),
+    Section(
+        "torsion",
+        "Torsional vibration of the crank train",
+        part="balance.core.torsion:torsion_part",
+        outputs="balance.core.torsion:OUTPUTS",
+        layout_key="torsion",
+        options=("speeds", "orders"),
+        figure_options=(("speeds", "sweep"),),
+    ),
 )
 
 

@@ -11,7 +11,7 @@ section's part :func:`torsion_part`, docs/torsion.md):
 - the excitation of each cylinder per order
   (:func:`balance.core.torsion_excitation.excitation`);
 - the exact steady state of :math:`M\ddot q + C\dot q + (K + i\eta K_s)q = T` for every
-  speed and order, in one batched solve (:mod:`balance.core.torsion_dynamics`), and from it
+  speed and order, in one batched solve (:mod:`balance.core.torsion_response`), and from it
   the free-end angle, each section's torque and nominal shear stress, each damper's power,
   per order and synthesised (half range over the cycle), and the resonances in the speed
   range;
@@ -33,14 +33,6 @@ from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.core.phasors import cancel_to_zero
 from balance.core.plausibility import PlausibilityWarning
-from balance.core.torsion_dynamics import (
-    TrainMatrices,
-    coupling_power,
-    half_range,
-    harmonic_response,
-    normal_modes,
-    vector_sums,
-)
 from balance.core.torsion_excitation import (
     Excitation,
     default_orders,
@@ -52,6 +44,14 @@ from balance.core.torsion_excitation import (
     order_problem,
     place_firing_tdc,
     speed_problem,
+)
+from balance.core.torsion_response import (
+    TrainMatrices,
+    coupling_power,
+    half_range,
+    harmonic_response,
+    normal_modes,
+    vector_sums,
 )
 from balance.core.torsion_train import (
     Shaft,
@@ -415,10 +415,10 @@ def _response(
 
 
 def _speeds_option(engine: Engine, speeds: ArrayLike | str | None) -> FloatArray:
-    if speeds is None or (isinstance(speeds, str) and speeds in ("default", "sweep", "figure")):
+    if isinstance(speeds, str) and speeds in ("default", "sweep", "figure"):
         return default_speeds(engine.speed)
-    if isinstance(speeds, str):
-        if speeds == "analysis":
+    if speeds is None or isinstance(speeds, str):
+        if speeds is None or speeds == "analysis":
             return np.array([engine.speed])
         raise InputError(f"torsion speeds {speeds!r}: give speeds [rad/s], 'analysis' or 'sweep'")
     return np.asarray(speeds, dtype=np.float64).reshape(-1)
@@ -445,9 +445,9 @@ def torsion_part(
     result : Result
         The analysis so far; its ``torque`` part, when there, gives the gas torque.
     speeds : array_like or str, optional
-        Crank speeds [rad/s]; default (None, ``"sweep"``): 200 from 20 % to 120 % of the
-        engine's speed (:func:`default_speeds`); ``"analysis"``: the engine's speed alone
-        (``balance analyse --torsion``).
+        Crank speeds [rad/s]; ``"sweep"``: 200 from 20 % to 120 % of the engine's speed
+        (:func:`default_speeds`, what ``balance torsion`` and the figures take); default
+        (None, ``"analysis"``): the engine's speed alone (``balance analyse``).
     orders : array_like, optional
         Orders; default every half order from 0.5 to 12 (four-stroke), 1 to 12
         (two-stroke).
@@ -466,9 +466,10 @@ def torsion_part(
     del request
     train = engine.section("torsion")
     if train is None:
+        where = f" ({engine.path})" if engine.path else ""
         raise InputError(
-            f"layout '{engine.name}' has no torsion: section, so its torsional vibration "
-            "cannot be computed; add one (docs/torsion.md)"
+            f"layout '{engine.name}'{where} has no torsion: section, so its torsional "
+            "vibration cannot be computed; add one (docs/torsion.md)"
         )
     part = torsion_analysis(
         engine, train, _speeds_option(engine, speeds), orders, torque=result.part("torque")

@@ -48,14 +48,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core.crank_motion import crank_train
 from balance.core.engine import Engine
 from balance.core.gas import GasInput, cycle_degrees, firing_tdc
-from balance.core.kinematics import (
-    conrod_angle_derivatives,
-    normalised_slider,
-    offset_ratio,
-    rod_ratio,
-)
 from balance.core.speed import speed_squared
 
 __all__ = [
@@ -232,31 +227,17 @@ def instantaneous_inertia(engine: Engine, theta: ArrayLike) -> FloatArray:
         :math:`m_{big} r^2 + m_{rec} s'^2 + \Delta I\,\psi'^2` (a link cylinder:
         :math:`m_{pin} r^2 |\Lambda'|^2 + m_{rec} s'^2 + \Delta I\,\psi_l'^2`), with
         :math:`m_{big}` the rod's big-end share (``rotating_mass`` less the crank's share).
+
+    Notes
+    -----
+    The terms are the crank train's own (:func:`balance.core.crank_motion.crank_train`,
+    ``cylinder_inertia``), less the crank's share of the rotating mass, which the torsion
+    model counts in the crank throw's rigid inertia.
     """
     th = np.asarray(theta, dtype=np.float64)
-    beta = th[None, :] + (engine.throw - engine.bank)[:, None]
-    r = engine.crank_radius[:, None]
-    lam = rod_ratio(r, engine.conrod_length[:, None])
-    eps = offset_ratio(engine.offset[:, None], r)
-    _, ds, _ = normalised_slider(beta, lam, eps)
-    dg, _ = conrod_angle_derivatives(beta, lam, eps)
-    big = (engine.rotating_mass - _crank_share(engine))[:, None] * np.ones_like(beta)
-    if engine.has_links:
-        from balance.core.links import link_cylinder_motion, pin_masses
-
-        j, motion = link_cylinder_motion(engine, th)
-        ds = np.array(ds, copy=True)
-        dg = np.array(dg, copy=True)
-        ds[j] = motion.ds
-        dg[j] = motion.drod
-        speed2 = motion.dpin_y**2 + motion.dpin_x**2
-        big[j] = pin_masses(engine)[j][:, None] * speed2
-    return np.asarray(
-        big * r**2
-        + engine.reciprocating_mass[:, None] * (r * ds) ** 2
-        + engine.conrod_inertia_correction[:, None] * dg**2,
-        dtype=np.float64,
-    )
+    train = crank_train(engine, np.degrees(th))
+    crank_own = _crank_share(engine) * engine.crank_radius**2
+    return np.asarray(train.cylinder_inertia - crank_own[:, None], dtype=np.float64)
 
 
 def moving_parts_inertia(engine: Engine) -> FloatArray:

@@ -60,8 +60,8 @@ from numpy.typing import ArrayLike, NDArray
 from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.core.plausibility import PlausibilityWarning
-from balance.core.torsion_dynamics import TrainMatrices, assemble, normal_modes
 from balance.core.torsion_excitation import moving_parts_inertia, place_firing_tdc
+from balance.core.torsion_response import TrainMatrices, assemble, normal_modes
 
 __all__ = [
     "MAX_LOSS_FACTOR",
@@ -623,7 +623,7 @@ def mass_inertias(
 def train_matrices(
     train: TorsionTrain, inertias: ArrayLike, dampers: Sequence[int] | None = None
 ) -> TrainMatrices:
-    """The matrices of the train (:func:`balance.core.torsion_dynamics.assemble`) with the
+    """The matrices of the train (:func:`balance.core.torsion_response.assemble`) with the
     masses' inertias as used, and the dampers ``dampers`` (0-based; default all)."""
     chosen = [train.dampers[r] for r in (range(len(train.dampers)) if dampers is None else dampers)]
     sections = train.sections

@@ -81,6 +81,7 @@ __all__ = [
     "load_of",
     "option_error",
     "parse_field",
+    "parse_half_orders",
     "parse_option_quantity",
     "parse_orders",
     "parse_scatter",
@@ -572,3 +573,56 @@ def load_of(text: str, option: str = "load") -> Load:
             f"{option}: {text!r}: {exc}; give mean, propeller, a torque such as 150Nm, or a "
             "power law such as 80Nm@3000rpm^2"
         ) from None
+
+
+_HALF_ORDER = re.compile(r"(\d+(?:\.\d+)?)(?:-(\d+(?:\.\d+)?))?")
+
+
+def parse_half_orders(spec: str, cycle: str, option: str = "orders") -> NDArray[np.float64]:
+    """Orders of a torsional analysis from a spec: halves on a four-stroke.
+
+    Parameters
+    ----------
+    spec : str
+        A range or list: ``0.5-12`` (every half order from 0.5 to 12 on a four-stroke, every
+        whole order on a two-stroke), ``4.5,6``, ``1-3,6``.
+    cycle : {'four-stroke', 'two-stroke'}
+        The engine's cycle: a four-stroke's range steps by 0.5, a two-stroke's by 1.
+    option : str
+        How messages name the value.
+
+    Returns
+    -------
+    ndarray of float
+        The orders, ascending, each once: multiples of 0.5, whole on a two-stroke.
+
+    Raises
+    ------
+    InputError
+        For a spec that is no range or list, a range that does not increase, an order
+        above :data:`MAX_ORDER`, or orders that
+        :func:`balance.core.torsion_excitation.order_problem` refuses.
+    """
+    step = 0.5 if cycle == "four-stroke" else 1.0
+    values: list[float] = []
+    for part in spec.replace(" ", "").split(","):
+        match = _HALF_ORDER.fullmatch(part)
+        if not match:
+            raise InputError(
+                f"{option}: cannot read {spec!r}; write a range or list such as 0.5-12, 4.5,6"
+            )
+        lo = float(match.group(1))
+        hi = float(match.group(2)) if match.group(2) else lo
+        if hi < lo:
+            raise InputError(f"{option}: {part!r} is not an increasing range")
+        if hi > MAX_ORDER:
+            raise InputError(f"{option}: {part!r}: orders up to {MAX_ORDER}")
+        count = math.floor((hi - lo) / step + 1e-9) + 1
+        values.extend(lo + step * np.arange(count))
+    orders = np.unique(np.asarray(values, dtype=np.float64))
+    from balance.core.torsion_excitation import order_problem
+
+    problem = order_problem(orders, cycle)
+    if problem is not None:
+        raise InputError(f"{option}: {problem}")
+    return orders

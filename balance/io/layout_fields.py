@@ -46,6 +46,7 @@ __all__ = [
     "SI_UNITS",
     "LayoutField",
     "entry_fields",
+    "exact_number",
     "layout_field",
     "placed",
     "written",
@@ -237,8 +238,9 @@ def entry_fields() -> tuple[LayoutField, ...]:
 
 
 def written(value: float, kind: str) -> str:
-    """A checked value (SI; degrees for angles) as ``layout expand`` writes it: ten
-    significant digits and the unit of its kind (:data:`LAYOUT_UNITS`), ``-0`` as ``0``.
+    """A checked value (SI; degrees for angles) as ``layout expand`` writes it: the
+    fewest significant digits, from ten, that give the number back exactly
+    (:func:`exact_number`), and the unit of its kind (:data:`LAYOUT_UNITS`), ``-0`` as ``0``.
 
     Parameters
     ----------
@@ -252,11 +254,47 @@ def written(value: float, kind: str) -> str:
     str
         For example ``"86 mm"``, ``"6000 rpm"``.
     """
-    number = _TO_LAYOUT[kind](value)
-    text = f"{number:.10g}"
-    if text in {"-0", "-0.0"}:
-        text = "0"
-    return f"{text} {LAYOUT_UNITS[kind]}"
+    unit = LAYOUT_UNITS[kind]
+    return f"{exact_number(_TO_LAYOUT[kind](value), value, kind, unit)} {unit}"
+
+
+def exact_number(
+    number: float, value: float | None = None, kind: str | None = None, unit: str = ""
+) -> str:
+    """A number as ``layout expand`` writes it: ten significant digits when they read back
+    exactly (``86``, not ``86.00000000000001``), else the fewest up to 17 that do, so that
+    the expanded file reads back to the same floats; ``-0`` as ``0``.
+
+    Parameters
+    ----------
+    number : float
+        The number, in the unit it is written in.
+    value, kind, unit : optional
+        The value it stands for (SI; degrees for angles), its unit kind and the unit written:
+        "reads back" then means that ``"<number> <unit>"`` read as a quantity of that kind
+        (:func:`balance.io.units.parse_quantity`) is ``value`` (``8000 rpm``, whose value
+        converted to rpm is 7999.999999999999); otherwise (no kind, or one that function
+        does not read) that the number is ``number``.
+
+    Returns
+    -------
+    str
+    """
+
+    def reads_back(text: str) -> bool:
+        from balance.io.units import KINDS, parse_quantity
+
+        if kind not in KINDS or value is None:  # no kind, or one read by hand (energy)
+            return float(text) == number
+        return parse_quantity(f"{text} {unit}", kind) == value
+
+    text = f"{number:.17g}"
+    for digits in range(10, 17):
+        candidate = f"{number:.{digits}g}"
+        if reads_back(candidate):
+            text = candidate
+            break
+    return "0" if text in {"-0", "-0.0"} else text
 
 
 #: The geometry a cylinder's entry may override, in the file's order.

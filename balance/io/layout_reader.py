@@ -32,7 +32,7 @@ from balance.io.layout_fields import GEOMETRY_KEYS, LUMPED_KEYS, PART_KEYS, layo
 from balance.io.layout_sections import section_keys, section_reader
 from balance.io.layouts import layout_path
 from balance.io.located import problem_error, validate
-from balance.io.problems import FieldProblem
+from balance.io.problems import FieldProblem, FieldProblems
 from balance.io.schema import LAYOUT_HINTS, CrankSpec, CylinderSpec, LayoutSpec
 from balance.io.traces import read_pressure_trace
 from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
@@ -321,8 +321,11 @@ def _section(doc: SourceDocument, key: str, section: Any, engine: Engine) -> Any
     try:
         return section_reader(key).build(section, engine)
     except FieldProblem as problem:
-        error = problem_error(problem, doc, (key,))
-    raise error  # outside the handler: the FieldProblem is no part of the report
+        errors = [problem_error(problem, doc, (key,))]
+    except FieldProblems as found:
+        errors = [problem_error(problem, doc, (key,)) for problem in found.problems]
+    raise_all(errors)  # outside the handler: the problem is no part of the report
+    raise AssertionError("a builder's problem is reported")  # pragma: no cover
 
 
 T = TypeVar("T")

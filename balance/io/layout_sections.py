@@ -69,6 +69,7 @@ LAYOUT_SECTIONS: dict[str, str] = {
     "mounts": "balance.io.mounts_section:SECTION",
     "bearings": "balance.io.bearings_section:SECTION",
     "dynamics": "balance.io.dynamics_section:SECTION",
+    "torsion": "balance.io.torsion_section:SECTION",
 }
 
 

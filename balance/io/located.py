@@ -154,7 +154,7 @@ def problem_error(problem: FieldProblem, doc: SourceDocument, prefix: Path = ())
     -------
     LayoutError
     """
-    full = prefix + problem.at
+    full = problem.at if problem.absolute else prefix + problem.at
     return LayoutError(
         str(problem),
         doc.location(full),

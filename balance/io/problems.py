@@ -6,13 +6,48 @@ raise it while :mod:`balance.io.schema` imports their models, without an import 
 
 from __future__ import annotations
 
-__all__ = ["FieldProblem"]
+__all__ = ["FieldProblem", "FieldProblems"]
 
 
 class FieldProblem(ValueError):
-    """A validation problem tied to a field below the model that found it."""
+    """A validation problem tied to a field below the model that found it.
 
-    def __init__(self, message: str, valid: str = "", at: tuple[str | int, ...] = ()) -> None:
+    Parameters
+    ----------
+    message : str
+        What is wrong.
+    valid : str
+        What would be valid instead.
+    at : tuple of str and int
+        The field's path below the model (or section) that found it; with ``absolute``,
+        its path from the top of the file (a section's builder that finds a problem of
+        another key, the firing order of a torsion train).
+    absolute : bool
+        Whether ``at`` starts at the top of the file.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        valid: str = "",
+        at: tuple[str | int, ...] = (),
+        absolute: bool = False,
+    ) -> None:
         super().__init__(message)
         self.valid = valid
         self.at = at
+        self.absolute = absolute
+
+
+class FieldProblems(ValueError):
+    """Several problems that a section's builder found at once, each reported.
+
+    Parameters
+    ----------
+    problems : sequence of FieldProblem
+        At least one.
+    """
+
+    def __init__(self, problems: list[FieldProblem]) -> None:
+        super().__init__("; ".join(str(p) for p in problems))
+        self.problems = problems

@@ -32,9 +32,14 @@ MODELS = (*kinematics.MODELS, "time")
 #: (docs/dynamics.md).
 SPEED_MODELS = ("constant", "dynamic")
 
-#: Each section option, and the section it belongs to.
+#: Each section option that names one section's, and the section it belongs to: an
+#: option of several sections (``speeds``, ``orders``) is given in its section's mapping
+#: (``mounts={"speeds": ...}``).
 SECTION_OPTIONS: dict[str, str] = {
-    option: section.name for section in SECTIONS for option in section.options
+    option: section.name
+    for section in SECTIONS
+    for option in section.options
+    if sum(option in other.options for other in SECTIONS) == 1
 }
 
 
@@ -150,6 +155,12 @@ def _sections(
         elif key in {s.name for s in SECTIONS}:
             asked[key] = setting
         else:
+            shared = [s.name for s in SECTIONS if key in s.options]
+            if shared:
+                raise InputError(
+                    f"{key}: an option of {' and '.join(shared)}; give it in its section's "
+                    f"mapping, e.g. {shared[0]}={{{key!r}: ...}}"
+                )
             known = sorted({s.name for s in SECTIONS} | set(SECTION_OPTIONS))
             raise InputError(f"{key}: not a setting of an analysis; use one of {', '.join(known)}")
     out: dict[str, dict[str, Any]] = {}
@@ -220,7 +231,7 @@ def _checked(name: str, options: dict[str, Any]) -> dict[str, Any]:
     for flag in ("cancel_roll", "with_proposal", "strategies"):
         if flag in out:
             out[flag] = bool(out[flag])
-    if name == "mounts" and "speeds" in out and not isinstance(out["speeds"], str):
+    if "speeds" in out and not isinstance(out["speeds"], str):
         speeds = np.asarray(out["speeds"], dtype=np.float64).ravel()
         if speeds.size == 0 or not np.all(np.isfinite(speeds) & (speeds > 0)):
             raise InputError("speeds: every speed must be a finite number above zero [rad/s]")

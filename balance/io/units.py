@@ -86,6 +86,8 @@ KINDS: dict[str, tuple[str, str, str, float]] = {
     "pressure": ("Pa", "", "'1 bar'", 1e10),
     "volume": ("m ** 3", "", "'2.0 L'", 1e3),
     "torque": ("N * m", "", "'150 N m'", 1e9),
+    "rotational_stiffness": ("N * m / radian", "", "'1.5e6 N m/rad'", 1e13),
+    "rotational_damping": ("N * m * s / radian", "", "'25 N m s/rad'", 1e10),
 }
 
 #: Kinds whose bare numbers (other than 0) are refused: every kind with a dimension.
@@ -152,7 +154,14 @@ def likely_unit(number: float, kind: str) -> str:
         return "cc" if size >= 50 else "L"
     if kind == "inertia":
         return "kg cm^2" if size >= 1 else "kg m^2"
-    return {"speed": "rpm", "angle": "deg", "fraction": "%", "torque": "N m"}[kind]
+    return {
+        "speed": "rpm",
+        "angle": "deg",
+        "fraction": "%",
+        "torque": "N m",
+        "rotational_stiffness": "N m/rad",
+        "rotational_damping": "N m s/rad",
+    }[kind]
 
 
 def _number_text(value: float | int | str) -> str:
@@ -418,6 +427,8 @@ _KIND_ARTICLE = {
     "pressure": "a pressure",
     "volume": "a volume",
     "torque": "a torque",
+    "rotational_stiffness": "a torsional stiffness",
+    "rotational_damping": "a torsional damping",
 }
 
 

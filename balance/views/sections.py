@@ -37,6 +37,7 @@ VIEWS: dict[str, str] = {
     "factor_study": "balance.views.factor_study",
     "mounts": "balance.views.mounts",
     "bearings": "balance.views.bearings",
+    "torsion": "balance.views.torsion",
 }
 
 

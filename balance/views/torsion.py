@@ -51,11 +51,14 @@ SCHEMA = "balance.torsion/1"
 TABLE_SPEEDS = 25
 #: Modes drawn in the mode-shape figure.
 SHAPES_DRAWN = 5
+#: The response figure names the orders of the largest peaks, at most this many (one colour
+#: each); the others are drawn thin and grey.
+ORDERS_NAMED = 8
 #: Resonances labelled with their order and vector sum in the Campbell diagram (the
 #: largest vector sums).
 LABELLED = 8
-#: Share of the largest order below which an order's curve is not drawn in the response
-#: figure (it would lie on the axis).
+#: Share of the largest order below which an order is not named in the response figure
+#: (its curve lies on the axis; it is drawn grey with the others).
 DRAWN_SHARE = 0.02
 
 
@@ -413,6 +416,11 @@ def _resonance_table(t: TorsionResult) -> Any:
 
     from balance.views.fitted import Column, NumberTable
 
+    if t.speeds.size == 1:
+        return Text(
+            "Resonances: one speed analysed, so none is looked for (balance torsion sweeps "
+            "the speed range)."
+        )
     if not t.resonances:
         return Text("No order meets a natural frequency in the speed range.")
     rows = []
@@ -544,7 +552,7 @@ def _not_computed(result: Result, kind: str, title: str | None, text: str) -> Fi
         return fig
 
 
-_ABSENT = "no torsion in this result: give the layout a torsion: section"
+_ABSENT = "not computed: no torsion in this result (a layout with a torsion: section has it)"
 
 
 def _labels(t: TorsionResult, width: float, height: float) -> list[tuple[float, float, str]]:
@@ -649,11 +657,21 @@ def plot_modes(result: Result, *, title: str | None = None) -> Figure:
         ax.axhline(0.0, color="0.5", lw=0.8)
         ax.set_xticks(x)
         ax.set_xticklabels(t.stations, rotation=40, ha="right", fontsize=8)
-        ax.set_xlabel("mass (free end first), then the tuned damper rings")
+        rings = len(t.stations) - len(t.train.masses)
+        ax.set_xlabel(
+            "mass (free end first), then the tuned damper rings"
+            if rings
+            else "mass (free end first)"
+        )
         ax.set_ylabel("relative amplitude [1] (+1 at mass 1)")
         if count:
             ax.legend(fontsize=8)
-        default = f"{result.engine.name}: torsional mode shapes (undamped)"
+        shown = (
+            f"the lowest {count} of {t.frequencies.size} modes"
+            if count < t.frequencies.size
+            else "torsional mode shapes"
+        )
+        default = f"{result.engine.name}: {shown} (undamped)"
         fig.suptitle(_wrapped(fig, title or default))
         return fig
 
@@ -670,7 +688,8 @@ def plot_response(result: Result, *, title: str | None = None) -> Figure:
             result,
             "torsion_response",
             title,
-            "no damping in the torsion train: the response is unbounded at every resonance",
+            "not computed: the torsion train has no damping, so its response is unbounded "
+            "at every resonance",
         )
     assert t.free_end is not None and t.free_end_synthesis is not None
     assert t.section_torque is not None and t.section_torque_synthesis is not None
@@ -692,17 +711,32 @@ def plot_response(result: Result, *, title: str | None = None) -> Figure:
     with _styled():
         fig, axes = _figure(2, (9.0, 7.5))
         for ax, (values, total, ylabel) in zip(axes, panels, strict=True):
-            largest = float(np.max(values)) if values.size else 0.0
-            for i, k in enumerate(t.orders):
-                if largest > 0 and float(np.max(values[i])) >= DRAWN_SHARE * largest:
-                    ax.plot(
-                        rpm,
-                        values[i],
-                        lw=1.6 if t.major[i] else 0.9,
-                        marker=marker,
-                        color=f"C{i % 10}",
-                        label=f"order {order_value(k)}",
-                    )
+            peaks = np.max(values, axis=1) if values.size else np.zeros(0)
+            largest = float(np.max(peaks)) if peaks.size else 0.0
+            drawn = [
+                int(i)
+                for i in np.argsort(-peaks, kind="stable")[:ORDERS_NAMED]
+                if largest > 0 and peaks[i] >= DRAWN_SHARE * largest
+            ]
+            others = [i for i in range(t.orders.size) if i not in drawn and peaks[i] > 0]
+            for n, i in enumerate(others):
+                ax.plot(
+                    rpm,
+                    values[i],
+                    lw=0.6,
+                    marker=marker,
+                    color="0.7",
+                    label=f"{len(others)} other orders" if n == 0 else None,
+                )
+            for rank, i in enumerate(sorted(drawn, key=lambda i: float(t.orders[i]))):
+                ax.plot(
+                    rpm,
+                    values[i],
+                    lw=1.8 if t.major[i] else 1.0,
+                    marker=marker,
+                    color=f"C{rank % 10}",
+                    label=f"order {order_value(t.orders[i])}",
+                )
             ax.plot(rpm, total, color="k", lw=2.2, marker=marker, label="synthesis")
             ax.set_ylabel(ylabel)
             ax.set_xlabel("crank speed [rpm]")

@@ -298,15 +298,15 @@ def harmonic_response(
     for ring in damped:
         hub = int(np.searchsorted(keep, matrices.hubs[ring - matrices.n_masses]))
         coupling = matrices.stiffness[ring, ring] + 1j * w * matrices.damping[ring, ring]
-        dynamic = coupling - w * w * matrices.mass[ring, ring]
-        system[..., hub, hub] -= coupling * coupling / dynamic
-        rhs[..., hub] += coupling * f[..., ring] / dynamic
-        eliminated.append((ring, hub, coupling, dynamic))
+        ring_stiffness = coupling - w * w * matrices.mass[ring, ring]
+        system[..., hub, hub] -= coupling * coupling / ring_stiffness
+        rhs[..., hub] += coupling * f[..., ring] / ring_stiffness
+        eliminated.append((ring, hub, coupling, ring_stiffness))
     reduced = np.linalg.solve(system, rhs[..., None])[..., 0]
     q = np.empty(f.shape, dtype=np.complex128)
     q[..., keep] = reduced
-    for ring, hub, coupling, dynamic in eliminated:
-        q[..., ring] = (f[..., ring] + coupling * reduced[..., hub]) / dynamic
+    for ring, hub, coupling, ring_stiffness in eliminated:
+        q[..., ring] = (f[..., ring] + coupling * reduced[..., hub]) / ring_stiffness
     return q
 
 
