@@ -1,9 +1,10 @@
 r"""Crank-pin and main-bearing loads, and the crankshaft's internal moments at the mains.
 
-Every load here is a force that the crankshaft (or a big end) puts on a bearing, in the
-engine frame, as a complex number :math:`y + \mathrm{i}x` (CONTRACT §1), sampled over one
-revolution (inertia only) or over the working cycle (with a ``gas:`` section, whose forces
-are then included).  The steps, each a function of arrays over cylinders and crank angles:
+Every load here is a force that the crankshaft (or a big end) puts on a bearing, in the engine
+frame, as a complex number :math:`y + \mathrm{i}x` (docs/conventions.md, "Frame and angles"),
+sampled over one revolution (inertia only) or over the working cycle (with a ``gas:`` section,
+whose forces are then included).  The steps, each a function of arrays over cylinders and crank
+angles:
 
 1. :func:`big_end_forces`: the force each big end puts on its crank pin, from the
    Newton–Euler equations of the piston and of the conrod as a rigid body;
@@ -202,9 +203,10 @@ def moment_arms(load_z: ArrayLike, mains: ArrayLike) -> FloatArray:
     Returns
     -------
     ndarray
-        :math:`A_{mj} = z_m - z_j` where :math:`z_j < z_m`, else 0, so that the internal
-        moment at main :math:`m` is :math:`\sum_j A_{mj} F_j` (CONTRACT §6: the bending
-        moment of the loads on the side of smaller z, drawn like the moment phasors).
+        :math:`A_{mj} = z_m - z_j` where :math:`z_j < z_m`, else 0, so that the internal moment at
+        main :math:`m` is :math:`\sum_j A_{mj} F_j` (docs/conventions.md, "Crank-pin and
+        main-bearing loads": the bending moment of the loads on the side of smaller z, drawn like
+        the moment phasors).
     """
     zs = np.asarray(load_z, dtype=np.float64)
     zm = np.asarray(mains, dtype=np.float64)
@@ -318,10 +320,10 @@ def big_end_forces(
     :func:`balance.core.crank_train.side_thrust_moment_balance` and
     :func:`balance.core.crank_train.pin_force`.
 
-    With link rods (CONTRACT §5) a link cylinder's row is 0 and its master's row is the
-    force of the master rod carrying its link rods
-    (:func:`balance.core.links.articulated_big_end_forces`), so the pin loads of
-    :func:`pin_groups` are the sums that CONTRACT §6 asks for.
+    With link rods (docs/layout-format.md, "Articulated rods") a link cylinder's row is 0 and its
+    master's row is the force of the master rod carrying its link rods
+    (:func:`balance.core.links.articulated_big_end_forces`), so the pin loads of :func:`pin_groups`
+    are the sums that docs/conventions.md, "Crank-pin and main-bearing loads" asks for.
     """
     th = np.asarray(theta, dtype=np.float64)[None, :]
     col = _column
@@ -340,7 +342,8 @@ def big_end_forces(
     wall = crank_train.side_thrust_moment_balance(q_y, sin_psi, cos_psi, length, delta_i, w2, d2g)
     m_pin = col(engine.rotating_mass - crank_unbalance_share(engine)) * w2 * r
     forces = crank_train.pin_force(q_y, wall, m_pin, beta, col(engine.bank))
-    if engine.has_links:  # master rods carry their link rods (CONTRACT §6)
+    # master rods carry their link rods (docs/conventions.md, "Crank-pin and main-bearing loads")
+    if engine.has_links:
         from balance.core.links import articulated_big_end_forces
 
         return articulated_big_end_forces(engine, theta, forces, gas_force)
@@ -680,7 +683,8 @@ def bearing_loads(
 class Bearings:
     r"""Bearing loads of an analysis, without and with the proposed counterweights (SI).
 
-    What :attr:`balance.core.result.Result.bearings` holds (CONTRACT §6).  The ``*_with_proposal``
+    What :attr:`balance.core.result.Result.bearings` holds (docs/conventions.md,
+    "Crank-pin and main-bearing loads").  The ``*_with_proposal``
     arrays add the proposal's counterweights (balance shafts run in their own bearings and do
     not load the mains); without a proposal, or with one without counterweights, they equal
     the arrays without.  Curves are complex (:math:`y + \mathrm{i}x`), shape

@@ -45,7 +45,7 @@ SCHEMA = "balance.analysis/1"
 #: The frame and sign conventions, as the result Dataset's ``conventions`` attribute and
 #: the report state them.
 CONVENTIONS = (
-    "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
+    "balance conventions (docs/conventions.md): frame z crank axis, y up, angles from +y in the "
     "direction of rotation; (x, y) as y + i x"
 )
 

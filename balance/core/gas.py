@@ -154,19 +154,19 @@ def firing_tdc(
 ) -> FloatArray | str:
     r"""Crank angle of each cylinder's firing TDC [deg], or a message saying what is missing.
 
-    A cylinder's cycle starts at its actual top dead centre, where its piston pin is farthest
-    from the crank axis (where the cylinder volume is smallest, and where a measured trace's
-    crank angle is counted from): :math:`\theta = \psi_i - \varphi_i + \beta_{TDC,i}`
-    (mod 360), with :math:`\beta_{TDC,i}` (``tdc_lag``, in (-180, 180]) how far it lies after
-    the nominal TDC :math:`\theta + \varphi_i - \psi_i = 0` of CONTRACT §1:
+    A cylinder's cycle starts at its actual top dead centre, where its piston pin is farthest from
+    the crank axis (where the cylinder volume is smallest, and where a measured trace's crank angle
+    is counted from): :math:`\theta = \psi_i - \varphi_i + \beta_{TDC,i}` (mod 360), with
+    :math:`\beta_{TDC,i}` (``tdc_lag``, in (-180, 180]) how far it lies after the nominal TDC
+    :math:`\theta + \varphi_i - \psi_i = 0` of docs/conventions.md, "Frame and angles":
     :math:`\arcsin(e/(l + r))` for an offset plain cylinder, the link piston's own for a link
-    cylinder (:func:`balance.core.links.dead_centre_lag`), 0 without offset or link.  A
-    two-stroke fires at every TDC.  A four-stroke fires at one of two TDCs 360 deg apart: the
-    first cylinder of ``firing_order`` at its TDC in [0, 360), each next one at its first TDC
-    after the one before; without a firing order, each cylinder's ``tdc`` angle (mod 720)
-    when every cylinder gives one.  A ``tdc`` given in the layout is the nominal TDC (it
-    defines the throw, ``throw = bank - tdc``, CONTRACT §3); the cylinder then fires at
-    ``tdc`` + :math:`\beta_{TDC}`.
+    cylinder (:func:`balance.core.links.dead_centre_lag`), 0 without offset or link.  A two-stroke
+    fires at every TDC.  A four-stroke fires at one of two TDCs 360 deg apart: the first cylinder of
+    ``firing_order`` at its TDC in [0, 360), each next one at its first TDC after the one before;
+    without a firing order, each cylinder's ``tdc`` angle (mod 720) when every cylinder gives
+    one.  A ``tdc`` given in the layout is the nominal TDC (it defines the throw, ``throw = bank -
+    tdc``, docs/layout-format.md, "Explicit form"); the cylinder then fires at ``tdc`` +
+    :math:`\beta_{TDC}`.
 
     Returns
     -------

@@ -1,10 +1,10 @@
 r"""Articulated (master-and-link) connecting rods: kinematics, Fourier coefficients, forces.
 
-A *link cylinder* j hangs its rod on a pin of its *master* cylinder m's rod (CONTRACT §5):
-both share the crank pin :math:`C`; the master rod runs from :math:`C` to the master piston
-pin, and carries the link pin :math:`L` at ``pin_radius`` :math:`\rho` from :math:`C`, at
-``pin_angle`` :math:`\alpha` from its centre line; the link rod of length :math:`l_j` runs
-from :math:`L` to the link piston pin on cylinder j's bore.
+A *link cylinder* j hangs its rod on a pin of its *master* cylinder m's rod (docs/layout-format.md,
+"Articulated rods"): both share the crank pin :math:`C`; the master rod runs from :math:`C` to the
+master piston pin, and carries the link pin :math:`L` at ``pin_radius`` :math:`\rho` from
+:math:`C`, at ``pin_angle`` :math:`\alpha` from its centre line; the link rod of length :math:`l_j`
+runs from :math:`L` to the link piston pin on cylinder j's bore.
 
 Notation
 --------
@@ -14,7 +14,7 @@ Lengths are divided by the crank radius :math:`r`.  :math:`\beta_j = \theta + \v
 :math:`\gamma` from its bore axis has :math:`\sin\gamma = \lambda_m(\sin\beta_m -
 \varepsilon_m)` (:func:`balance.core.kinematics.conrod_angle_derivatives`).  In cylinder j's
 frame, as the complex number :math:`Y + iX` (Y along the bore, X across it towards where the
-pin goes after TDC, CONTRACT §1), the link pin is
+pin goes after TDC, docs/conventions.md, "Frame and angles"), the link pin is
 
 .. math::
 
@@ -520,10 +520,10 @@ def dead_centre_lag(
 ) -> FloatArray:
     r"""How far each piston's actual top dead centre lies after its nominal one [rad].
 
-    The crank angle :math:`\beta_{TDC}` from the cylinder's nominal TDC direction
-    (:math:`\theta + \varphi - \psi = 0`, CONTRACT §1) at which the piston pin is farthest
-    from the crank axis, in :math:`(-\pi, \pi]`: :math:`\arcsin(e/(l + r))` for a plain crank
-    slider (exactly 0 without offset), :func:`link_dead_centres` for a link piston.
+    The crank angle :math:`\beta_{TDC}` from the cylinder's nominal TDC direction (:math:`\theta +
+    \varphi - \psi = 0`, docs/conventions.md, "Frame and angles") at which the piston pin is
+    farthest from the crank axis, in :math:`(-\pi, \pi]`: :math:`\arcsin(e/(l + r))` for a plain
+    crank slider (exactly 0 without offset), :func:`link_dead_centres` for a link piston.
 
     Parameters
     ----------

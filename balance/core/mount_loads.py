@@ -5,7 +5,7 @@ needs from a :class:`~balance.core.result.Result`: the free force and moment pha
 (reciprocating, plus the rotating ones at order 1; with the proposal, the residual phasors
 that add every proposed mass) and the roll torque (with the gas torque's reaction when the
 engine has gas forces, whose orders may be halves).  :func:`mounts_of` solves the response
-(``CONTRACT`` §7).
+(docs/conventions.md, "The engine on its mounts").
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""The layout file's ``bearings:`` section (CONTRACT §6) and its conversion to main positions.
+"""The layout file's ``bearings:`` section and its conversion to main positions
+(docs/layout-format.md, "Bearing loads").
 
 ::
 

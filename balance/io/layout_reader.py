@@ -561,7 +561,9 @@ def _link_error(
     return LayoutError(message, doc.location(path), field=dotted_path(path), valid=valid)
 
 
-_SHARED = "a link cylinder shares its master's throw and z (CONTRACT §5)"
+_SHARED = (
+    "a link cylinder shares its master's throw and z (docs/layout-format.md, 'Articulated rods')"
+)
 
 
 def _link_masters(

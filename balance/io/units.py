@@ -4,11 +4,11 @@ Layout files and the command line give quantities as strings with units (``"86 m
 ``"6000 rpm"``).  This module turns each into a float in the unit the core computes in, and
 nothing past it sees a unit.
 
-A dimensional quantity (a length, mass, moment of inertia, speed, pressure or volume)
-written as a bare number is refused, with the unit it most likely has proposed
-(``6000`` for a speed: "give a unit, e.g. '6000 rpm'"; ``CONTRACT`` §3); only 0 may be
-bare.  Angles may be bare numbers, read as degrees; fractions may be bare (0.5 = 50 %),
-but a bare fraction above 2 is refused as a likely percentage (``60`` -> "'60 %'").
+A dimensional quantity (a length, mass, moment of inertia, speed, pressure or volume) written as a
+bare number is refused, with the unit it most likely has proposed (``6000`` for a speed: "give a
+unit, e.g. '6000 rpm'"; docs/layout-format.md, "Quantities and units"); only 0 may be bare.  Angles
+may be bare numbers, read as degrees; fractions may be bare (0.5 = 50 %), but a bare fraction above
+2 is refused as a likely percentage (``60`` -> "'60 %'").
 
 Unit names are read as written.  A name of two or more letters, each of its words two or
 more letters long, whose other capitalisations are no unit of the same kind, is also read

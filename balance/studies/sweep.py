@@ -362,8 +362,8 @@ def _attrs(plan: _Plan) -> dict[str, Any]:
         "model": plan.model,
         "varied_fields": ";".join(v.field.text for v in plan.varies),
         "balance_version": __version__,
-        "conventions": "balance CONTRACT; values of every analysis as 'balance analyse' gives "
-        "them for the layout with the varied fields set",
+        "conventions": "balance conventions (docs/conventions.md); values of every analysis as "
+        "'balance analyse' gives them for the layout with the varied fields set",
     }
 
 

@@ -258,7 +258,7 @@ def accuracy_statement(result: Result) -> str:
     else:
         text = f"Model {model!r}."
     if engine.has_links:
-        text += " Link rods hang on master rods (CONTRACT §5): " + (
+        text += " Link rods hang on master rods (docs/layout-format.md, 'Articulated rods'): " + (
             "their pistons and link pins follow the exact link kinematics."
             if model in ("exact", "time")
             else "this model treats each link piston as a plain slider on the crank pin "

@@ -1,9 +1,10 @@
 r"""From phasors back to the crank-angle domain: what the plots draw, without drawing.
 
 numpy only (no matplotlib, no xarray): the functions take the complex phasors of a
-:class:`~balance.core.result.Result` as they are.  Every function here follows the
-CONTRACT: a transverse vector :math:`(x, y)` is the complex number :math:`y + i x`, angles
-are measured from +y in the direction of rotation, and order :math:`k` of a quantity is
+:class:`~balance.core.result.Result` as they are.  Every function here follows the conventions
+(docs/conventions.md, "Frame and angles" and "Phasors"): a transverse vector :math:`(x, y)` is the
+complex number :math:`y + i x`, angles are measured from +y in the direction of rotation, and order
+:math:`k` of a quantity is
 
 .. math::
 
