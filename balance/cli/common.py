@@ -137,9 +137,9 @@ def parse_speed(text: str | None) -> float | None:
     float or None
         The speed [rad/s]; None when the option is not given.
     """
-    from balance.io.fields import parse_speed as parse
+    from balance.io import fields
 
-    return parse(text)
+    return fields.parse_speed(text)
 
 
 def warn(warnings: Any, quiet: bool, source: str) -> None:

@@ -188,11 +188,11 @@ def sweep_command(
 
     from balance.io.fields import check_varies, parse_vary
     from balance.io.layout_file import load_layout
-    from balance.studies.sweep import check_output as check_sweep_output
+    from balance.studies import sweep
     from balance.studies.sweep import sweep_to_file
 
     started = time.perf_counter()
-    check_sweep_output(output, force)
+    sweep.check_output(output, force)
     if scheduler is not None and workers is not None:
         raise InputError("give --scheduler or --workers, not both")
     base = load_layout(layout)

@@ -313,7 +313,7 @@ def _compute_time(
     layout: Engine, ks: NDArray[np.intp], samples: int | None, *, moments: bool, roll: bool
 ) -> FreeForces:
     """The ``time`` model: sample, sum as vectors, transform."""
-    from balance.core import sampled as timedomain
+    from balance.core import sampled
 
     k_max = int(ks.max())
     if samples is None:
@@ -323,7 +323,7 @@ def _compute_time(
             f"samples: {samples} crank angles resolve orders up to {(samples - 1) // 2}, "
             f"not {k_max}; give more than {2 * k_max}"
         )
-    theta = timedomain.crank_angles(samples)
+    theta = sampled.crank_angles(samples)
     omega2 = speed_squared(layout.speed)
     r = layout.crank_radius
     ratio = kinematics.rod_ratio(r, layout.conrod_length)
@@ -337,8 +337,8 @@ def _compute_time(
         pin = layout.links.pin_radius if layout.links is not None else 0.0
         force_scale += float(np.sum(pin_masses(layout) * pin * omega2))
     rotating_force, rotating_moment = _rotating(layout, moments)
-    force, moment = timedomain.reciprocating_samples(layout, theta)
-    f_fwd, f_bwd = timedomain.phasors_from_samples(force, ks)
+    force, moment = sampled.reciprocating_samples(layout, theta)
+    f_fwd, f_bwd = sampled.phasors_from_samples(force, ks)
     bundle = Phasors(
         orders=ks,
         force_forward=phasors.cancel_to_zero(f_fwd, force_scale, n * 4),
@@ -349,7 +349,7 @@ def _compute_time(
     if moments:
         lever = layout.z - layout.reference_z
         moment_scale = float(np.sum(amp * np.abs(lever)))
-        m_fwd, m_bwd = timedomain.phasors_from_samples(moment, ks)
+        m_fwd, m_bwd = sampled.phasors_from_samples(moment, ks)
         bundle = replace(
             bundle,
             moment_forward=phasors.cancel_to_zero(m_fwd, moment_scale, n * 4),
@@ -363,9 +363,7 @@ def _compute_time(
         bundle = replace(
             bundle,
             roll=phasors.cancel_to_zero(
-                timedomain.roll_phasors_from_samples(
-                    timedomain.roll_newton_euler(layout, theta), ks
-                ),
+                sampled.roll_phasors_from_samples(sampled.roll_newton_euler(layout, theta), ks),
                 roll_scale,
                 n * 8,
             ),
@@ -383,10 +381,10 @@ def _compute_time(
         )
         # sampled at theta: shift to the cylinder's own beta_j = theta + phi - psi_j
         ahead = theta[None, :] - (layout.throw[j] - layout.bank[j])[:, None]
-        per_cylinder[j] = -timedomain.link_piston_acceleration_at(layout, ahead)
+        per_cylinder[j] = -sampled.link_piston_acceleration_at(layout, ahead)
         pins = np.zeros((n, samples), dtype=np.complex128)
-        pins[j] = timedomain.link_pin_force_samples(layout, theta)
-        pin_fwd, pin_bwd = timedomain.phasors_from_samples(pins, ks)
+        pins[j] = sampled.link_pin_force_samples(layout, theta)
+        pin_fwd, pin_bwd = sampled.phasors_from_samples(pins, ks)
         link_pins = Phasors(orders=ks, force_forward=pin_fwd, force_backward=pin_bwd)
     else:
         per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], eps[:, None])

@@ -27,7 +27,7 @@ from balance.core.accuracy import series_parameters
 from balance.core.catalogue import CONVENTIONS, SCHEMA, speed_rpm
 from balance.core.phasors import phase_deg, safe_ratio
 from balance.core.sections import names
-from balance.views import signals as synthesis
+from balance.views import signals
 from balance.views.polar import format_number
 from balance.views.sections import VIEWS, view, views_of
 from balance.views.signals import Quantity
@@ -433,7 +433,7 @@ NOT_COMPUTED = (
 
 
 def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
-    if quantity == "moment" and not synthesis.has_moments(result):
+    if quantity == "moment" and not signals.has_moments(result):
         return NOT_COMPUTED.format(what="Moments were", option="moments=False")
     unit = "N" if quantity == "force" else "N m"
     per = "F1" if quantity == "force" else "F1 a"
@@ -512,7 +512,7 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
             )
         )
     # the phasor and crank-angle figures go with the moments, or with the forces without them
-    if figures and (quantity == "moment" or not synthesis.has_moments(result)):
+    if figures and (quantity == "moment" or not signals.has_moments(result)):
         out.append(
             html_figure(
                 result,
@@ -545,7 +545,7 @@ def _rotating_section(result: Result) -> str:
             _num(safe_ratio(abs(p.rotating_force), result.reference_force)),
         ],
     ]
-    if synthesis.has_moments(result):
+    if signals.has_moments(result):
         rows.append(
             [
                 "moment [N m]",
@@ -570,17 +570,17 @@ def _rotating_section(result: Result) -> str:
 
 
 def _roll_section(result: Result, figures: bool) -> str:
-    if not synthesis.has_roll(result):
+    if not signals.has_roll(result):
         return NOT_COMPUTED.format(what="The roll torque was", option="roll=False")
-    proposal = synthesis.has_proposal(result)
+    proposal = signals.has_proposal(result)
     headers = ["order", "amplitude [N m]", "phase [deg]", "per m_rec r² ω²"]
     if proposal:
         headers += ["with shafts [N m]", "phase [deg]"]
-    orders, roll = synthesis.roll_of(result)
+    orders, roll = signals.roll_of(result)
     amplitude, phase = np.abs(roll), phase_deg(roll)
     normalised = safe_ratio(amplitude, result.reference_roll)
     if proposal:
-        _, residual = synthesis.roll_of(result, residual=True)
+        _, residual = signals.roll_of(result, residual=True)
         residual_amplitude, residual_phase = np.abs(residual), phase_deg(residual)
     rows = []
     for i, k in enumerate(orders):
