@@ -101,9 +101,20 @@ def compute_phasors(
 
 
 def engine_cylinders(layout: Engine) -> dict[str, Any]:
-    """The table of cylinders that :func:`free_phasors_of` reads: the arrays of
-    :data:`balance.core.engine.CYLINDER_FIELDS`, and for an engine with link rods the link
-    rods' link-pin shares (``link_pin_mass``, :func:`balance.core.links.pin_masses`)."""
+    """The table of cylinders that :func:`free_phasors_of` reads.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+
+    Returns
+    -------
+    dict
+        The per-cylinder arrays of :data:`balance.core.engine.CYLINDER_FIELDS` by name (SI,
+        radians), and for an engine with link rods the link rods' link-pin shares
+        ``link_pin_mass`` [kg] (:func:`balance.core.links.pin_masses`).
+    """
     cylinders: dict[str, Any] = {name: getattr(layout, name) for name in CYLINDER_FIELDS}
     if layout.has_links:
         from balance.core.links import pin_masses
@@ -269,9 +280,27 @@ def free_phasors_of(
     orders: NDArray[np.intp],
     **options: Any,
 ) -> FreeForces:
-    """:func:`free_phasors` of a table of cylinders: a mapping with the arrays named as
-    :data:`balance.io.layout_file.CYLINDER_FIELDS` (a layout's, or a sweep's grid of them),
-    and ``link_pin_mass`` for an engine with link rods (:func:`engine_cylinders`)."""
+    """:func:`free_phasors` of a table of cylinders.
+
+    Parameters
+    ----------
+    cylinders : mapping of str to array_like
+        The arrays named as :data:`balance.core.engine.CYLINDER_FIELDS` (a layout's, or a
+        sweep's grid of them, cylinders on the last axis), and ``link_pin_mass`` [kg] for an
+        engine with link rods (:func:`engine_cylinders`).
+    lever : array_like
+        :math:`z_i - z_{ref}` per cylinder [m].
+    orders : ndarray of int
+        The orders.
+    **options
+        The keywords of :func:`free_phasors` (``model``, ``terms``, ``moments``, ``roll``,
+        ``links``).
+
+    Returns
+    -------
+    FreeForces
+        At unit crank speed, as :func:`free_phasors`.
+    """
     if options.get("links") is not None:
         options = {**options, "link_pin_mass": cylinders["link_pin_mass"]}
     return free_phasors(
@@ -290,7 +319,19 @@ def free_phasors_of(
 
 
 def reference_force(layout: Engine) -> float:
-    r""":math:`F_1 = m_{rec} r \omega^2` with the engine means of mass and radius [N]."""
+    r""":math:`F_1 = m_{rec} r \omega^2` with the engine means of mass and radius.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine (its reciprocating masses, crank radii and speed).
+
+    Returns
+    -------
+    float
+        The first-order reciprocating force of one mean cylinder [N], the unit of the
+        normalised forces (docs/conventions.md, "Normalisation and ``pitch``").
+    """
     return float(
         np.mean(layout.reciprocating_mass)
         * np.mean(layout.crank_radius)

@@ -120,8 +120,19 @@ class Output:
 
 
 def speed_rpm(speed: float) -> float:
-    """Crank speed [rad/s] in rpm as reported, to 12 significant digits (8000 rpm read from
-    a file stays 8000, not 7999.999999999999)."""
+    """Crank speed in rpm as reported, to 12 significant digits (8000 rpm read from a file
+    stays 8000, not 7999.999999999999).
+
+    Parameters
+    ----------
+    speed : float
+        Crank speed [rad/s].
+
+    Returns
+    -------
+    float
+        The speed [rpm].
+    """
     return float(f"{rad_per_s_to_rpm(speed):.12g}")
 
 
@@ -386,7 +397,18 @@ BASE: tuple[Output, ...] = (
 
 
 def outputs_of(result: Result) -> Iterator[Output]:
-    """The outputs a result has: :data:`BASE`, then each part's, in section order."""
+    """The outputs a result has: :data:`BASE`, then each part's, in section order.
+
+    Parameters
+    ----------
+    result : Result
+        The result.
+
+    Returns
+    -------
+    iterator of Output
+        Each output present in the result (:meth:`Output.present`).
+    """
     for output in BASE:
         if output.present(result):
             yield output

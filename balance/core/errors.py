@@ -132,7 +132,18 @@ class LayoutErrors(LayoutError):
 
 def raise_all(errors: Sequence[LayoutError]) -> None:
     """Raise the problems found (nothing when there are none): one as itself, several as
-    :class:`LayoutErrors` in file order (line, then column), each reported once."""
+    :class:`LayoutErrors` in file order (line, then column), each reported once.
+
+    Parameters
+    ----------
+    errors : sequence of LayoutError
+        The problems found, in any order, duplicates allowed.
+
+    Raises
+    ------
+    LayoutError
+        The one problem, or :class:`LayoutErrors` holding several.
+    """
     unique: dict[str, LayoutError] = {}
     for error in errors:
         unique.setdefault(error.one_line(), error)

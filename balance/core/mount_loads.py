@@ -187,7 +187,18 @@ FIGURE_SPEEDS = (0.15, 1.3, 231)
 
 
 def figure_speeds(speed: float) -> FloatArray:
-    """The speeds [rad/s] the mount-force figure draws for an analysis at ``speed``."""
+    """The speeds the mount-force figure draws for an analysis at ``speed``.
+
+    Parameters
+    ----------
+    speed : float
+        The analysis's crank speed [rad/s].
+
+    Returns
+    -------
+    ndarray
+        The speeds of :data:`FIGURE_SPEEDS` [rad/s].
+    """
     low, high, count = FIGURE_SPEEDS
     return np.linspace(low * speed, high * speed, count)
 
@@ -201,8 +212,27 @@ def mounts_part(
     speeds: ArrayLike | str | None = None,
 ) -> Result:
     """The ``mounts`` section (:mod:`balance.core.sections`): the engine's response on its
-    mounts (:func:`mounts_of`), and over ``speeds`` [rad/s] when given (``"figure"``: those
-    of the mount-force figure, :func:`figure_speeds`)."""
+    mounts (:func:`mounts_of`), and over a range of speeds when asked.
+
+    Parameters
+    ----------
+    engine : Engine
+        The analysed engine (its ``mounts:`` section).
+    request : Request
+        The request.
+    result : Result
+        The result so far (its phasors and roll, and its proposal part).
+    with_proposal : bool
+        Load the mounts with the residual (the proposal added) instead of the free forces.
+    speeds : array_like or str, optional
+        Crank speeds [rad/s] of a speed sweep; ``"figure"`` for those of the mount-force figure
+        (:func:`figure_speeds`).
+
+    Returns
+    -------
+    Result
+        ``result`` with the ``mounts`` part added.
+    """
     response = mounts_of(result, with_proposal)
     sweep = None
     if isinstance(speeds, str):

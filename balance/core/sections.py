@@ -128,6 +128,15 @@ SECTIONS: tuple[Section, ...] = (
 def section(name: str) -> Section:
     """The section of this name.
 
+    Parameters
+    ----------
+    name : str
+        A section's name (``"proposal"``, ``"bearings"`` …).
+
+    Returns
+    -------
+    Section
+
     Raises
     ------
     KeyError
@@ -151,6 +160,17 @@ def default_sections() -> dict[str, dict[str, Any]]:
 
 @cache
 def load(path: str) -> Any:
-    """The object at ``"module:NAME"`` (imported on first use)."""
+    """The object at ``"module:NAME"`` (imported on first use).
+
+    Parameters
+    ----------
+    path : str
+        ``"module:NAME"``, as :attr:`Section.part` and :attr:`Section.outputs` give it.
+
+    Returns
+    -------
+    object
+        The module's attribute ``NAME``.
+    """
     module, _, name = path.partition(":")
     return getattr(import_module(module), name)

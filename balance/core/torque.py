@@ -132,7 +132,21 @@ class TorqueResult:
 
 
 def roll_orders(orders: NDArray[np.intp], cycle: str) -> FloatArray:
-    """Roll orders reported with gas: halves up to the highest order for a four-stroke."""
+    """Roll orders reported with gas: halves up to the highest order for a four-stroke.
+
+    Parameters
+    ----------
+    orders : ndarray of int
+        The orders asked for.
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+
+    Returns
+    -------
+    ndarray
+        0.5, 1, 1.5 … up to the highest order for a four-stroke; the orders themselves for a
+        two-stroke.
+    """
     top = int(np.max(orders))
     if cycle == "four-stroke":
         return np.arange(1, 2 * top + 1) / 2.0
@@ -274,9 +288,19 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
 
 
 def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
-    """Each cylinder's pressure table: cycle angle from firing TDC [deg] and absolute
-    pressure [Pa] (:func:`balance.core.gas.pressure_tables` of the engine's geometry, a link
-    piston's over its own travel, :func:`piston_travels`)."""
+    """Each cylinder's pressure table (:func:`balance.core.gas.pressure_tables` of the engine's
+    geometry, a link piston's over its own travel, :func:`piston_travels`).
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with a ``gas:`` section.
+
+    Returns
+    -------
+    list of (ndarray, ndarray)
+        Per cylinder: cycle angle from firing TDC [deg] and absolute pressure [Pa].
+    """
     assert engine.gas is not None
     return pressure_tables(
         engine.gas,
@@ -289,9 +313,20 @@ def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]
 
 
 def piston_travels(engine: Engine) -> list[PistonTravel | None]:
-    """Each link piston's travel against its cycle angle from its actual TDC
-    (:class:`balance.core.gas.PistonTravel`, for the gas model's volume); None for the other
-    cylinders."""
+    """Each link piston's travel against its cycle angle from its actual TDC (for the gas
+    model's volume).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine.
+
+    Returns
+    -------
+    list of (PistonTravel or None)
+        Per cylinder, a :class:`balance.core.gas.PistonTravel` for a link piston, None for the
+        other cylinders.
+    """
     from balance.core.links import engine_geometry, link_dead_centres, link_motion
 
     out: list[PistonTravel | None] = [None] * engine.n_cylinders

@@ -418,7 +418,7 @@ def _gas(
     links: Links | None = None,
 ) -> GasInput:
     """Resolve the ``gas:`` and ``flywheel:`` sections: read the trace, place firing TDCs."""
-    from balance.core.links import dead_centre_lag
+    from balance.core.cylinders import dead_centre_lag
 
     section = spec.gas
     assert section is not None

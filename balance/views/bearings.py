@@ -1,5 +1,5 @@
 """Views of the ``bearings`` section: crank-pin and main-bearing loads
-(:class:`balance.core.bearings.Bearings`, docs/bearings.md).
+(:class:`balance.core.bearing_loads.Bearings`, docs/bearings.md).
 
 Every function reads a :class:`~balance.core.result.Result` (or the loads of its section)
 and nothing else: the JSON block, the rich tables, the three figures (crank-pin load in
@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from balance.core.bearings import Bearings
+from balance.core.bearing_loads import Bearings
 from balance.views.polar import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
