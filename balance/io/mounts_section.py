@@ -317,7 +317,24 @@ def load_mounts(source: str | Path) -> MountSystem:
 
 
 def mounts_from_text(text: str, file: str = "<input>") -> MountSystem:
-    """A mount system from YAML text (see :func:`load_mounts`); ``file`` names it in messages."""
+    """A mount system from YAML text (see :func:`load_mounts`).
+
+    Parameters
+    ----------
+    text : str
+        The mounts file's text: the section's keys at the top level, or a ``mounts:`` mapping.
+    file : str
+        The name the messages give the text.
+
+    Returns
+    -------
+    MountSystem
+
+    Raises
+    ------
+    LayoutError
+        If the text is not a valid mounts section.
+    """
     return _from_document(parse_yaml(text, file))
 
 

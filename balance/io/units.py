@@ -139,6 +139,18 @@ def likely_unit(number: float, kind: str) -> str:
     more for kg cm^2 (a conrod's is about 20 kg cm^2), smaller ones for kg m^2.
     A field may know better (a powertrain's mass is in kilograms, its inertia in kg m^2):
     see :func:`parse_quantity`'s ``likely``.
+
+    Parameters
+    ----------
+    number : float
+        The bare number as written.
+    kind : str
+        The unit kind expected (:data:`KINDS`).
+
+    Returns
+    -------
+    str
+        The unit, as a user would write it (``"mm"``, ``"g"``, ``"rpm"`` …).
     """
     size = abs(number)
     if kind == "length":
@@ -328,6 +340,11 @@ CASE_MATTERS: dict[str, tuple[tuple[str, ...], str]] = {
 
 def check_thousands(text: str) -> None:
     """Refuse a number written with thousands separators (``13,000 rpm``, ``13 000 rpm``).
+
+    Parameters
+    ----------
+    text : str
+        A quantity as written.
 
     Raises
     ------
