@@ -848,7 +848,7 @@ def _roll_increase_notes(
         if with_gas:
             text += " (inertia forces; the gas torque is not in these two figures)"
         if not cancel_roll and _placement(group, engine, w2, clearance).cancelled:
-            text += "; the cancel-roll option (--cancel-roll) places them so that it is cancelled"
+            text += "; the setting cancel_roll places them so that it is cancelled"
         out[k] = text
     return out
 

@@ -18,6 +18,7 @@ __all__ = [
     "LayoutError",
     "LayoutErrors",
     "Location",
+    "OutputExists",
     "raise_all",
 ]
 
@@ -57,6 +58,25 @@ class InputError(BalanceError):
     """Bad input: a file, an option or an argument that cannot be used as given."""
 
     exit_code = 2
+
+
+class OutputExists(InputError):
+    """An output that exists, where replacing it was not asked for (``force``).
+
+    The message names the setting; the command line names its option instead.
+
+    Parameters
+    ----------
+    target : str or path-like
+        The output.
+    what : str
+        ``"file exists"``, or ``"exists"`` for an output that may be a directory.
+    """
+
+    def __init__(self, target: object, what: str = "file exists") -> None:
+        self.target = target
+        self.what = what
+        super().__init__(f"{target}: {what} and replacing it was not asked for (force)")
 
 
 class LayoutError(InputError):

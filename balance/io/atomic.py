@@ -57,7 +57,7 @@ from functools import cache
 from pathlib import Path
 from typing import NoReturn
 
-from balance.core.errors import InputError
+from balance.core.errors import InputError, OutputExists
 
 __all__ = [
     "check_directory_target",
@@ -97,7 +97,7 @@ def check_target(path: str | Path, force: bool = False) -> Path:
         raise InputError(f"{target}: is a directory; give a file name")
     _check_parent(target)
     if target.exists() and not force:
-        raise InputError(f"{target}: file exists; use --force to replace it")
+        raise OutputExists(target)
     return target
 
 
@@ -353,7 +353,7 @@ def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: b
                 return True
             except FileExistsError:
                 if not force:
-                    raise InputError(f"{target}: file exists; use --force to replace it") from None
+                    raise OutputExists(target) from None
             except OSError:
                 return False
         try:
@@ -430,7 +430,7 @@ def check_directory_target(
     _check_parent(target)
     if target.exists():
         if not force:
-            raise InputError(f"{target}: exists; use --force to replace it")
+            raise OutputExists(target, "exists")
         if target.is_dir() and not is_replaceable(target):
             raise InputError(
                 f"{target}: is a directory that is not a Zarr store; will not replace it"

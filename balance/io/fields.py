@@ -158,7 +158,8 @@ def option_error(option: str, problem: ValueError, prefix: str = "") -> InputErr
         number, _, unit = suggestion.partition(" ")
         typed = f"{number}{unit}" if " " not in unit else f"'{suggestion}'"
         if valid.startswith("give a unit"):
-            valid = f"give a unit, e.g. {option} {prefix}{typed}"
+            flag = f"{option} " if option.startswith("-") else ""
+            valid = f"give a unit, e.g. {flag}{prefix}{typed}"
         else:
             valid = valid.replace(f"'{suggestion}'", typed)
     where = f"{option}: {field}: " if field else f"{option}: "
@@ -192,7 +193,7 @@ def parse_option_quantity(
         raise option_error(option, exc, prefix) from None
 
 
-def parse_speed(text: str | None, option: str = "--speed") -> float | None:
+def parse_speed(text: str | None, option: str = "speed") -> float | None:
     """The crank speed of a command-line option in rad/s (None when it is not given):
     read with its unit (``7000rpm``, ``733rad/s``; a bare number is refused with the
     likely unit proposed) and checked (:func:`check_speed`).
@@ -281,7 +282,7 @@ def _valid_fields() -> str:
     )
 
 
-def parse_field(text: str, layout: Engine, option: str = "--vary") -> Field:
+def parse_field(text: str, layout: Engine, option: str = "vary") -> Field:
     """Read a field name (see the module notes).
 
     Raises
@@ -347,7 +348,7 @@ def _quantity(
     """A value of ``field`` for ``option``; a proposal is written as ``FIELD{typed}VALUE``
     for ``--vary`` and ``--scatter`` (``typed``: ``=`` or ``=±``), as the value alone for
     other options."""
-    prefix = f"{field.text}{typed}" if option in ("--vary", "--scatter") else ""
+    prefix = f"{field.text}{typed}" if option.lstrip("-") in ("vary", "scatter") else ""
     return parse_option_quantity(text.strip(), field.kind, option, likely, prefix)
 
 
@@ -367,7 +368,7 @@ def _check_thousands(parts: list[str], field: Field, option: str) -> None:
             )
 
 
-def parse_values(text: str, field: Field, option: str = "--vary") -> FloatArray:
+def parse_values(text: str, field: Field, option: str = "vary") -> FloatArray:
     """Values of a field from ``start:stop:count`` or ``a,b,c`` (SI, degrees for angles).
 
     Raises
@@ -418,19 +419,19 @@ class Vary:
         return self.field.name
 
 
-def parse_vary(text: str, layout: Engine) -> Vary:
+def parse_vary(text: str, layout: Engine, option: str = "vary") -> Vary:
     """Read ``FIELD=VALUES`` (see :func:`parse_field`, :func:`parse_values`)."""
     if "=" not in text:
         raise InputError(
-            f"--vary: cannot read {text!r}; write FIELD=start:stop:count, e.g. "
+            f"{option}: cannot read {text!r}; write FIELD=start:stop:count, e.g. "
             "conrod_length=130mm:160mm:31"
         )
     name, _, spec = text.partition("=")
-    field = parse_field(name, layout)
-    return Vary(field, parse_values(spec, field))
+    field = parse_field(name, layout, option)
+    return Vary(field, parse_values(spec, field, option))
 
 
-def check_varies(varies: list[Vary]) -> list[Vary]:
+def check_varies(varies: list[Vary], option: str = "vary") -> list[Vary]:
     """Check the fields of a sweep together: each once, finite values in range, a grid
     of at most :data:`MAX_POINTS` points.
 
@@ -442,27 +443,27 @@ def check_varies(varies: list[Vary]) -> list[Vary]:
     names = [v.dim for v in varies]
     for name in names:
         if names.count(name) > 1:
-            raise InputError(f"--vary: {name} is varied twice; give it once")
+            raise InputError(f"{option}: {name} is varied twice; give it once")
     if not varies:
-        raise InputError("--vary: give at least one field to vary")
+        raise InputError(f"{option}: give at least one field to vary")
     for v in varies:
         if v.values.ndim != 1 or v.values.size == 0 or not np.all(np.isfinite(v.values)):
-            raise InputError(f"--vary: {v.field.text}: values must be finite numbers")
-        _check_values(v)
+            raise InputError(f"{option}: {v.field.text}: values must be finite numbers")
+        _check_values(v, option)
     total = math.prod(v.values.size for v in varies)
     if total > MAX_POINTS:
-        raise InputError(f"--vary: {total:.3g} grid points; at most {MAX_POINTS:.0e}")
+        raise InputError(f"{option}: {total:.3g} grid points; at most {MAX_POINTS:.0e}")
     return varies
 
 
-def _check_values(v: Vary) -> None:
+def _check_values(v: Vary, option: str) -> None:
     low = float(v.values.min())
     key = v.field.key
     positive = {"speed", "stroke", "crank_radius", "conrod_length"}
     if key in positive and low <= 0:
-        raise InputError(f"--vary: {v.field.text}: values must be above zero, got {low:g}")
+        raise InputError(f"{option}: {v.field.text}: values must be above zero, got {low:g}")
     if key in {"reciprocating", "rotating"} and low < 0:
-        raise InputError(f"--vary: {v.field.text}: masses cannot be negative, got {low:g}")
+        raise InputError(f"{option}: {v.field.text}: masses cannot be negative, got {low:g}")
 
 
 @dataclass(frozen=True)
@@ -473,7 +474,7 @@ class Scatter:
     tolerance: float
 
 
-def parse_scatter(text: str, layout: Engine) -> Scatter:
+def parse_scatter(text: str, layout: Engine, option: str = "scatter") -> Scatter:
     """Read ``FIELD=±TOL`` (e.g. ``masses.reciprocating=±3g``).
 
     Raises
@@ -483,7 +484,7 @@ def parse_scatter(text: str, layout: Engine) -> Scatter:
     """
     if "=" not in text:
         raise InputError(
-            f"--scatter: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
+            f"{option}: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
         )
     name, _, spec = text.partition("=")
     key = name.strip()
@@ -491,10 +492,10 @@ def parse_scatter(text: str, layout: Engine) -> Scatter:
         attribute, kind = CYLINDER_FIELDS[key]
         field = Field(key, key, attribute, kind, key, None)
     else:
-        field = parse_field(name, layout, option="--scatter")
+        field = parse_field(name, layout, option)
     if field.attribute in {"speed", "reference_z"}:
         raise InputError(
-            f"--scatter: '{name.strip()}' is not a part or geometry field of a cylinder; "
+            f"{option}: '{name.strip()}' is not a part or geometry field of a cylinder; "
             "scatter masses, stroke, conrod_length, offset, z, throw or bank"
         )
     spec = spec.strip()
@@ -503,10 +504,10 @@ def parse_scatter(text: str, layout: Engine) -> Scatter:
             spec = spec[len(prefix) :]
             break
     else:
-        raise InputError(f"--scatter: {field.text}: write the tolerance as ±TOL, e.g. ±3g")
-    tol = _quantity(spec, field, "--scatter", _tolerance_unit(field.kind), "=±")
+        raise InputError(f"{option}: {field.text}: write the tolerance as ±TOL, e.g. ±3g")
+    tol = _quantity(spec, field, option, _tolerance_unit(field.kind), "=±")
     if not tol >= 0:
-        raise InputError(f"--scatter: {field.text}: the tolerance must not be negative")
+        raise InputError(f"{option}: {field.text}: the tolerance must not be negative")
     return Scatter(field, tol)
 
 

@@ -104,7 +104,7 @@ def variant(layout: Engine, values: Mapping[str, float]) -> Engine:
 
 
 _CG_BEYOND_ROD = (
-    "--vary: the conrod's centre of gravity would lie beyond its small end "
+    "vary: the conrod's centre of gravity would lie beyond its small end "
     "(conrod_cg_to_big_end > conrod_length); keep it between the two ends"
 )
 
@@ -198,7 +198,7 @@ def _unit_phasors(plan: _Plan, p: dict[str, Any]) -> FreeForces:
             links=plan.layout.links if plan.layout.has_links else None,
         )
     except AnalysisError as exc:
-        raise InputError(f"--vary: some grid points have an impossible geometry: {exc}") from None
+        raise InputError(f"vary: some grid points have an impossible geometry: {exc}") from None
 
 
 def _chunk(
@@ -295,7 +295,7 @@ def _plan(
     roll: bool,
 ) -> _Plan:
     if model not in kinematics.MODELS:
-        raise InputError(f"--model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
+        raise InputError(f"model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
     ks = parse_orders(orders)
     return _Plan(layout, tuple(_as_varies(layout, vary)), ks, model, terms, moments, roll)
 

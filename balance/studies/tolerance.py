@@ -125,11 +125,11 @@ def tolerance(
     t0 = time.perf_counter()
     items = [s if isinstance(s, Scatter) else parse_scatter(s, layout) for s in scatter]
     if not items:
-        raise InputError("--scatter: give at least one field to scatter")
+        raise InputError("scatter: give at least one field to scatter")
     if distribution not in {"uniform", "normal"}:
-        raise InputError(f"--distribution: {distribution!r}; valid: uniform, normal")
+        raise InputError(f"distribution: {distribution!r}; valid: uniform, normal")
     if samples < 1:
-        raise InputError("--samples: must be at least 1")
+        raise InputError("samples: must be at least 1")
     ks = parse_orders(orders)
     nominal = compute_phasors(layout, ks, model=model, roll=False)
     added = proposal_phasors(balance_engine(layout, nominal).proposal, layout, ks)
@@ -164,15 +164,13 @@ def tolerance(
             for name, value in engine_cylinders(drawn).items()
         }
         if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
-            raise InputError("--scatter: the scatter makes some masses negative; reduce it")
+            raise InputError("scatter: the scatter makes some masses negative; reduce it")
         try:
             unit = free_phasors_of(
                 p, p["z"] - layout.reference_z, ks, model=model, roll=False, links=links
             )
         except AnalysisError as exc:
-            raise InputError(
-                f"--scatter: some samples have an impossible geometry: {exc}"
-            ) from None
+            raise InputError(f"scatter: some samples have an impossible geometry: {exc}") from None
         free = unit.phasors.scaled(w2).free()
         balanced = free + added
         sl = slice(lo, lo + m)
@@ -193,5 +191,5 @@ def tolerance(
 
 
 _CG_BEYOND_ROD = (
-    "--scatter: the scatter puts a conrod's centre of gravity beyond its small end; reduce it"
+    "scatter: the scatter puts a conrod's centre of gravity beyond its small end; reduce it"
 )
