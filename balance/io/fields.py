@@ -41,7 +41,9 @@ angles may be bare degrees.  A tolerance is ``±TOL`` (``+-`` and ``+/-`` also a
 
 Every option that takes a quantity reads it through :func:`parse_option_quantity`, so that
 a problem names the option and proposes what to write (``--speed 6000`` -> "give a unit,
-e.g. --speed 6000rpm").
+e.g. --speed 6000rpm").  The command line passes each function its option's name
+(``option="--vary"``); a Python caller gets the parameter's (``vary: conrod_length: 130 has
+no unit; give a unit, e.g. conrod_length=130mm``).
 """
 
 from __future__ import annotations
@@ -77,7 +79,7 @@ __all__ = [
     "Scatter",
     "Vary",
     "check_speed",
-    "option_error",
+    "check_varies",
     "parse_field",
     "parse_option_quantity",
     "parse_orders",
@@ -98,10 +100,20 @@ MAX_ORDER = 1000
 def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -> NDArray[np.intp]:
     """Orders from an int (1..N), a spec string (``"1-8"``, ``"2"``, ``"1,2,4-6"``) or a list.
 
+    Parameters
+    ----------
+    spec : int, str, sequence of int or None
+        The orders as given; None is 1 to :data:`DEFAULT_ORDERS`.
+
+    Returns
+    -------
+    ndarray of int
+        The distinct orders, sorted.
+
     Raises
     ------
     InputError
-        For an empty, malformed or out-of-range spec.
+        For an empty, malformed or out-of-range spec (orders 1 to :data:`MAX_ORDER`).
     """
     if spec is None:
         return np.arange(1, DEFAULT_ORDERS + 1)
@@ -132,7 +144,17 @@ def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -
 
 
 def check_speed(speed: float) -> float:
-    """A crank speed [rad/s] that every analysis can use: finite and above zero.
+    """A crank speed that every analysis can use: finite and above zero.
+
+    Parameters
+    ----------
+    speed : float
+        Crank speed [rad/s].
+
+    Returns
+    -------
+    float
+        The speed [rad/s].
 
     Raises
     ------
@@ -144,12 +166,26 @@ def check_speed(speed: float) -> float:
     return float(speed)
 
 
-def option_error(option: str, problem: ValueError, prefix: str = "") -> InputError:
+def _option_error(option: str, problem: ValueError, prefix: str = "") -> InputError:
     """The :class:`InputError` of a quantity an option could not read.
 
-    ``problem`` is a :class:`balance.io.units.UnitProblem`; a proposed text is written as
-    it would be typed (``--speed 6000rpm``; quoted when the unit has a space), after
-    ``prefix`` (``conrod_length=`` for ``--vary``).
+    A proposed text is written as it would be typed: after the option on the command line
+    (``--speed 6000rpm``; quoted when the unit has a space), after ``prefix`` alone for a
+    Python caller (``conrod_length=130mm``).
+
+    Parameters
+    ----------
+    option : str
+        The option (``--speed``) or parameter (``vary``) the text was given to.
+    problem : ValueError
+        The :class:`balance.io.units.UnitProblem` raised for the text.
+    prefix : str
+        What the value follows (``conrod_length=`` for ``--vary``).
+
+    Returns
+    -------
+    InputError
+        ``"OPTION: [FIELD: ]problem; what is valid"``.
     """
     valid = getattr(problem, "valid", "")
     suggestion = getattr(problem, "suggestion", None)
@@ -173,10 +209,26 @@ def parse_option_quantity(
     likely: Callable[[float], str] | None = None,
     prefix: str = "",
 ) -> float:
-    """A command-line quantity of unit kind ``kind`` in SI (degrees for angles).
+    """A quantity given to an option, in SI (degrees for angles).
 
-    ``prefix`` is what the value follows on the command line (``conrod_length=`` for
-    ``--vary``), for the message (:func:`option_error`).
+    Parameters
+    ----------
+    text : str
+        The quantity as written, with its unit (``7000rpm``, ``2.0 L``).
+    kind : str
+        The unit kind (:data:`balance.io.units.KINDS`).
+    option : str
+        The option (``--displacement``) or parameter it was given to, for the message.
+    likely : callable, optional
+        The unit proposed for a bare number (:func:`balance.io.units.likely_unit` by
+        default).
+    prefix : str
+        What the value follows (``conrod_length=`` for ``--vary``), for the message.
+
+    Returns
+    -------
+    float
+        The value in SI (degrees for angles).
 
     Raises
     ------
@@ -190,13 +242,24 @@ def parse_option_quantity(
     try:
         return parse_quantity(text, kind, likely)
     except UnitProblem as exc:
-        raise option_error(option, exc, prefix) from None
+        raise _option_error(option, exc, prefix) from None
 
 
 def parse_speed(text: str | None, option: str = "speed") -> float | None:
-    """The crank speed of a command-line option in rad/s (None when it is not given):
-    read with its unit (``7000rpm``, ``733rad/s``; a bare number is refused with the
-    likely unit proposed) and checked (:func:`check_speed`).
+    """A crank speed given as text with its unit (``7000rpm``, ``733rad/s``; a bare number is
+    refused with the likely unit proposed), checked by :func:`check_speed`.
+
+    Parameters
+    ----------
+    text : str or None
+        The speed as written; None when it is not given.
+    option : str
+        The option (``--speed``) or parameter it was given to, for the message.
+
+    Returns
+    -------
+    float or None
+        The speed [rad/s]; None for None.
 
     Raises
     ------
@@ -285,6 +348,20 @@ def _valid_fields() -> str:
 def parse_field(text: str, layout: Engine, option: str = "vary") -> Field:
     """Read a field name (see the module notes).
 
+    Parameters
+    ----------
+    text : str
+        The field as written (``conrod_length``, ``masses.reciprocating``,
+        ``cylinders[3].throw``).
+    layout : Engine
+        The layout whose field it is (its cylinders, and whether its masses are by part).
+    option : str
+        The option (``--vary``) or parameter (``vary``) it was given to, for the message.
+
+    Returns
+    -------
+    Field
+
     Raises
     ------
     InputError
@@ -369,7 +446,21 @@ def _check_thousands(parts: list[str], field: Field, option: str) -> None:
 
 
 def parse_values(text: str, field: Field, option: str = "vary") -> FloatArray:
-    """Values of a field from ``start:stop:count`` or ``a,b,c`` (SI, degrees for angles).
+    """Values of a field from ``start:stop:count`` or ``a,b,c``.
+
+    Parameters
+    ----------
+    text : str
+        The values as written, each with its unit (angles may be bare degrees).
+    field : Field
+        The field they are for (its unit kind).
+    option : str
+        The option (``--vary``) or parameter (``vary``) they were given to, for the message.
+
+    Returns
+    -------
+    ndarray
+        The values in SI (degrees for angles).
 
     Raises
     ------
@@ -420,7 +511,26 @@ class Vary:
 
 
 def parse_vary(text: str, layout: Engine, option: str = "vary") -> Vary:
-    """Read ``FIELD=VALUES`` (see :func:`parse_field`, :func:`parse_values`)."""
+    """Read ``FIELD=VALUES`` (see :func:`parse_field`, :func:`parse_values`).
+
+    Parameters
+    ----------
+    text : str
+        The varied field as written (``conrod_length=130mm:160mm:31``).
+    layout : Engine
+        The layout swept.
+    option : str
+        The option (``--vary``) or parameter (``vary``) it was given to, for the message.
+
+    Returns
+    -------
+    Vary
+
+    Raises
+    ------
+    InputError
+        If the text is malformed, names no numeric field, or gives bad values.
+    """
     if "=" not in text:
         raise InputError(
             f"{option}: cannot read {text!r}; write FIELD=start:stop:count, e.g. "
@@ -434,6 +544,18 @@ def parse_vary(text: str, layout: Engine, option: str = "vary") -> Vary:
 def check_varies(varies: list[Vary], option: str = "vary") -> list[Vary]:
     """Check the fields of a sweep together: each once, finite values in range, a grid
     of at most :data:`MAX_POINTS` points.
+
+    Parameters
+    ----------
+    varies : list of Vary
+        The varied fields.
+    option : str
+        The option (``--vary``) or parameter (``vary``) they were given to, for the message.
+
+    Returns
+    -------
+    list of Vary
+        ``varies``, checked.
 
     Raises
     ------
@@ -476,6 +598,20 @@ class Scatter:
 
 def parse_scatter(text: str, layout: Engine, option: str = "scatter") -> Scatter:
     """Read ``FIELD=±TOL`` (e.g. ``masses.reciprocating=±3g``).
+
+    Parameters
+    ----------
+    text : str
+        The scattered field as written.
+    layout : Engine
+        The layout scattered.
+    option : str
+        The option (``--scatter``) or parameter (``scatter``) it was given to, for the
+        message.
+
+    Returns
+    -------
+    Scatter
 
     Raises
     ------
