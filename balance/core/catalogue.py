@@ -34,6 +34,7 @@ __all__ = [
     "Compared",
     "Output",
     "compared",
+    "compared_sections",
     "outputs_of",
     "speed_rpm",
     "value",

@@ -45,6 +45,7 @@ __all__ = [
     "piston_velocity",
     "rod_ratio",
     "roll_coefficients",
+    "rounding_floor",
     "series_coefficients_centred",
     "textbook_slider",
 ]
@@ -475,7 +476,18 @@ def fourier_coefficients(
 
 def rounding_floor(ratio: ArrayLike, offset_ratio: ArrayLike) -> FloatArray:
     r"""Estimated rounding error of the exact coefficients, :math:`10^{-14}(1-x)^{-3/2}`
-    with :math:`x = \lambda(1+|e|/r)` (see :mod:`balance.core.accuracy`)."""
+    with :math:`x = \lambda(1+|e|/r)` (see :mod:`balance.core.accuracy`).
+
+    Parameters
+    ----------
+    ratio, offset_ratio : array_like
+        :math:`\lambda = r/l` and :math:`\varepsilon = e/r` [1], broadcasting.
+
+    Returns
+    -------
+    ndarray
+        The estimate [1], relative to the coefficients' scale.
+    """
     x = np.asarray(ratio, dtype=np.float64) * (1 + np.abs(np.asarray(offset_ratio)))
     return np.asarray(1e-14 * (1.0 - x) ** -1.5, dtype=np.float64)
 

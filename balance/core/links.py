@@ -92,6 +92,7 @@ __all__ = [
     "articulated_big_end_forces",
     "articulated_free_phasors",
     "engine_geometry",
+    "link_dead_centres",
     "link_geometry",
     "link_motion",
     "link_reach",
@@ -445,6 +446,11 @@ def link_reach(geometry: LinkGeometry) -> FloatArray:
 
 def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""Top and bottom dead centres of link pistons.
+
+    Parameters
+    ----------
+    geometry : LinkGeometry
+        The link cylinders.
 
     Returns
     -------

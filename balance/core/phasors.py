@@ -29,6 +29,7 @@ __all__ = [
     "CANCELLATION_FACTOR",
     "QUANTITIES",
     "Phasors",
+    "Quantity",
     "cancel_to_zero",
     "phase_deg",
     "reciprocating_force_and_moment",

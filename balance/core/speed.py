@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["rad_per_s_to_rpm", "rpm_to_rad_per_s", "speed_squared"]
+__all__ = ["RAD_PER_S_PER_RPM", "rad_per_s_to_rpm", "rpm_to_rad_per_s", "speed_squared"]
 
 #: Radians per second in one revolution per minute.
 RAD_PER_S_PER_RPM = 2.0 * math.pi / 60.0

@@ -84,9 +84,11 @@ from balance.core.speed import speed_squared
 
 __all__ = [
     "CYCLE_SAMPLES_PER_DEGREE",
+    "OUTPUTS",
     "TorqueResult",
     "compute_torque",
     "engine_pressure_tables",
+    "indicated_work",
     "piston_travels",
     "roll_orders",
 ]
@@ -553,5 +555,16 @@ OUTPUTS: tuple[Output, ...] = (
 
 
 def indicated_work(torque: TorqueResult) -> float:
-    """Indicated work of the engine per cycle [J]: the mean torque times the cycle angle."""
+    """Indicated work of the engine per cycle: the mean torque times the cycle angle.
+
+    Parameters
+    ----------
+    torque : TorqueResult
+        The engine's torque over the cycle (:func:`compute_torque`).
+
+    Returns
+    -------
+    float
+        The work [J].
+    """
     return torque.mean * 2.0 * math.pi * torque.cycle_deg / 360.0

@@ -60,6 +60,7 @@ __all__ = [
     "GasSpec",
     "GeometrySpec",
     "LayoutSpec",
+    "Length",
     "LinkSpec",
     "MassesSpec",
     "ShaftSpec",

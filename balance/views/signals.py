@@ -45,6 +45,8 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "QUANTITIES",
     "SOURCES",
+    "Quantity",
+    "Source",
     "bundle_of",
     "couple_components",
     "crank_angle_grid",
