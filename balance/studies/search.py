@@ -143,6 +143,16 @@ def firing_order(
     Each cylinder reaches TDC at crank angle ``bank - throw`` (mod 360) and fires at that
     angle or 360° later; the order found is the lexicographically smallest starting at
     cylinder 1.
+
+    Parameters
+    ----------
+    cylinder_throws, banks : sequence of float
+        Each cylinder's throw and bank [deg].
+
+    Returns
+    -------
+    tuple of int or None
+        Cylinder numbers (1-based) in firing order; None when no order fires evenly.
     """
     n = len(cylinder_throws)
     interval = 720.0 / n

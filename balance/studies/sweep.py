@@ -120,6 +120,18 @@ def chunk_slices(shape: Sequence[int], chunk_size: int) -> list[tuple[slice, ...
     does not fit is cut into slabs and the ones before it are taken one index at a time.
     Every chunk is therefore itself a grid, so the varied fields keep their broadcast
     (outer-product) structure inside it.
+
+    Parameters
+    ----------
+    shape : sequence of int
+        The grid's shape.
+    chunk_size : int
+        Most grid points per chunk, 1 or more.
+
+    Returns
+    -------
+    list of tuple of slice
+        One index per chunk, in grid order.
     """
     shape = tuple(int(s) for s in shape)
     size = max(int(chunk_size), 1)
@@ -438,7 +450,20 @@ def sweep_arrays(
 ) -> tuple[_Plan, dict[str, FloatArray] | None]:
     """Run a sweep chunk by chunk; hand each chunk to ``sink`` or gather it in memory.
 
-    Returns the plan and, without a sink, the full arrays.  See :func:`sweep`.
+    Parameters
+    ----------
+    layout, vary, orders, model, terms, moments, roll, chunk_size, client, progress
+        As for :func:`sweep`.
+    sink : callable, optional
+        ``sink(where, arrays)``: takes each chunk's arrays by variable name, ``where`` its
+        index in the grid (:func:`chunk_slices`); without it the chunks are gathered.
+
+    Returns
+    -------
+    plan : object
+        The sweep's plan: the layout, the checked varied fields, the orders, the model.
+    arrays : dict of ndarray or None
+        Every variable over the whole grid (SI), without a sink; None with one.
     """
     plan = _plan(layout, vary, orders, model, terms, moments, roll)
     chunks = chunk_slices(plan.shape, chunk_size)
@@ -601,11 +626,26 @@ def sweep_to_file(
 def check_output(path: str | Path, force: bool = False, file_format: str | None = None) -> str:
     """Check a sweep's output before the work starts; return its format.
 
+    Parameters
+    ----------
+    path : str or Path
+        The file (``.nc``) or store (``.zarr``) to write.
+    force : bool
+        Replace an existing output.
+    file_format : {'netcdf', 'zarr'}, optional
+        The format, instead of the one the suffix names.
+
+    Returns
+    -------
+    str
+        ``'netcdf'`` or ``'zarr'``.
+
     Raises
     ------
     InputError
         For an unknown suffix, a missing ``zarr`` package, or a target that cannot be
-        written (:mod:`balance.io.atomic`).
+        written (:mod:`balance.io.atomic`; an existing one without ``force`` is
+        :class:`~balance.core.errors.OutputExists`).
     """
     from balance.io.atomic import check_directory_target, check_target
 

@@ -155,7 +155,7 @@ def tolerance(
             delta = s.field.to_layout_units(draw)
             changes.append((s.field, delta if s.field.cylinder is None else delta[:, None]))
         drawn = apply_changes(fixed, changes, add=True, problem=_CG_BEYOND_ROD)
-        # with link rods, one geometry (check_link_fields): the link path wants it 1-D
+        # with link rods, one geometry (changes._check_link_fields): the link path wants it 1-D
         links = layout.links if layout.has_links else None
         p = {
             name: value
