@@ -49,11 +49,11 @@ from balance.core.catalogue import Output, outputs_of
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
 
-__all__ = ["build_dataset", "coordinate", "variable"]
+__all__ = ["build_dataset"]
 
 
-def variable(output: Output, data: Any, result: Any, dims: tuple[str, ...] = ()) -> xr.Variable:
-    """A variable with the output's ``units`` and ``long_name`` (``dims`` in front of its
+def _variable(output: Output, data: Any, result: Any, dims: tuple[str, ...] = ()) -> xr.Variable:
+    """A _variable with the output's ``units`` and ``long_name`` (``dims`` in front of its
     own: a sweep's grid).
 
     The data are always numpy arrays here, so xarray's fast path is safe; it also spares a
@@ -67,8 +67,8 @@ def variable(output: Output, data: Any, result: Any, dims: tuple[str, ...] = ())
     )
 
 
-def coordinate(output: Output, data: Any, result: Any) -> xr.IndexVariable:
-    """An index coordinate built from a pandas Index.
+def _coordinate(output: Output, data: Any, result: Any) -> xr.IndexVariable:
+    """An index _coordinate built from a pandas Index.
 
     (Handing xarray a pandas Index spares it a duck-array check that imports pint, which
     would cost a cold start about 0.1 s.)
@@ -110,7 +110,7 @@ def build_dataset(result: Result) -> xr.Dataset:
         if output.kind == "attr":
             attrs[output.name] = value
         elif output.kind == "coord":
-            coords[output.name] = coordinate(output, value, result)
+            coords[output.name] = _coordinate(output, value, result)
         else:
-            data[output.name] = variable(output, value, result)
+            data[output.name] = _variable(output, value, result)
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)

@@ -81,7 +81,22 @@ def phasor_panels(
     """The panels of :func:`plot_phasors` with ``scale="per-order"``: for the force and the
     moment, the orders that have a phasor not zero next to the largest of that quantity
     (:data:`balance.views.figures.ZERO_SHARE`); an empty list draws one panel that says why
-    (zero, not computed)."""
+    (zero, not computed).
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    source : {'reciprocating', 'free', 'residual'}
+        Which phasors (:mod:`balance.views.signals`).
+    orders : iterable of int, optional
+        The orders to consider; default every order of the result.
+
+    Returns
+    -------
+    list of (str, list of int)
+        ``("force", orders)`` and ``("moment", orders)``.
+    """
     return [(p.quantity, p.shown) for p in _panel_phasors(result, source, orders)]
 
 

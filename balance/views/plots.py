@@ -556,7 +556,23 @@ def section_kinds() -> dict[str, tuple[str, Callable[..., Figure]]]:
 
 
 def plot_kind(kind: str) -> Callable[..., Figure]:
-    """The function that draws figure ``kind`` (:data:`PLOT_KINDS` or a section's)."""
+    """The function that draws a figure kind.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`PLOT_KINDS` or a section's (:func:`all_kinds`).
+
+    Returns
+    -------
+    callable
+        ``function(result, **options) -> Figure``.
+
+    Raises
+    ------
+    InputError
+        For a kind that no figure has, with the kinds there are.
+    """
     if kind in PLOT_KINDS:
         return PLOT_KINDS[kind]
     sections = section_kinds()
@@ -594,7 +610,20 @@ def _agg_canvas(fig: Figure) -> None:
 
 
 def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
-    """A figure as the bytes of a ``png``, ``svg`` or ``pdf`` file (under :data:`STYLE`)."""
+    """A figure as the bytes of a ``png``, ``svg`` or ``pdf`` file (under :data:`STYLE`).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    fmt : {'png', 'svg', 'pdf'}
+        The file format.
+
+    Returns
+    -------
+    bytes
+        The file's contents, without dates (the same figure gives the same bytes).
+    """
     import io
 
     import matplotlib as mpl
@@ -625,7 +654,17 @@ def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
 
 def applicable_kinds(result: Result) -> list[str]:
     """The figure kinds that have something to draw for ``result``, in order: those of
-    :data:`PLOT_KINDS` (always), then those of every section the result holds."""
+    :data:`PLOT_KINDS` (always), then those of every section the result holds.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    list of str
+    """
     return [*PLOT_KINDS] + [k for k, (name, _) in section_kinds().items() if name in result.parts]
 
 

@@ -44,9 +44,6 @@ __all__ = [
     "REPORT_TITLE",
     "json_block",
     "plot_balance",
-    "proposal_entries",
-    "proposal_summary",
-    "render_proposal",
     "report_section",
     "tables",
 ]
@@ -57,7 +54,7 @@ def _part(result: Result) -> ProposalResult:
     return part
 
 
-def proposal_entries(proposal: Proposal) -> dict[str, Any]:
+def _proposal_entries(proposal: Proposal) -> dict[str, Any]:
     """The proposal's settings, notes, counterweights and balance shafts as JSON data."""
     counterweights = [
         {
@@ -116,10 +113,22 @@ def _residual_peaks(result: Result, quantity: Any, reference: float) -> list[dic
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``proposal`` with its ``residual``."""
+    """The section's part of the analysis JSON: ``proposal`` with its ``residual``.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``proposal`` section.
+
+    Returns
+    -------
+    dict
+        The counterweights, balance shafts and notes, and the residual force and moment peaks
+        and roll per order.
+    """
     part = _part(result)
     return {
-        "proposal": proposal_entries(part.proposal)
+        "proposal": _proposal_entries(part.proposal)
         | {
             "residual": {
                 "force": _residual_peaks(result, "force", result.reference_force),
@@ -130,7 +139,7 @@ def json_block(result: Result) -> dict[str, Any]:
     }
 
 
-def render_proposal(result: Result) -> list[RenderableType]:
+def _render_proposal(result: Result) -> list[RenderableType]:
     """Rich renderables of the balancing proposal and its residual: a line of the choices,
     the proposal's notes (one line each), the counterweights, the balance shafts and the
     residual."""
@@ -245,8 +254,19 @@ def render_proposal(result: Result) -> list[RenderableType]:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's tables: :func:`render_proposal`."""
-    return render_proposal(result)
+    """The section's tables: a line of the choices, the proposal's notes, the counterweights,
+    the balance shafts and the residual.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``proposal`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
+    return _render_proposal(result)
 
 
 #: The heading of the section in the HTML report.
@@ -525,10 +545,10 @@ def plot_balance(
         order_bars(axes_list[5], rk, [(ra, BEFORE_COLOUR, "before"), (qa, "C4", "after")])
         axes_list[5].set_ylabel("roll amplitude [N m]")
         axes_list[5].legend(loc="upper right")
-        return finish(fig, owned, title, f"{layout_name(result)}: {proposal_summary(result)}")
+        return finish(fig, owned, title, f"{layout_name(result)}: {_proposal_summary(result)}")
 
 
-def proposal_summary(result: Result) -> str:
+def _proposal_summary(result: Result) -> str:
     """One line describing the proposal of a result (strategy, orders, masses)."""
     part = result.part("proposal")
     if part is None:

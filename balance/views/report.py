@@ -44,7 +44,6 @@ __all__ = [
     "html_figure",
     "html_table",
     "render_report",
-    "svg_fragment",
     "write_report",
 ]
 
@@ -90,6 +89,17 @@ footer { margin-top: 3em; color: #666; font-size: 0.85em; }
 
 
 def escape(text: object) -> str:
+    """Text for HTML: ``&``, ``<``, ``>`` and quotes escaped.
+
+    Parameters
+    ----------
+    text : object
+        Anything; its ``str()`` is escaped.
+
+    Returns
+    -------
+    str
+    """
     return html.escape(str(text), quote=True)
 
 
@@ -111,8 +121,23 @@ def html_table(
 ) -> str:
     """An HTML table; headers and cells are plain text (escaped here).
 
-    ``groups``: an optional first header row of (label, number of columns) spans, labelling
-    groups of columns (an empty label leaves its columns unlabelled)."""
+    Parameters
+    ----------
+    headers : sequence of str
+        The column headers.
+    rows : iterable of sequence of str
+        The cells, row by row.
+    caption : str
+        The table's caption (none when empty).
+    groups : sequence of (str, int)
+        An optional first header row of (label, number of columns) spans, labelling groups of
+        columns (an empty label leaves its columns unlabelled).
+
+    Returns
+    -------
+    str
+        The ``<table>`` element.
+    """
     out = ["<table>"]
     if caption:
         out.append(f"<caption>{escape(caption)}</caption>")
@@ -161,7 +186,7 @@ _METADATA = re.compile(r"<metadata>.*?</metadata>\s*", re.S)
 _ID = re.compile(r'\bid="([^"]+)"')
 
 
-def svg_fragment(svg: str, prefix: str) -> str:
+def _svg_fragment(svg: str, prefix: str) -> str:
     """Make a matplotlib SVG file fit to be inlined in an HTML page.
 
     Removes the XML prolog, the DOCTYPE (which names an external DTD), comments and
@@ -197,11 +222,30 @@ def svg_fragment(svg: str, prefix: str) -> str:
 
 
 def html_figure(result: Result, kind: str, caption: str, number: int) -> str:
+    """A figure of the result as inline SVG in a ``<figure>`` with its caption.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    kind : str
+        The figure kind (:func:`balance.views.plots.plot_kind`).
+    caption : str
+        The caption, also the SVG's accessible label.
+    number : int
+        A number unique in the report, prefixed to the SVG's ids so that figures do not
+        share them.
+
+    Returns
+    -------
+    str
+        The ``<figure>`` element.
+    """
     from balance.views.plots import figure_bytes, plot_kind
 
     fig = plot_kind(kind)(result)
     svg = figure_bytes(fig, "svg").decode("utf-8")
-    fragment = svg_fragment(svg, f"f{number}-")
+    fragment = _svg_fragment(svg, f"f{number}-")
     label = f'role="img" aria-label="{escape(caption)}" '
     fragment = fragment.replace("<svg ", f"<svg {label}", 1)
     caption_html = f"<figcaption>{escape(caption)}</figcaption>"
