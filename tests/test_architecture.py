@@ -220,3 +220,18 @@ def test_the_checker_sees_a_cycle_and_an_upward_import(tmp_path):
         assert _imports(fake) >= {"balance.views", "xarray"}
     finally:
         PACKAGE = saved
+
+
+def test_the_package_offers_what_the_api_offers():
+    """``import balance`` offers api.py's names and the error types, each loaded lazily
+    from where it is defined."""
+    import balance
+    import balance.api
+    from balance.core import errors
+
+    lazy = balance._LAZY
+    assert set(balance.__all__) == {"__version__", *lazy}
+    assert {n for n, m in lazy.items() if m == "balance.api"} == set(balance.api.__all__)
+    assert {n for n, m in lazy.items() if m != "balance.api"} <= set(errors.__all__)
+    for name in lazy:
+        assert getattr(balance, name) is getattr(sys.modules[lazy[name]], name)

@@ -32,7 +32,7 @@ from balance.cli.common import (
 )
 from balance.core.errors import InputError
 
-__all__ = ["COMMANDS", "compare_command", "search_command", "sweep_command", "tolerance_command"]
+__all__ = ["COMMANDS"]
 
 
 class CompareFormat(StrEnum):
