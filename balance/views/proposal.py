@@ -44,6 +44,7 @@ __all__ = [
     "REPORT_TITLE",
     "json_block",
     "plot_balance",
+    "proposal_summary",
     "report_section",
     "tables",
 ]
@@ -545,11 +546,23 @@ def plot_balance(
         order_bars(axes_list[5], rk, [(ra, BEFORE_COLOUR, "before"), (qa, "C4", "after")])
         axes_list[5].set_ylabel("roll amplitude [N m]")
         axes_list[5].legend(loc="upper right")
-        return finish(fig, owned, title, f"{layout_name(result)}: {_proposal_summary(result)}")
+        return finish(fig, owned, title, f"{layout_name(result)}: {proposal_summary(result)}")
 
 
-def _proposal_summary(result: Result) -> str:
-    """One line describing the proposal of a result (strategy, orders, masses)."""
+def proposal_summary(result: Result) -> str:
+    """One line describing the proposal of a result (strategy, orders, masses), as the
+    ``balance`` figure's title and the docs' gallery give it.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    str
+        ``"no balancing proposal"`` when the result has none.
+    """
     part = result.part("proposal")
     if part is None:
         return "no balancing proposal"
