@@ -31,7 +31,6 @@ __all__ = [
     "FIGURE_SPEEDS",
     "OUTPUTS",
     "MountsPart",
-    "OrderLoads",
     "figure_speeds",
     "mounts_of",
     "mounts_part",

@@ -21,7 +21,7 @@ A section says
 :data:`SECTIONS`; the writers (Dataset, JSON, CSV, table, report, plots) loop over the
 parts a result holds and never name one.  Functions and outputs are named by their module
 path, so that a section's module is imported only when it is used.  How to add a concern
-is in docs/architecture.md, "Adding a concern".
+is in docs/architecture.md, "Adding a physical concern".
 """
 
 from __future__ import annotations

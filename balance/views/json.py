@@ -3,7 +3,7 @@
 The free forces are read through the one phasor type
 (:class:`~balance.core.phasors.Phasors`: magnitudes, phases and peaks each formed once);
 each section the result holds adds its block (:mod:`balance.views.sections`).  No xarray.
-The shape is that of docs/conventions.md, "The JSON result".
+The shape is that of docs/cli.md, "JSON output".
 """
 
 from __future__ import annotations
