@@ -10,6 +10,7 @@ functions and under ``TYPE_CHECKING``.
 from __future__ import annotations
 
 import ast
+import re
 import sys
 from pathlib import Path
 
@@ -135,6 +136,51 @@ def test_core_is_numpy_and_the_standard_library_only():
             ), f"{module} imports {imported}"
 
 
+#: A command-line option in a text: ``--force``, ``--vary`` (not ``---`` or ``a--b``).
+FLAG = re.compile(r"(?<![\w-])--[a-z]")
+
+
+def _texts(path: Path) -> list[tuple[int, str]]:
+    """The string constants of a module that are not docstrings: what it may print."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    documented = (ast.Module, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)
+    docstrings = {
+        id(node.body[0].value)
+        for node in ast.walk(tree)
+        if isinstance(node, documented)
+        and node.body
+        and isinstance(node.body[0], ast.Expr)
+        and isinstance(node.body[0].value, ast.Constant)
+    }
+    return [
+        (node.lineno, node.value)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Constant)
+        and isinstance(node.value, str)
+        and id(node) not in docstrings
+    ]
+
+
+@pytest.mark.parametrize("layer", ["core", "io", "studies"])
+def test_the_library_names_settings_not_command_line_options(layer):
+    """core, io and studies are called from Python too: their messages name a quantity or a
+    parameter (``vary:``, ``(force)``); the command line puts its options in their place
+    (balance.cli.common.options_named, guarded)."""
+    found = [
+        f"{path.relative_to(PACKAGE.parent)}:{line}: {text!r}"
+        for path in sorted((PACKAGE / layer).rglob("*.py"))
+        for line, text in _texts(path)
+        if FLAG.search(text)
+    ]
+    assert not found, found
+
+
+def test_the_flag_check_sees_a_message_and_not_a_docstring(tmp_path):
+    module = tmp_path / "m.py"
+    module.write_text('"""Use ``--force``."""\n\nTEXT = f"{1}: use --force"\nRULE = "----"\n')
+    assert [text for _, text in _texts(module) if FLAG.search(text)] == [": use --force"]
+
+
 def test_no_import_cycle():
     internal = {m: {i for i in GRAPH[m] if i in MODULES and i != m} for m in MODULES}
     # the package __init__ is imported by every submodule's import machinery; its own
@@ -174,3 +220,18 @@ def test_the_checker_sees_a_cycle_and_an_upward_import(tmp_path):
         assert _imports(fake) >= {"balance.views", "xarray"}
     finally:
         PACKAGE = saved
+
+
+def test_the_package_offers_what_the_api_offers():
+    """``import balance`` offers api.py's names and the error types, each loaded lazily
+    from where it is defined."""
+    import balance
+    import balance.api
+    from balance.core import errors
+
+    lazy = balance._LAZY
+    assert set(balance.__all__) == {"__version__", *lazy}
+    assert {n for n, m in lazy.items() if m == "balance.api"} == set(balance.api.__all__)
+    assert {n for n, m in lazy.items() if m != "balance.api"} <= set(errors.__all__)
+    for name in lazy:
+        assert getattr(balance, name) is getattr(sys.modules[lazy[name]], name)

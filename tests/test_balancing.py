@@ -18,8 +18,7 @@ from balance.api import Engine, analyse, builtin_layout_names, load_layout
 from balance.core import kinematics as kin
 from balance.core import sampled as td
 from balance.core.analysis import compute_phasors
-from balance.core.balancing import balance_factor_study, optimal_balance_factor
-from balance.core.proposal import balance_engine
+from balance.core.proposal import balance_engine, balance_factor_study, optimal_balance_factor
 
 ORDERS = np.arange(1, 9)
 

@@ -11,7 +11,8 @@ from typer.testing import CliRunner
 
 from balance.cli import app
 from balance.core.analysis import compute
-from balance.core.bearings import analysis_bearings, bearing_loads, counterweights_of
+from balance.core.bearing_loads import analysis_bearings
+from balance.core.bearings import bearing_loads, counterweights_of
 from balance.core.result import Request
 from balance.io.layout_file import load_layout
 from balance.io.request import build_request

@@ -106,6 +106,56 @@ def test_existing_output_is_kept_without_force(tmp_path):
     assert json.loads(target.read_text())["schema"] == "balance.analysis/1"
 
 
+def test_the_library_names_its_settings_and_the_command_line_its_options(tmp_path):
+    """A problem found by the library names the parameter or setting (``vary:``,
+    ``(force)``); the command line names its option for the same problem."""
+    from balance.core.errors import InputError, OutputExists
+    from balance.io.atomic import check_target
+    from balance.io.layout_file import load_layout
+    from balance.studies.search import search
+    from balance.studies.sweep import sweep
+    from balance.studies.tolerance import tolerance
+
+    engine = load_layout("inline-4")
+    target = tmp_path / "out.json"
+    target.write_text("previous")
+    library = [
+        (lambda: check_target(target), f"{target}: file exists and replacing it was not "
+         "asked for (force)"),
+        (lambda: sweep(engine, ["conrod_length=130:160:3"]), "vary: conrod_length: 130 has no "
+         "unit; give a unit, e.g. conrod_length=130mm"),
+        (lambda: sweep(engine, ["speed=1000rpm:2000rpm:2"], model="time"), "model: 'time'; a "
+         "sweep uses one of exact, series, textbook"),
+        (lambda: tolerance(engine, ["reciprocating=±3"], samples=10), "scatter: reciprocating: "
+         "3 has no unit; give a unit, e.g. reciprocating=±3g"),
+        (lambda: tolerance(engine, ["reciprocating=±3g"], distribution="flat"), "distribution: "
+         "'flat'; valid: uniform, normal"),
+        (lambda: search(4, objective="best"), "objective: 'best'; valid: free, moments, shafts"),
+    ]  # fmt: skip
+    for call, message in library:
+        with pytest.raises(InputError) as info:
+            call()
+        assert str(info.value) == message
+    with pytest.raises(OutputExists):
+        check_target(target)
+    command_line = [
+        (["analyse", "inline-4", "-f", "json", "-o", str(target)], f"{target}: file exists; "
+         "use --force to replace it"),
+        (["sweep", "inline-4", "--vary", "speed=1000rpm:2000rpm:2", "--model", "time", "-o",
+          str(tmp_path / "s.nc")], "--model: 'time'; a sweep uses one of exact, series, textbook"),
+        (["tolerance", "inline-4", "--scatter", "reciprocating=±3g", "--distribution", "flat"],
+         "--distribution: 'flat'; valid: uniform, normal"),
+        (["search", "--cylinders", "4", "--objective", "best"], "--objective: 'best'; valid: "
+         "free, moments, shafts"),
+        (["search", "--cylinders", "4", "--rod-ratio", "1.5"], "--rod-ratio: 1.5 is not between "
+         "0 and 1"),
+    ]  # fmt: skip
+    for args, message in command_line:
+        result = run(*args)
+        assert result.exit_code == 2, result.output
+        assert result.stderr == f"balance: {message}\n"
+
+
 def test_output_into_missing_directory(tmp_path):
     result = run("analyse", "inline-4", "-f", "json", "-o", str(tmp_path / "nope" / "x.json"))
     assert result.exit_code == 2

@@ -22,12 +22,11 @@ from balance.cli import app
 from balance.core import bearings as bb
 from balance.core import sampled as td
 from balance.core.analysis import compute, compute_phasors
+from balance.core.cylinders import dead_centres, engine_dead_centres
 from balance.core.engine import Engine, Links
 from balance.core.errors import InputError, LayoutError
 from balance.core.kinematics import normalised_slider
 from balance.core.links import (
-    dead_centres,
-    engine_dead_centres,
     link_dead_centres,
     link_geometry,
     link_motion,

@@ -365,6 +365,6 @@ def test_targets_that_cannot_be_written(tmp_path):
     with pytest.raises(InputError, match="is not a directory"):
         check_target(tmp_path / "file" / "x.nc")
     (tmp_path / "exists.nc").write_text("")
-    with pytest.raises(InputError, match="use --force"):
+    with pytest.raises(InputError, match="file exists and replacing it was not asked for"):
         check_target(tmp_path / "exists.nc")
     assert check_target(tmp_path / "exists.nc", force=True) == tmp_path / "exists.nc"

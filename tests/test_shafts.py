@@ -93,7 +93,7 @@ def test_default_pair_adds_second_order_roll_the_engine_does_not_have(name):
         f"order 2: the balance shafts raise the roll from 0 to {expected:.4g} N m"
         in (balanced.proposal.notes[0])
     )
-    assert "--cancel-roll" in balanced.proposal.notes[0]
+    assert "the setting cancel_roll" in balanced.proposal.notes[0]
 
 
 @pytest.mark.parametrize("name", ["v-twin-90", "v4-90-180"])

@@ -316,7 +316,7 @@ def test_zarr_store_is_the_sweep_dataset(tmp_path):
         # one Zarr chunk per sweep chunk: 4 grid points of the trailing dimension fit
         assert ds.reciprocating_force_magnitude.encoding["chunks"] == (1, 3, 8, 2)
     # --force replaces a store; without it the old one is kept
-    with pytest.raises(InputError, match="exists; use --force"):
+    with pytest.raises(InputError, match="exists and replacing it was not asked for"):
         balance.studies.sweep.sweep_to_file(layout, vary, store, "1-2")
     balance.studies.sweep.sweep_to_file(layout, vary, store, "1-2", force=True)
     with xr.open_zarr(store) as ds:

@@ -40,14 +40,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.engine import Engine
     from balance.core.result import Request, Result
 
-__all__ = [
-    "COMMANDS",
-    "analyse_command",
-    "mounts_command",
-    "plot_command",
-    "propose_command",
-    "report_command",
-]
+__all__ = ["COMMANDS"]
 
 
 class SpeedModel(StrEnum):

@@ -9,18 +9,19 @@ Errors are one line, ``file:line:col: field: what is wrong; what is valid`` (doc
 # No ``from __future__ import annotations``: typer reads the annotations of every command's
 # parameters when it builds the command line (see balance/cli/__init__.py).
 
+import contextlib
 import functools
 import io
 import os
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
 import typer
 
-from balance.core.errors import BalanceError, InputError
+from balance.core.errors import BalanceError, InputError, OutputExists
 
 __all__ = [
     "Model",
@@ -34,6 +35,7 @@ __all__ = [
     "emit_text",
     "guarded",
     "main_options",
+    "options_named",
     "parse_speed",
     "warn",
     "write_netcdf",
@@ -70,6 +72,10 @@ def guarded(func: F) -> F:
             return func(*args, **kwargs)
         except (typer.Exit, typer.Abort, SystemExit):
             raise
+        except OutputExists as exc:  # the library names the setting, the command line --force
+            if _STATE["debug"]:
+                raise
+            _fail(f"{exc.target}: {exc.what}; use --force to replace it", exc.exit_code)
         except BalanceError as exc:
             if _STATE["debug"]:
                 raise
@@ -137,9 +143,41 @@ def parse_speed(text: str | None) -> float | None:
     float or None
         The speed [rad/s]; None when the option is not given.
     """
-    from balance.io.fields import parse_speed as parse
+    from balance.io import fields
 
-    return parse(text)
+    return fields.parse_speed(text, "--speed")
+
+
+@contextlib.contextmanager
+def options_named(**options: str) -> Iterator[None]:
+    """Name the command line's options in the problems of the library it calls.
+
+    The library names a problem by its parameter (``objective: 'best'; valid: ...``); in
+    this block such a problem is raised again with the option instead (``--objective:
+    'best'; valid: ...``).
+
+    Parameters
+    ----------
+    **options : str
+        The option of each parameter, e.g. ``rod_ratio="--rod-ratio"``.
+
+    Yields
+    ------
+    None
+
+    Raises
+    ------
+    InputError
+        A problem of the block, its leading parameter name replaced by the option.
+    """
+    try:
+        yield
+    except InputError as exc:
+        text = str(exc)
+        for name, option in options.items():
+            if text.startswith(f"{name}: "):
+                raise InputError(option + text[len(name) :]) from None
+        raise
 
 
 def warn(warnings: Any, quiet: bool, source: str) -> None:

@@ -11,7 +11,7 @@ import typer
 
 from balance.cli.common import console, guarded
 
-__all__ = ["COMMANDS", "expand_command", "layout_app", "layouts_command"]
+__all__ = ["COMMANDS", "layout_app"]
 
 #: The group ``balance layout``.
 layout_app = typer.Typer(help="Work with layout files.", no_args_is_help=True)

@@ -25,13 +25,14 @@ from balance.cli.common import (
     emit_rich,
     emit_text,
     guarded,
+    options_named,
     parse_speed,
     warn,
     write_netcdf,
 )
 from balance.core.errors import InputError
 
-__all__ = ["COMMANDS", "compare_command", "search_command", "sweep_command", "tolerance_command"]
+__all__ = ["COMMANDS"]
 
 
 class CompareFormat(StrEnum):
@@ -188,15 +189,15 @@ def sweep_command(
 
     from balance.io.fields import check_varies, parse_vary
     from balance.io.layout_file import load_layout
-    from balance.studies.sweep import check_output as check_sweep_output
+    from balance.studies import sweep
     from balance.studies.sweep import sweep_to_file
 
     started = time.perf_counter()
-    check_sweep_output(output, force)
+    sweep.check_output(output, force)
     if scheduler is not None and workers is not None:
         raise InputError("give --scheduler or --workers, not both")
     base = load_layout(layout)
-    grid = check_varies([parse_vary(text, base) for text in vary])
+    grid = check_varies([parse_vary(text, base, "--vary") for text in vary], "--vary")
     if not quiet:
         from balance.studies.checks import sweep_warnings
 
@@ -212,22 +213,23 @@ def sweep_command(
         "progress": ProgressBar() if show else None,
         "force": force,
     }
-    if scheduler is None and workers is None:
-        sweep_to_file(base, grid, output, orders, **kwargs)
-    else:
-        from distributed import Client, LocalCluster
-
-        if scheduler is not None:
-            with Client(scheduler) as client:
-                sweep_to_file(base, grid, output, orders, client=client, **kwargs)
+    with options_named(vary="--vary", model="--model"):
+        if scheduler is None and workers is None:
+            sweep_to_file(base, grid, output, orders, **kwargs)
         else:
-            with (
-                LocalCluster(
-                    n_workers=workers, threads_per_worker=1, dashboard_address=None
-                ) as cluster,
-                Client(cluster) as client,
-            ):
-                sweep_to_file(base, grid, output, orders, client=client, **kwargs)
+            from distributed import Client, LocalCluster
+
+            if scheduler is not None:
+                with Client(scheduler) as client:
+                    sweep_to_file(base, grid, output, orders, client=client, **kwargs)
+            else:
+                with (
+                    LocalCluster(
+                        n_workers=workers, threads_per_worker=1, dashboard_address=None
+                    ) as cluster,
+                    Client(cluster) as client,
+                ):
+                    sweep_to_file(base, grid, output, orders, client=client, **kwargs)
     from balance.views.progress import sweep_summary
 
     sys.stderr.write(
@@ -272,17 +274,24 @@ def search_command(
         bank_list = [parse_quantity(b, "angle") for b in banks.split(",")]
     except UnitProblem as exc:
         raise InputError(f"--step/--banks: {exc}; {exc.valid}") from None
-    result = search(
-        cylinders,
-        bank_list,
-        step=step_deg,
-        even_firing=even_firing,
-        split=not no_split,
-        objective=objective,
-        orders=[int(k) for k in parse_orders(orders)],
-        rod_ratio=rod_ratio,
-        top=top,
-    )
+    with options_named(
+        objective="--objective",
+        cylinders="--cylinders",
+        step="--step",
+        rod_ratio="--rod-ratio",
+        orders="--orders",
+    ):
+        result = search(
+            cylinders,
+            bank_list,
+            step=step_deg,
+            even_firing=even_firing,
+            split=not no_split,
+            objective=objective,
+            orders=[int(k) for k in parse_orders(orders)],
+            rod_ratio=rod_ratio,
+            top=top,
+        )
     from rich.console import Group
 
     from balance.views.studies import search_tables
@@ -322,19 +331,20 @@ def tolerance_command(
             raise InputError(f"--plot {plot}: give a .png, .svg or .pdf file for the histograms")
         check_target(plot, force)
     engine = load_layout(layout)
-    items = [parse_scatter(text, engine) for text in scatter]
+    items = [parse_scatter(text, engine, "--scatter") for text in scatter]
     if not quiet:
         from balance.studies.checks import tolerance_warnings
 
         warn(tolerance_warnings(engine, items), quiet, layout)
-    result = tolerance(
-        engine,
-        items,
-        samples=samples,
-        orders=orders,
-        distribution=distribution,
-        seed=seed,
-    )
+    with options_named(scatter="--scatter", distribution="--distribution", samples="--samples"):
+        result = tolerance(
+            engine,
+            items,
+            samples=samples,
+            orders=orders,
+            distribution=distribution,
+            seed=seed,
+        )
     from rich.console import Group
 
     from balance.views.studies import tolerance_histogram, tolerance_tables

@@ -137,7 +137,35 @@ def error_bound(
     samples: int = 0,
     max_order: int = 8,
 ) -> float:
-    """Error bound of the normalised acceleration coefficients for a model (see module)."""
+    r"""Error bound of the normalised acceleration coefficients for a model (see the module notes).
+
+    Parameters
+    ----------
+    model : {'textbook', 'series', 'exact', 'time'}
+        The piston-acceleration model.
+    ratio : array_like
+        Rod ratios :math:`\lambda = r/l` of the cylinders [1]; the worst one counts.
+    offset_ratio : array_like
+        Offset ratios :math:`e/r` of the same cylinders [1] (default 0).
+    terms : int
+        Binomial terms of the ``series`` model.
+    samples : int
+        Crank angles per revolution of the ``time`` model (at most ``2 * max_order`` gives an
+        infinite bound).
+    max_order : int
+        Highest order reported; the ``time`` model's aliasing grows with it.
+
+    Returns
+    -------
+    float
+        The bound on :math:`|G_k|` errors [1] (a force error is this times
+        :math:`m_{rec} r\omega^2`).
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown model.
+    """
     x, lam_eps, a = _worst(ratio, offset_ratio)
     rounding = _rounding(x)
     if model == "textbook":
@@ -156,15 +184,25 @@ def error_bound(
 def choose_model(
     tolerance: float, ratio: ArrayLike, offset_ratio: ArrayLike = 0.0
 ) -> tuple[str, int, float]:
-    """The cheapest model that meets ``tolerance`` for this geometry.
+    r"""The cheapest model that meets ``tolerance`` for this geometry.
+
+    Parameters
+    ----------
+    tolerance : float
+        Largest error allowed in the normalised coefficients [1], more than 0.
+    ratio : array_like
+        Rod ratios :math:`\lambda = r/l` of the cylinders [1].
+    offset_ratio : array_like
+        Offset ratios :math:`e/r` of the same cylinders [1] (default 0).
 
     Returns
     -------
     model : str
+        ``'textbook'``, ``'series'`` or ``'exact'``.
     terms : int
         Series terms (0 unless the series is chosen).
     bound : float
-        The error bound achieved.
+        The error bound achieved [1].
 
     Raises
     ------
@@ -289,6 +327,16 @@ def link_strip(geometry: LinkGeometry) -> NDArray[np.float64]:
     :math:`U = \cosh b + |\varepsilon_m|` (bounds of :math:`|\cos\gamma|` and
     :math:`|\sin\gamma|` in the strip).  The largest such :math:`b` below :math:`a_m` is
     found by bisection; 0 where even :math:`b = 0` fails the test.
+
+    Parameters
+    ----------
+    geometry : LinkGeometry
+        The link cylinders (:func:`balance.core.links.link_geometry`).
+
+    Returns
+    -------
+    ndarray
+        :math:`b` of each link cylinder [1] (radians of imaginary crank angle).
     """
     lam_m = np.asarray(geometry.ratio_master, dtype=np.float64)
     eps_m = np.abs(np.asarray(geometry.offset_master, dtype=np.float64))
@@ -358,6 +406,29 @@ def engine_error_bound(
 
     For an engine without link rods this is :func:`error_bound` of its rod and offset
     ratios.
+
+    Parameters
+    ----------
+    model : {'textbook', 'series', 'exact', 'time'}
+        The piston-acceleration model.
+    engine : Engine
+        The engine (each cylinder's crank radius, rod and offset; link rods and pins).
+    terms : int
+        Binomial terms of the ``series`` model.
+    samples : int
+        Crank angles per revolution of the ``time`` model.
+    max_order : int
+        Highest order reported.
+
+    Returns
+    -------
+    float
+        The bound over all cylinders [1]; infinite where the estimate does not hold.
+
+    Raises
+    ------
+    AnalysisError
+        For an unknown model.
     """
     lam, eps = _plain_arrays(engine)
     if not engine.has_links:
@@ -402,6 +473,27 @@ def choose_model_for(tolerance: float, engine: Engine) -> tuple[str, int, float]
 
     For an engine without link rods this is :func:`choose_model` of its rod and offset
     ratios; with link rods the ladder stops at the exact model (no long series).
+
+    Parameters
+    ----------
+    tolerance : float
+        Largest error allowed in the normalised coefficients [1], more than 0.
+    engine : Engine
+        The engine.
+
+    Returns
+    -------
+    model : str
+        ``'textbook'``, ``'series'`` or ``'exact'``.
+    terms : int
+        Series terms (0 unless the series is chosen).
+    bound : float
+        The error bound achieved [1].
+
+    Raises
+    ------
+    AnalysisError
+        If no model reaches the tolerance.
     """
     bound = partial(engine_error_bound, engine=engine)
     return _cheapest(tolerance, bound, long_series=not engine.has_links)

@@ -101,9 +101,20 @@ def compute_phasors(
 
 
 def engine_cylinders(layout: Engine) -> dict[str, Any]:
-    """The table of cylinders that :func:`free_phasors_of` reads: the arrays of
-    :data:`balance.core.engine.CYLINDER_FIELDS`, and for an engine with link rods the link
-    rods' link-pin shares (``link_pin_mass``, :func:`balance.core.links.pin_masses`)."""
+    """The table of cylinders that :func:`free_phasors_of` reads.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+
+    Returns
+    -------
+    dict
+        The per-cylinder arrays of :data:`balance.core.engine.CYLINDER_FIELDS` by name (SI,
+        radians), and for an engine with link rods the link rods' link-pin shares
+        ``link_pin_mass`` [kg] (:func:`balance.core.links.pin_masses`).
+    """
     cylinders: dict[str, Any] = {name: getattr(layout, name) for name in CYLINDER_FIELDS}
     if layout.has_links:
         from balance.core.links import pin_masses
@@ -269,9 +280,27 @@ def free_phasors_of(
     orders: NDArray[np.intp],
     **options: Any,
 ) -> FreeForces:
-    """:func:`free_phasors` of a table of cylinders: a mapping with the arrays named as
-    :data:`balance.io.layout_file.CYLINDER_FIELDS` (a layout's, or a sweep's grid of them),
-    and ``link_pin_mass`` for an engine with link rods (:func:`engine_cylinders`)."""
+    """:func:`free_phasors` of a table of cylinders.
+
+    Parameters
+    ----------
+    cylinders : mapping of str to array_like
+        The arrays named as :data:`balance.core.engine.CYLINDER_FIELDS` (a layout's, or a
+        sweep's grid of them, cylinders on the last axis), and ``link_pin_mass`` [kg] for an
+        engine with link rods (:func:`engine_cylinders`).
+    lever : array_like
+        :math:`z_i - z_{ref}` per cylinder [m].
+    orders : ndarray of int
+        The orders.
+    **options
+        The keywords of :func:`free_phasors` (``model``, ``terms``, ``moments``, ``roll``,
+        ``links``).
+
+    Returns
+    -------
+    FreeForces
+        At unit crank speed, as :func:`free_phasors`.
+    """
     if options.get("links") is not None:
         options = {**options, "link_pin_mass": cylinders["link_pin_mass"]}
     return free_phasors(
@@ -290,7 +319,19 @@ def free_phasors_of(
 
 
 def reference_force(layout: Engine) -> float:
-    r""":math:`F_1 = m_{rec} r \omega^2` with the engine means of mass and radius [N]."""
+    r""":math:`F_1 = m_{rec} r \omega^2` with the engine means of mass and radius.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine (its reciprocating masses, crank radii and speed).
+
+    Returns
+    -------
+    float
+        The first-order reciprocating force of one mean cylinder [N], the unit of the
+        normalised forces (docs/conventions.md, "Normalisation and ``pitch``").
+    """
     return float(
         np.mean(layout.reciprocating_mass)
         * np.mean(layout.crank_radius)
@@ -313,7 +354,7 @@ def _compute_time(
     layout: Engine, ks: NDArray[np.intp], samples: int | None, *, moments: bool, roll: bool
 ) -> FreeForces:
     """The ``time`` model: sample, sum as vectors, transform."""
-    from balance.core import sampled as timedomain
+    from balance.core import sampled
 
     k_max = int(ks.max())
     if samples is None:
@@ -323,7 +364,7 @@ def _compute_time(
             f"samples: {samples} crank angles resolve orders up to {(samples - 1) // 2}, "
             f"not {k_max}; give more than {2 * k_max}"
         )
-    theta = timedomain.crank_angles(samples)
+    theta = sampled.crank_angles(samples)
     omega2 = speed_squared(layout.speed)
     r = layout.crank_radius
     ratio = kinematics.rod_ratio(r, layout.conrod_length)
@@ -337,8 +378,8 @@ def _compute_time(
         pin = layout.links.pin_radius if layout.links is not None else 0.0
         force_scale += float(np.sum(pin_masses(layout) * pin * omega2))
     rotating_force, rotating_moment = _rotating(layout, moments)
-    force, moment = timedomain.reciprocating_samples(layout, theta)
-    f_fwd, f_bwd = timedomain.phasors_from_samples(force, ks)
+    force, moment = sampled.reciprocating_samples(layout, theta)
+    f_fwd, f_bwd = sampled.phasors_from_samples(force, ks)
     bundle = Phasors(
         orders=ks,
         force_forward=phasors.cancel_to_zero(f_fwd, force_scale, n * 4),
@@ -349,7 +390,7 @@ def _compute_time(
     if moments:
         lever = layout.z - layout.reference_z
         moment_scale = float(np.sum(amp * np.abs(lever)))
-        m_fwd, m_bwd = timedomain.phasors_from_samples(moment, ks)
+        m_fwd, m_bwd = sampled.phasors_from_samples(moment, ks)
         bundle = replace(
             bundle,
             moment_forward=phasors.cancel_to_zero(m_fwd, moment_scale, n * 4),
@@ -363,9 +404,7 @@ def _compute_time(
         bundle = replace(
             bundle,
             roll=phasors.cancel_to_zero(
-                timedomain.roll_phasors_from_samples(
-                    timedomain.roll_newton_euler(layout, theta), ks
-                ),
+                sampled.roll_phasors_from_samples(sampled.roll_newton_euler(layout, theta), ks),
                 roll_scale,
                 n * 8,
             ),
@@ -383,10 +422,10 @@ def _compute_time(
         )
         # sampled at theta: shift to the cylinder's own beta_j = theta + phi - psi_j
         ahead = theta[None, :] - (layout.throw[j] - layout.bank[j])[:, None]
-        per_cylinder[j] = -timedomain.link_piston_acceleration_at(layout, ahead)
+        per_cylinder[j] = -sampled.link_piston_acceleration_at(layout, ahead)
         pins = np.zeros((n, samples), dtype=np.complex128)
-        pins[j] = timedomain.link_pin_force_samples(layout, theta)
-        pin_fwd, pin_bwd = timedomain.phasors_from_samples(pins, ks)
+        pins[j] = sampled.link_pin_force_samples(layout, theta)
+        pin_fwd, pin_bwd = sampled.phasors_from_samples(pins, ks)
         link_pins = Phasors(orders=ks, force_forward=pin_fwd, force_backward=pin_bwd)
     else:
         per_cylinder = kinematics.normalised_acceleration(beta, ratio[:, None], eps[:, None])

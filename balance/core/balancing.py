@@ -47,10 +47,7 @@ __all__ = [
     "BalanceShaft",
     "Counterweight",
     "Proposal",
-    "balance_factor_study",
-    "counterweight_targets",
     "group_least",
-    "optimal_balance_factor",
     "proposal_phasors",
     "propose",
     "shaft_roll_phasors",
@@ -161,6 +158,16 @@ def throw_groups(layout: Engine) -> NDArray[np.intp]:
 
     Rods whose pins are at the same angle and the same axial position share a throw;
     split pins and staggered rods are separate planes.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine (its throws and ``z``).
+
+    Returns
+    -------
+    ndarray of int
+        Per cylinder, the number of its throw, from 0.
     """
     keys = np.round(np.mod(np.degrees(layout.throw), 360.0), 9) % 360.0
     z = np.round(layout.z, 12)
@@ -170,19 +177,30 @@ def throw_groups(layout: Engine) -> NDArray[np.intp]:
 
 
 def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float64]:
-    """The least member value of each group of :func:`throw_groups` (a throw's plane [m] or
-    angle [rad]).
+    """The least member value of each group of :func:`throw_groups`.
 
     The members of a throw agree only to the rounding of :func:`throw_groups`; taking the
     least of them, rather than the first or last, keeps the throw where it is whatever the
     cylinders' numbering.
+
+    Parameters
+    ----------
+    values : array_like
+        One value per cylinder (a throw's plane [m] or angle [rad]).
+    groups : ndarray of int
+        The throw of each cylinder (:func:`throw_groups`).
+
+    Returns
+    -------
+    ndarray
+        One value per throw, in the unit of ``values``.
     """
     out = np.full(int(groups.max()) + 1, np.inf)
     np.minimum.at(out, groups, np.asarray(values, dtype=np.float64))
     return out
 
 
-def counterweight_targets(
+def _counterweight_targets(
     layout: Engine, first_order: ComplexArray, balance_factor: float | None = None
 ) -> ComplexArray:
     r"""Per-cylinder unbalance the counterweights set out to cancel [kg m].
@@ -339,7 +357,7 @@ def propose(
 
     counterweights: list[Counterweight] = []
     if 1 in wanted:
-        targets = counterweight_targets(layout, first_order, balance_factor)
+        targets = _counterweight_targets(layout, first_order, balance_factor)
         scale_f = float(np.sum(np.abs(targets)))
         scale_m = float(np.sum(np.abs(targets * lever)))
         if strategy == "two-plane":
@@ -457,6 +475,20 @@ def shaft_roll_phasors(
     torque :math:`\mathrm{Im}(\bar p F)` about the crank axis (positive in the direction of
     rotation): :math:`R = -i\bar p P` for s > 0, :math:`R = i p \bar P` for s < 0.  At
     constant speed the shaft's drive carries no torque.
+
+    Parameters
+    ----------
+    shafts : sequence of BalanceShaft
+        The balance shafts (speed ratio, axis position [m], unbalance [kg m]).
+    speed : float
+        Crank speed [rad/s].
+    orders : sequence of int
+        The orders.
+
+    Returns
+    -------
+    ndarray of complex
+        Roll phasor per order [N m]; 0 at orders no shaft turns at.
     """
     ks = np.asarray(orders, dtype=np.intp).ravel()
     out = np.zeros(ks.size, dtype=np.complex128)
@@ -816,7 +848,7 @@ def _roll_increase_notes(
         if with_gas:
             text += " (inertia forces; the gas torque is not in these two figures)"
         if not cancel_roll and _placement(group, engine, w2, clearance).cancelled:
-            text += "; the cancel-roll option (--cancel-roll) places them so that it is cancelled"
+            text += "; the setting cancel_roll places them so that it is cancelled"
         out[k] = text
     return out
 
@@ -862,88 +894,3 @@ def proposal_phasors(
                 mb[at] += (plane_z - z_ref) * force
     roll = shaft_roll_phasors(proposal.shafts, layout.speed, ks)
     return Phasors(ks, ff, fb, mf, mb, roll=roll)
-
-
-def _residual_first_order(
-    layout: Engine,
-    first_order: ComplexArray,
-    factor: float,
-    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
-) -> tuple[complex, complex, complex]:
-    """Free first-order force phasors (forward, backward) and moment peak after counterweights
-    carrying rotating mass plus ``factor`` of the reciprocating mass, per-throw; link pins'
-    relative motion (``pin_first_order``: forward and backward per cylinder [N]) added."""
-    w2 = float(speed_squared(layout.speed))
-    r = layout.crank_radius
-    c1 = 0.5 * np.asarray(first_order, dtype=np.complex128)
-    rec = layout.reciprocating_mass * r * w2
-    along = np.exp(1j * layout.bank)
-    turn = np.exp(1j * (layout.throw - layout.bank))
-    fwd_terms = rec * c1 * turn * along - factor * rec * np.exp(1j * layout.throw)
-    bwd_terms = rec * np.conj(c1) * np.conj(turn) * along
-    if pin_first_order is not None:
-        fwd_terms = fwd_terms + pin_first_order[0]
-        bwd_terms = bwd_terms + pin_first_order[1]
-    lever = layout.z - layout.reference_z
-    moment_peak = abs(complex((fwd_terms * lever).sum())) + abs(complex((bwd_terms * lever).sum()))
-    return complex(fwd_terms.sum()), complex(bwd_terms.sum()), complex(moment_peak)
-
-
-def balance_factor_study(
-    layout: Engine,
-    first_order: ComplexArray,
-    factors: Sequence[float] | FloatArray,
-    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
-) -> dict[str, FloatArray]:
-    r"""Residual first-order force against balance factor.
-
-    The rotating masses are balanced in full; ``factor`` of each cylinder's reciprocating
-    mass is added to the crank.  The residual first-order force traces an ellipse; its
-    vertical (y) and horizontal (x) peaks are
-
-    .. math:: |P^{+} + \bar P^{-}| \quad\text{and}\quad |P^{+} - \bar P^{-}|
-
-    Returns
-    -------
-    dict of ndarray
-        ``factor`` [1], ``vertical_peak`` [N], ``horizontal_peak`` [N], ``moment_peak``
-        [N m] (first order).
-    """
-    f = np.asarray(factors, dtype=np.float64).ravel()
-    vertical = np.empty(f.size)
-    horizontal = np.empty(f.size)
-    moment = np.empty(f.size)
-    for i, factor in enumerate(f):
-        fwd, bwd, mpk = _residual_first_order(layout, first_order, float(factor), pin_first_order)
-        vertical[i] = abs(fwd + bwd.conjugate())
-        horizontal[i] = abs(fwd - bwd.conjugate())
-        moment[i] = mpk.real
-    return {
-        "factor": f,
-        "vertical_peak": vertical,
-        "horizontal_peak": horizontal,
-        "moment_peak": moment,
-    }
-
-
-def optimal_balance_factor(
-    layout: Engine,
-    first_order: ComplexArray,
-    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
-) -> float:
-    """Balance factor in [0, 1] that minimises the larger of the vertical and horizontal
-    first-order residual peaks (ternary search: the larger of two convex functions is
-    convex)."""
-
-    def worst(factor: float) -> float:
-        study = balance_factor_study(layout, first_order, [factor], pin_first_order)
-        return float(max(study["vertical_peak"][0], study["horizontal_peak"][0]))
-
-    lo, hi = 0.0, 1.0
-    for _ in range(200):
-        m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
-        if worst(m1) <= worst(m2):
-            hi = m2
-        else:
-            lo = m1
-    return 0.5 * (lo + hi)

@@ -1,28 +1,333 @@
 """The crank-pin and main-bearing loads as a section of an analysis.
 
+:func:`analysis_bearings` computes the loads of an engine without and with a proposal's
+counterweights in one pass (:class:`Bearings`), and :func:`largest_loads` the largest main
+load and internal moment for many sets of counterweights (a balance-factor study).
 :func:`bearings_part` computes the loads of an analysed engine with the proposal's
-counterweights (:func:`balance.core.bearings.analysis_bearings`), and on request with each
-counterweight strategy's and each balance factor's; :data:`OUTPUTS` declares what it adds
-to the output catalogue (:mod:`balance.core.catalogue`).  The physics is in
-:mod:`balance.core.bearings`.
+counterweights, and on request with each counterweight strategy's and each balance
+factor's; :data:`OUTPUTS` declares what it adds to the output catalogue
+(:mod:`balance.core.catalogue`).  The physics (big-end forces, lever rule, the series and
+the statistics of each load) is in :mod:`balance.core.bearings`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core.bearings import Bearings, analysis_bearings, counterweights_of, largest_loads
+from balance.core._numerics import node_stats, series_on_grid, series_stats
+from balance.core.bearings import (
+    LoadModel,
+    counterweights_of,
+    crank_frame,
+    engine_mains,
+    gas_nodes,
+    lever_shares,
+    moment_arms,
+)
 from balance.core.catalogue import Output
 from balance.core.engine import STRATEGIES, Engine
+from balance.core.speed import speed_squared
 
-__all__ = ["OUTPUTS", "BearingsPart", "bearings_part", "factor_loads"]
+__all__ = [
+    "OUTPUTS",
+    "Bearings",
+    "BearingsPart",
+    "analysis_bearings",
+    "bearings_part",
+    "largest_loads",
+]
 
 FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+
+# --------------------------------------------------------------- the analysis's bearings
+
+
+@dataclass(frozen=True, eq=False)
+class Bearings:
+    r"""Bearing loads of an analysis, without and with the proposed counterweights (SI).
+
+    What :attr:`balance.core.result.Result.bearings` holds (docs/conventions.md,
+    "Crank-pin and main-bearing loads").  The ``*_with_proposal``
+    arrays add the proposal's counterweights (balance shafts run in their own bearings and do
+    not load the mains); without a proposal, or with one without counterweights, they equal
+    the arrays without.  Curves are complex (:math:`y + \mathrm{i}x`), shape
+    (bearings, angles).
+
+    Attributes
+    ----------
+    theta : ndarray
+        Crank angles of the pin and main curves [rad], uniform over ``cycle``.
+    cycle : float
+        Length of the cycle [rad]: :math:`2\pi`, or :math:`4\pi` for a four-stroke with gas.
+    gas : bool
+        Whether the pin and main loads include gas forces (the internal moments never do).
+    pin_z, pin_throw : ndarray
+        Plane [m] and throw angle [rad] of each crank pin.
+    pin_cylinders : tuple of tuple of int
+        Cylinder numbers (1-based) on each pin.
+    pin_max, pin_mean : ndarray
+        Largest and mean magnitude of each crank-pin load [N].
+    pin_max_angle : ndarray
+        Crank angle of each pin's largest load [rad].
+    main_z : ndarray
+        Main-bearing positions [m].
+    main_max, main_mean, main_max_with_proposal, main_mean_with_proposal : ndarray
+        Largest and mean magnitude of each main-bearing load [N].
+    moment_max, moment_max_with_proposal : ndarray
+        Largest magnitude of the internal moment at each main [N m] (inertia only).
+    pin_load : ndarray of complex
+        Crank-pin loads [N] at ``theta``, engine frame.
+    main_load, main_load_with_proposal : ndarray of complex
+        Main-bearing loads [N] at ``theta``, engine frame.
+    moment_theta : ndarray
+        Crank angles of the internal-moment curves [rad] (one revolution).
+    internal_moment, internal_moment_with_proposal : ndarray of complex
+        Internal moment at each main [N m] at ``moment_theta``.
+    counterweights : tuple of (float, complex)
+        The ``(z [m], unbalance [kg m])`` of the proposal's counterweights used.
+    """
+
+    theta: FloatArray
+    cycle: float
+    gas: bool
+    pin_z: FloatArray
+    pin_throw: FloatArray
+    pin_cylinders: tuple[tuple[int, ...], ...]
+    pin_max: FloatArray
+    pin_mean: FloatArray
+    pin_max_angle: FloatArray
+    main_z: FloatArray
+    main_max: FloatArray
+    main_mean: FloatArray
+    main_max_with_proposal: FloatArray
+    main_mean_with_proposal: FloatArray
+    moment_max: FloatArray
+    moment_max_with_proposal: FloatArray
+    pin_load: ComplexArray
+    main_load: ComplexArray
+    main_load_with_proposal: ComplexArray
+    moment_theta: FloatArray
+    internal_moment: ComplexArray
+    internal_moment_with_proposal: ComplexArray
+    counterweights: tuple[tuple[float, complex], ...] = ()
+
+    @property
+    def pin_load_crank_frame(self) -> ComplexArray:
+        """:attr:`pin_load` seen from the crank (:func:`~balance.core.bearings.crank_frame`):
+        real part along the throw, imaginary part in the direction of rotation [N]."""
+        return crank_frame(self.pin_load, self.theta[None, :], self.pin_throw[:, None])
+
+
+def analysis_bearings(
+    engine: Engine,
+    counterweights: Iterable[tuple[float, complex]] = (),
+    mains: ArrayLike | None = None,
+    gas: bool = True,
+    curve_samples: int = 360,
+) -> Bearings:
+    r"""Bearing loads without and with counterweights, in one pass (:class:`Bearings`).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine; its ``mains`` (a ``bearings:`` section) unless ``mains`` is given, else
+        :func:`~balance.core.bearings.engine_default_mains`.
+    counterweights : iterable of (float, complex)
+        ``(z [m], unbalance [kg m])`` of the proposal's counterweights
+        (:func:`~balance.core.bearings.counterweights_of`).
+    mains : array_like, optional
+        Main-bearing positions [m] instead of the engine's.
+    gas : bool
+        Include the gas forces when the engine has them.
+    curve_samples : int
+        Crank angles per revolution of the curves.
+
+    Notes
+    -----
+    The same numbers as two calls of :func:`~balance.core.bearings.bearing_loads` (without and with
+    the counterweights), computed once: counterweights turn with the crank, so they add only to the
+    order-1 Fourier coefficient of the main loads and internal moments,
+    :math:`\sum_c S_{mc} U_c\omega^2` and :math:`\sum_c A_{mc} U_c\omega^2`; the pin loads,
+    which do not see them, are computed once.  With gas the loads are evaluated at the same
+    nodes for both variants.
+    """
+    cws = tuple((float(z), complex(u)) for z, u in counterweights)
+    zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
+    with_gas = gas and engine.gas is not None
+    model = LoadModel(engine, zm, (), with_gas)
+    n_pins, n_mains = model.pin_z.size, zm.size
+    w2 = float(speed_squared(engine.speed))
+    cw_z = np.array([z for z, _ in cws], dtype=np.float64)
+    cw_u = np.array([u for _, u in cws], dtype=np.complex128) * w2
+    has_cw = bool(cw_z.size) and bool(np.any(cw_u != 0))
+    cw_main = lever_shares(cw_z, zm) @ cw_u if has_cw else np.zeros(n_mains, complex)
+    cw_moment = moment_arms(cw_z, zm) @ cw_u if has_cw else np.zeros(n_mains, complex)
+
+    k, coeffs = model.inertia_series()  # pins, mains, moments
+    one = (k == 1).astype(np.float64)
+    mains_c, moments_c = coeffs[n_pins : n_pins + n_mains], coeffs[n_pins + n_mains :]
+    rows = [coeffs[:n_pins], mains_c, moments_c]
+    if has_cw:
+        rows += [mains_c + cw_main[:, None] * one, moments_c + cw_moment[:, None] * one]
+    series = np.concatenate(rows, axis=0)
+    b0, b1, b2 = n_pins, n_pins + n_mains, n_pins + 2 * n_mains
+    moments_with = slice(b2 + n_mains, b2 + 2 * n_mains) if has_cw else slice(b1, b2)
+    mains_with = slice(b2, b2 + n_mains) if has_cw else slice(b0, b1)
+    theta_rev = 2.0 * np.pi * np.arange(curve_samples) / curve_samples
+    if with_gas:
+        assert engine.gas is not None
+        moment_rows = (
+            series[b1:b2]
+            if not has_cw
+            else np.concatenate([series[b1:b2], series[moments_with]], axis=0)
+        )
+        moment_stats = series_stats(k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool))
+        moment_max = moment_stats.maximum[:n_mains]
+        moment_max_with = moment_stats.maximum[n_mains:] if has_cw else moment_max
+        cycle = math.radians(engine.gas.cycle_deg)
+
+        def loads(t: FloatArray) -> tuple[ComplexArray, ...]:
+            pins = model.pins(t, True)
+            main = model.mains_of(model.throws(pins, t), t)
+            if not has_cw:
+                return pins, main
+            return pins, main, main + cw_main[:, None] * np.exp(1j * t)[None, :]
+
+        nodes, weights, edges = gas_nodes(engine, model)
+        stats = node_stats(
+            lambda t: np.abs(np.concatenate(loads(t), axis=0)), nodes, weights, edges, cycle
+        )
+        n_curve = round(curve_samples * engine.gas.cycle_deg / 360.0)
+        theta = cycle * np.arange(n_curve) / n_curve
+        curves = loads(theta)
+        pin_curve, main_curve = curves[0], curves[1]
+        main_curve_with = curves[2] if has_cw else main_curve
+        maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
+        main_max_with = maximum[b1 : b1 + n_mains] if has_cw else maximum[b0:b1]
+        main_mean_with = mean[b1 : b1 + n_mains] if has_cw else mean[b0:b1]
+    else:
+        mean_wanted = np.zeros(series.shape[0], dtype=bool)
+        mean_wanted[:b1] = True
+        mean_wanted[mains_with] = True
+        stats = series_stats(k, series, mean_wanted)
+        maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
+        cycle = 2.0 * np.pi
+        theta = theta_rev
+        curves_all = series_on_grid(k, series, curve_samples)
+        pin_curve, main_curve = curves_all[:b0], curves_all[b0:b1]
+        main_curve_with = curves_all[mains_with]
+        moment_max = maximum[b1:b2]
+        moment_max_with = maximum[moments_with]
+        main_max_with, main_mean_with = maximum[mains_with], mean[mains_with]
+    moment_curves = series_on_grid(k, series[b1:b2], curve_samples)
+    moment_curves_with = (
+        series_on_grid(k, series[moments_with], curve_samples) if has_cw else moment_curves
+    )
+    by_z = np.argsort(model.pin_z, kind="stable")  # pins in the order of their planes
+    return Bearings(
+        theta=theta,
+        cycle=cycle,
+        gas=with_gas,
+        pin_z=model.pin_z[by_z],
+        pin_throw=model.pin_throw[by_z],
+        pin_cylinders=tuple(model.cylinders[j] for j in by_z),
+        pin_max=maximum[:b0][by_z],
+        pin_mean=mean[:b0][by_z],
+        pin_max_angle=argmax[:b0][by_z],
+        main_z=zm,
+        main_max=maximum[b0:b1],
+        main_mean=mean[b0:b1],
+        main_max_with_proposal=main_max_with,
+        main_mean_with_proposal=main_mean_with,
+        moment_max=moment_max,
+        moment_max_with_proposal=moment_max_with,
+        pin_load=pin_curve[by_z],
+        main_load=main_curve,
+        main_load_with_proposal=main_curve_with,
+        moment_theta=theta_rev,
+        internal_moment=moment_curves,
+        internal_moment_with_proposal=moment_curves_with,
+        counterweights=cws,
+    )
+
+
+def largest_loads(
+    engine: Engine,
+    counterweight_sets: Sequence[Iterable[tuple[float, complex]]],
+    mains: ArrayLike | None = None,
+    gas: bool = True,
+) -> tuple[FloatArray, FloatArray]:
+    """Largest main-bearing load and internal moment for each set of counterweights.
+
+    One pass for every set (a balance-factor study: one proposal per factor): the pin loads
+    are computed once and each set adds its order-1 term (:func:`analysis_bearings`).
+
+    Parameters
+    ----------
+    engine, mains, gas
+        As for :func:`~balance.core.bearings.bearing_loads`.
+    counterweight_sets : sequence of iterable of (float, complex)
+        The ``(z [m], unbalance [kg m])`` of each set's counterweights.
+
+    Returns
+    -------
+    main_max, moment_max : ndarray
+        Shape (sets,): the largest over all mains of the largest magnitude over the cycle
+        [N, N m].
+    """
+    zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
+    with_gas = gas and engine.gas is not None
+    model = LoadModel(engine, zm, (), with_gas)
+    n_pins, n_mains, n_sets = model.pin_z.size, zm.size, len(counterweight_sets)
+    w2 = float(speed_squared(engine.speed))
+    cw_main = np.zeros((n_sets, n_mains), dtype=np.complex128)
+    cw_moment = np.zeros((n_sets, n_mains), dtype=np.complex128)
+    for s, cws in enumerate(counterweight_sets):
+        pairs = [(float(z), complex(u)) for z, u in cws]
+        if pairs:
+            cz = np.array([z for z, _ in pairs])
+            cu = np.array([u for _, u in pairs]) * w2
+            cw_main[s] = lever_shares(cz, zm) @ cu
+            cw_moment[s] = moment_arms(cz, zm) @ cu
+    k, coeffs = model.inertia_series()
+    one = (k == 1).astype(np.float64)
+    mains_c, moments_c = coeffs[n_pins : n_pins + n_mains], coeffs[n_pins + n_mains :]
+    moment_rows = (moments_c[None] + cw_moment[:, :, None] * one).reshape(-1, k.size)
+    if with_gas:
+        assert engine.gas is not None
+        cycle = math.radians(engine.gas.cycle_deg)
+
+        def loads(t: FloatArray) -> FloatArray:
+            pins = model.pins(t, True)
+            main = model.mains_of(model.throws(pins, t), t)
+            turning = np.exp(1j * t)[None, None, :]
+            return np.abs(main[None] + cw_main[:, :, None] * turning).reshape(-1, t.size)
+
+        nodes, weights, edges = gas_nodes(engine, model)
+        main_max = node_stats(loads, nodes, weights, edges, cycle, mean_wanted=False).maximum
+        moment_max = series_stats(
+            k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool)
+        ).maximum
+    else:
+        main_rows = (mains_c[None] + cw_main[:, :, None] * one).reshape(-1, k.size)
+        rows = np.concatenate([main_rows, moment_rows], axis=0)
+        stats = series_stats(k, rows, np.zeros(rows.shape[0], dtype=bool))
+        main_max, moment_max = (
+            stats.maximum[: main_rows.shape[0]],
+            stats.maximum[main_rows.shape[0] :],
+        )
+    return (
+        main_max.reshape(n_sets, n_mains).max(axis=1),
+        moment_max.reshape(n_sets, n_mains).max(axis=1),
+    )
 
 
 @dataclass(frozen=True)
@@ -44,10 +349,30 @@ class BearingsPart:
 
 
 def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool = False) -> Any:
-    """The ``bearings`` section (:mod:`balance.core.sections`): the loads with the result's
-    proposal (:func:`analysis_bearings`); with ``strategies``, also with the proposal of
-    each counterweight strategy; and, when the result holds a balance-factor study, the
-    largest main-bearing load and internal moment with each factor's proposal."""
+    """The ``bearings`` section (:mod:`balance.core.sections`).
+
+    The loads with the result's proposal (:func:`analysis_bearings`); with ``strategies``,
+    also with the proposal of each counterweight strategy; and, when the result holds a
+    balance-factor study, the largest main-bearing load and internal moment with each
+    factor's proposal.
+
+    Parameters
+    ----------
+    engine : Engine
+        The analysed engine (its ``bearings:`` section's mains, else the defaults).
+    request : Request
+        The request (its ``proposal`` options, for the strategies and the factor study).
+    result : Result
+        The result so far, with its ``proposal`` and ``factor_study`` parts if asked.
+    strategies : bool
+        Also compute the loads with each counterweight strategy's proposal.
+
+    Returns
+    -------
+    Result
+        ``result`` with the ``bearings`` part (:class:`BearingsPart`) added, and the factor
+        study's largest loads filled in.
+    """
     from balance.core.analysis import compute
 
     proposal = result.part("proposal")
@@ -63,7 +388,7 @@ def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool
             by_strategy.append((strategy, analysis_bearings(engine, cws)))
     study = result.part("factor_study")
     if study is not None:
-        main_max, moment_max = factor_loads(engine, study.factor, request.options("proposal"))
+        main_max, moment_max = _factor_loads(engine, study.factor, request.options("proposal"))
         result = result.with_part(
             "factor_study",
             replace(study, largest_main_load=main_max, largest_internal_moment=moment_max),
@@ -71,7 +396,7 @@ def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool
     return result.with_part("bearings", BearingsPart(loads, tuple(by_strategy)))
 
 
-def factor_loads(
+def _factor_loads(
     engine: Engine, factors: ArrayLike, settings: Mapping[str, Any]
 ) -> tuple[FloatArray, FloatArray]:
     """Largest main-bearing load [N] and internal moment [N m] with the counterweights that

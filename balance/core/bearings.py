@@ -1,9 +1,10 @@
 r"""Crank-pin and main-bearing loads, and the crankshaft's internal moments at the mains.
 
-Every load here is a force that the crankshaft (or a big end) puts on a bearing, in the
-engine frame, as a complex number :math:`y + \mathrm{i}x` (CONTRACT §1), sampled over one
-revolution (inertia only) or over the working cycle (with a ``gas:`` section, whose forces
-are then included).  The steps, each a function of arrays over cylinders and crank angles:
+Every load here is a force that the crankshaft (or a big end) puts on a bearing, in the engine
+frame, as a complex number :math:`y + \mathrm{i}x` (docs/conventions.md, "Frame and angles"),
+sampled over one revolution (inertia only) or over the working cycle (with a ``gas:`` section,
+whose forces are then included).  The steps, each a function of arrays over cylinders and crank
+angles:
 
 1. :func:`big_end_forces`: the force each big end puts on its crank pin, from the
    Newton–Euler equations of the piston and of the conrod as a rigid body;
@@ -16,7 +17,9 @@ are then included).  The steps, each a function of arrays over cylinders and cra
 5. :func:`moment_arms`: the internal bending moment at each main from the throw loads on
    its side of smaller z, inertia only;
 6. :func:`bearing_loads`: all of the above over the cycle, with the largest magnitude
-   refined beyond the sampling and the mean of the magnitude integrated to rounding.
+   refined beyond the sampling and the mean of the magnitude integrated to rounding
+   (:class:`LoadModel` holds the matrices; an analysis's loads without and with its
+   proposal are :func:`balance.core.bearing_loads.analysis_bearings`).
 
 Two-mass fallback
 -----------------
@@ -71,8 +74,7 @@ from balance.core.torque import engine_pressure_tables
 
 __all__ = [
     "BearingLoads",
-    "Bearings",
-    "analysis_bearings",
+    "LoadModel",
     "bearing_loads",
     "big_end_forces",
     "counterweights_of",
@@ -82,7 +84,7 @@ __all__ = [
     "engine_default_mains",
     "engine_mains",
     "gas_forces",
-    "largest_loads",
+    "gas_nodes",
     "lever_shares",
     "loads_at",
     "moment_arms",
@@ -141,12 +143,35 @@ def default_mains(z: ArrayLike, pitch: float = math.nan, stroke: float = math.na
 
 
 def engine_default_mains(engine: Engine) -> FloatArray:
-    """:func:`default_mains` of an engine (its pitch and largest stroke) [m]."""
+    """:func:`default_mains` of an engine (its pitch and largest stroke).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine.
+
+    Returns
+    -------
+    ndarray
+        Strictly increasing main positions [m].
+    """
     return default_mains(engine.z, engine.pitch, float(2.0 * np.max(engine.crank_radius)))
 
 
 def engine_mains(engine: Engine) -> FloatArray:
-    """The engine's main positions [m]: its ``bearings:`` section's, else the defaults."""
+    """The engine's main positions: its ``bearings:`` section's, else the defaults.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine.
+
+    Returns
+    -------
+    ndarray
+        Strictly increasing main positions [m] (:func:`engine_default_mains` without a
+        section).
+    """
     mains = engine.section("bearings")
     if mains is not None:
         return np.asarray(mains, dtype=np.float64)
@@ -199,12 +224,20 @@ def lever_shares(load_z: ArrayLike, mains: ArrayLike) -> FloatArray:
 def moment_arms(load_z: ArrayLike, mains: ArrayLike) -> FloatArray:
     r"""Lever arms of the internal moment [m], shape (mains, loads).
 
+    Parameters
+    ----------
+    load_z : array_like
+        Axial positions of the loads (throw planes, counterweights) [m].
+    mains : array_like
+        Main-bearing positions [m].
+
     Returns
     -------
     ndarray
-        :math:`A_{mj} = z_m - z_j` where :math:`z_j < z_m`, else 0, so that the internal
-        moment at main :math:`m` is :math:`\sum_j A_{mj} F_j` (CONTRACT §6: the bending
-        moment of the loads on the side of smaller z, drawn like the moment phasors).
+        :math:`A_{mj} = z_m - z_j` where :math:`z_j < z_m`, else 0, so that the internal moment at
+        main :math:`m` is :math:`\sum_j A_{mj} F_j` (docs/conventions.md, "Crank-pin and
+        main-bearing loads": the bending moment of the loads on the side of smaller z, drawn like
+        the moment phasors).
     """
     zs = np.asarray(load_z, dtype=np.float64)
     zm = np.asarray(mains, dtype=np.float64)
@@ -214,6 +247,11 @@ def moment_arms(load_z: ArrayLike, mains: ArrayLike) -> FloatArray:
 
 def pin_groups(engine: Engine) -> tuple[NDArray[np.intp], FloatArray, tuple[tuple[int, ...], ...]]:
     """The crank pins: rods whose pins share a throw angle and a plane.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine (throws and ``z``, :func:`balance.core.balancing.throw_groups`).
 
     Returns
     -------
@@ -232,10 +270,20 @@ def pin_groups(engine: Engine) -> tuple[NDArray[np.intp], FloatArray, tuple[tupl
 
 
 def crank_unbalance_share(engine: Engine) -> FloatArray:
-    """Each cylinder's share of its throw's ``crank_unbalance`` [kg, at the crank radius].
+    """Each cylinder's share of its throw's ``crank_unbalance``.
 
     Zero for lumped masses (the unbalance is then inside the rotating mass) and for a
     cylinder whose rotating mass is given lumped.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine (its masses by part, if any).
+
+    Returns
+    -------
+    ndarray
+        Per cylinder [kg, at the crank radius].
     """
     parts = engine.mass_parts
     if parts is None:
@@ -245,7 +293,19 @@ def crank_unbalance_share(engine: Engine) -> FloatArray:
 
 
 def counterweights_of(proposal: Proposal | None) -> tuple[tuple[float, complex], ...]:
-    """The ``(z [m], unbalance [kg m])`` pairs of a proposal's counterweights."""
+    r"""The counterweights of a proposal as the pairs the loads take.
+
+    Parameters
+    ----------
+    proposal : Proposal or None
+        The proposal (None: no counterweights).
+
+    Returns
+    -------
+    tuple of (float, complex)
+        ``(z [m], unbalance [kg m])`` of each counterweight, the unbalance at
+        :math:`\theta = 0`.
+    """
     if proposal is None:
         return ()
     return tuple((cw.z, complex(cw.unbalance)) for cw in proposal.counterweights)
@@ -256,6 +316,19 @@ def crank_frame(load: ArrayLike, theta: ArrayLike, throw: ArrayLike) -> ComplexA
 
     Its real part is along the throw (outwards), its imaginary part along the direction of
     rotation: the frame of the textbook polar diagram of the crank-pin load.
+
+    Parameters
+    ----------
+    load : array_like of complex
+        The load :math:`F` in the engine frame [N].
+    theta, throw : array_like
+        Crank angle :math:`\theta` and the pin's throw angle :math:`\varphi` [rad],
+        broadcasting against ``load``.
+
+    Returns
+    -------
+    ndarray of complex
+        The load in the crank's frame [N].
     """
     return np.asarray(
         np.asarray(load) * np.exp(-1j * (np.asarray(theta) + np.asarray(throw))),
@@ -318,10 +391,10 @@ def big_end_forces(
     :func:`balance.core.crank_train.side_thrust_moment_balance` and
     :func:`balance.core.crank_train.pin_force`.
 
-    With link rods (CONTRACT §5) a link cylinder's row is 0 and its master's row is the
-    force of the master rod carrying its link rods
-    (:func:`balance.core.links.articulated_big_end_forces`), so the pin loads of
-    :func:`pin_groups` are the sums that CONTRACT §6 asks for.
+    With link rods (docs/layout-format.md, "Articulated rods") a link cylinder's row is 0 and its
+    master's row is the force of the master rod carrying its link rods
+    (:func:`balance.core.links.articulated_big_end_forces`), so the pin loads of :func:`pin_groups`
+    are the sums that docs/conventions.md, "Crank-pin and main-bearing loads" asks for.
     """
     th = np.asarray(theta, dtype=np.float64)[None, :]
     col = _column
@@ -340,7 +413,8 @@ def big_end_forces(
     wall = crank_train.side_thrust_moment_balance(q_y, sin_psi, cos_psi, length, delta_i, w2, d2g)
     m_pin = col(engine.rotating_mass - crank_unbalance_share(engine)) * w2 * r
     forces = crank_train.pin_force(q_y, wall, m_pin, beta, col(engine.bank))
-    if engine.has_links:  # master rods carry their link rods (CONTRACT §6)
+    # master rods carry their link rods (docs/conventions.md, "Crank-pin and main-bearing loads")
+    if engine.has_links:
         from balance.core.links import articulated_big_end_forces
 
         return articulated_big_end_forces(engine, theta, forces, gas_force)
@@ -361,6 +435,21 @@ def gas_forces(
     :math:`\alpha = \theta - \theta_{TDC,i}` (mod the cycle), the pressure interpolated
     linearly in the trace (or the model's table) by :func:`balance.core.gas.cylinder_pressure`,
     as :mod:`balance.core.torque` does.
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with a ``gas:`` section.
+    theta : array_like
+        Crank angles [rad].
+    tables : list of (ndarray, ndarray), optional
+        Each cylinder's pressure table, cycle angle [deg] and absolute pressure [Pa]; default
+        :func:`balance.core.torque.engine_pressure_tables`.
+
+    Returns
+    -------
+    ndarray
+        :math:`G_i(\theta)` [N].
     """
     gas = engine.gas
     assert gas is not None, "gas_forces needs an engine with a gas section"
@@ -447,8 +536,26 @@ class BearingLoads:
     series_terms: int
 
 
-class _Model:
-    """Precomputed matrices: crank angles in, pin/main loads and internal moments out."""
+class LoadModel:
+    """Precomputed matrices: crank angles in, pin/main loads and internal moments out.
+
+    What :func:`bearing_loads`, :func:`loads_at` and
+    :func:`balance.core.bearing_loads.analysis_bearings` evaluate: the pins of
+    :func:`pin_groups`, the throws' crank unbalance, the lever shares (:func:`lever_shares`)
+    and moment arms (:func:`moment_arms`) of the pins and of the counterweights, and with gas
+    the cylinders' pressure tables.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine.
+    mains : ndarray
+        Main-bearing positions [m].
+    counterweights : sequence of (float, complex)
+        ``(z [m], unbalance [kg m])`` of masses turning with the crank.
+    with_gas : bool
+        Include the gas forces (the engine must have a ``gas:`` section).
+    """
 
     def __init__(
         self,
@@ -522,17 +629,29 @@ def loads_at(
     counterweights: Iterable[tuple[float, complex]] = (),
     gas: bool = True,
 ) -> tuple[ComplexArray, ComplexArray, ComplexArray]:
-    """Pin loads, main loads [N] and internal moments [N m] at the crank angles ``theta``.
+    """Pin loads, main loads and internal moments at the crank angles ``theta``.
 
-    Evaluated directly from :func:`big_end_forces` (no series); shapes (pins, angles),
-    (mains, angles), (mains, angles).  The pin and main loads include the gas forces when
-    the engine has them and ``gas`` is true; the internal moments never do.  Arguments as
-    for :func:`bearing_loads`.
+    Evaluated directly from :func:`big_end_forces` (no series).  The pin and main loads
+    include the gas forces when the engine has them and ``gas`` is true; the internal moments
+    never do.
+
+    Parameters
+    ----------
+    engine, mains, counterweights, gas
+        As for :func:`bearing_loads`.
+    theta : array_like
+        Crank angles [rad].
+
+    Returns
+    -------
+    pins, mains, moments : ndarray of complex
+        Pin loads [N], shape (pins, angles); main loads [N] and internal moments [N m], shape
+        (mains, angles).
     """
     th = np.asarray(theta, dtype=np.float64)
     zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
     cws = tuple((float(z), complex(u)) for z, u in counterweights)
-    model = _Model(engine, zm, cws, gas and engine.gas is not None)
+    model = LoadModel(engine, zm, cws, gas and engine.gas is not None)
     pins, main = model.cycle_loads(th)
     moments = model.moments_of(model.throws(model.pins(th, False), th), th)
     return pins, main, moments
@@ -618,7 +737,7 @@ def bearing_loads(
     cws = tuple((float(z), complex(u)) for z, u in counterweights)
     zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
     with_gas = gas and engine.gas is not None
-    model = _Model(engine, zm, cws, with_gas)
+    model = LoadModel(engine, zm, cws, with_gas)
     n_pins, n_mains = model.pin_z.size, zm.size
 
     k, coeffs = model.inertia_series()  # pins, mains, moments stacked
@@ -631,7 +750,7 @@ def bearing_loads(
     if with_gas:
         assert engine.gas is not None
         cycle = math.radians(engine.gas.cycle_deg)
-        nodes, weights, edges = _gas_nodes(engine, model)
+        nodes, weights, edges = gas_nodes(engine, model)
         stats = node_stats(
             lambda t: _magnitudes(model.cycle_loads(t)), nodes, weights, edges, cycle
         )
@@ -673,278 +792,6 @@ def bearing_loads(
     )
 
 
-# ------------------------------------------------------------------ the analysis's bearings
-
-
-@dataclass(frozen=True, eq=False)
-class Bearings:
-    r"""Bearing loads of an analysis, without and with the proposed counterweights (SI).
-
-    What :attr:`balance.core.result.Result.bearings` holds (CONTRACT §6).  The ``*_with_proposal``
-    arrays add the proposal's counterweights (balance shafts run in their own bearings and do
-    not load the mains); without a proposal, or with one without counterweights, they equal
-    the arrays without.  Curves are complex (:math:`y + \mathrm{i}x`), shape
-    (bearings, angles).
-
-    Attributes
-    ----------
-    theta : ndarray
-        Crank angles of the pin and main curves [rad], uniform over ``cycle``.
-    cycle : float
-        Length of the cycle [rad]: :math:`2\pi`, or :math:`4\pi` for a four-stroke with gas.
-    gas : bool
-        Whether the pin and main loads include gas forces (the internal moments never do).
-    pin_z, pin_throw : ndarray
-        Plane [m] and throw angle [rad] of each crank pin.
-    pin_cylinders : tuple of tuple of int
-        Cylinder numbers (1-based) on each pin.
-    pin_max, pin_mean : ndarray
-        Largest and mean magnitude of each crank-pin load [N].
-    pin_max_angle : ndarray
-        Crank angle of each pin's largest load [rad].
-    main_z : ndarray
-        Main-bearing positions [m].
-    main_max, main_mean, main_max_with_proposal, main_mean_with_proposal : ndarray
-        Largest and mean magnitude of each main-bearing load [N].
-    moment_max, moment_max_with_proposal : ndarray
-        Largest magnitude of the internal moment at each main [N m] (inertia only).
-    pin_load : ndarray of complex
-        Crank-pin loads [N] at ``theta``, engine frame.
-    main_load, main_load_with_proposal : ndarray of complex
-        Main-bearing loads [N] at ``theta``, engine frame.
-    moment_theta : ndarray
-        Crank angles of the internal-moment curves [rad] (one revolution).
-    internal_moment, internal_moment_with_proposal : ndarray of complex
-        Internal moment at each main [N m] at ``moment_theta``.
-    counterweights : tuple of (float, complex)
-        The ``(z [m], unbalance [kg m])`` of the proposal's counterweights used.
-    """
-
-    theta: FloatArray
-    cycle: float
-    gas: bool
-    pin_z: FloatArray
-    pin_throw: FloatArray
-    pin_cylinders: tuple[tuple[int, ...], ...]
-    pin_max: FloatArray
-    pin_mean: FloatArray
-    pin_max_angle: FloatArray
-    main_z: FloatArray
-    main_max: FloatArray
-    main_mean: FloatArray
-    main_max_with_proposal: FloatArray
-    main_mean_with_proposal: FloatArray
-    moment_max: FloatArray
-    moment_max_with_proposal: FloatArray
-    pin_load: ComplexArray
-    main_load: ComplexArray
-    main_load_with_proposal: ComplexArray
-    moment_theta: FloatArray
-    internal_moment: ComplexArray
-    internal_moment_with_proposal: ComplexArray
-    counterweights: tuple[tuple[float, complex], ...] = ()
-
-    @property
-    def pin_load_crank_frame(self) -> ComplexArray:
-        """:attr:`pin_load` seen from the crank (:func:`crank_frame`): real part along the
-        throw, imaginary part in the direction of rotation [N]."""
-        return crank_frame(self.pin_load, self.theta[None, :], self.pin_throw[:, None])
-
-
-def analysis_bearings(
-    engine: Engine,
-    counterweights: Iterable[tuple[float, complex]] = (),
-    mains: ArrayLike | None = None,
-    gas: bool = True,
-    curve_samples: int = 360,
-) -> Bearings:
-    r"""Bearing loads without and with counterweights, in one pass (:class:`Bearings`).
-
-    Parameters
-    ----------
-    engine : Engine
-        The engine; its ``mains`` (a ``bearings:`` section) unless ``mains`` is given, else
-        :func:`engine_default_mains`.
-    counterweights : iterable of (float, complex)
-        ``(z [m], unbalance [kg m])`` of the proposal's counterweights
-        (:func:`counterweights_of`).
-    mains : array_like, optional
-        Main-bearing positions [m] instead of the engine's.
-    gas : bool
-        Include the gas forces when the engine has them.
-    curve_samples : int
-        Crank angles per revolution of the curves.
-
-    Notes
-    -----
-    The same numbers as two calls of :func:`bearing_loads` (without and with the
-    counterweights), computed once: counterweights turn with the crank, so they add only to
-    the order-1 Fourier coefficient of the main loads and internal moments,
-    :math:`\sum_c S_{mc} U_c\omega^2` and :math:`\sum_c A_{mc} U_c\omega^2`; the pin loads,
-    which do not see them, are computed once.  With gas the loads are evaluated at the same
-    nodes for both variants.
-    """
-    cws = tuple((float(z), complex(u)) for z, u in counterweights)
-    zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
-    with_gas = gas and engine.gas is not None
-    model = _Model(engine, zm, (), with_gas)
-    n_pins, n_mains = model.pin_z.size, zm.size
-    w2 = float(speed_squared(engine.speed))
-    cw_z = np.array([z for z, _ in cws], dtype=np.float64)
-    cw_u = np.array([u for _, u in cws], dtype=np.complex128) * w2
-    has_cw = bool(cw_z.size) and bool(np.any(cw_u != 0))
-    cw_main = lever_shares(cw_z, zm) @ cw_u if has_cw else np.zeros(n_mains, complex)
-    cw_moment = moment_arms(cw_z, zm) @ cw_u if has_cw else np.zeros(n_mains, complex)
-
-    k, coeffs = model.inertia_series()  # pins, mains, moments
-    one = (k == 1).astype(np.float64)
-    mains_c, moments_c = coeffs[n_pins : n_pins + n_mains], coeffs[n_pins + n_mains :]
-    rows = [coeffs[:n_pins], mains_c, moments_c]
-    if has_cw:
-        rows += [mains_c + cw_main[:, None] * one, moments_c + cw_moment[:, None] * one]
-    series = np.concatenate(rows, axis=0)
-    b0, b1, b2 = n_pins, n_pins + n_mains, n_pins + 2 * n_mains
-    moments_with = slice(b2 + n_mains, b2 + 2 * n_mains) if has_cw else slice(b1, b2)
-    mains_with = slice(b2, b2 + n_mains) if has_cw else slice(b0, b1)
-    theta_rev = 2.0 * np.pi * np.arange(curve_samples) / curve_samples
-    if with_gas:
-        assert engine.gas is not None
-        moment_rows = (
-            series[b1:b2]
-            if not has_cw
-            else np.concatenate([series[b1:b2], series[moments_with]], axis=0)
-        )
-        moment_stats = series_stats(k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool))
-        moment_max = moment_stats.maximum[:n_mains]
-        moment_max_with = moment_stats.maximum[n_mains:] if has_cw else moment_max
-        cycle = math.radians(engine.gas.cycle_deg)
-
-        def loads(t: FloatArray) -> tuple[ComplexArray, ...]:
-            pins = model.pins(t, True)
-            main = model.mains_of(model.throws(pins, t), t)
-            if not has_cw:
-                return pins, main
-            return pins, main, main + cw_main[:, None] * np.exp(1j * t)[None, :]
-
-        nodes, weights, edges = _gas_nodes(engine, model)
-        stats = node_stats(lambda t: _magnitudes(loads(t)), nodes, weights, edges, cycle)
-        n_curve = round(curve_samples * engine.gas.cycle_deg / 360.0)
-        theta = cycle * np.arange(n_curve) / n_curve
-        curves = loads(theta)
-        pin_curve, main_curve = curves[0], curves[1]
-        main_curve_with = curves[2] if has_cw else main_curve
-        maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
-        main_max_with = maximum[b1 : b1 + n_mains] if has_cw else maximum[b0:b1]
-        main_mean_with = mean[b1 : b1 + n_mains] if has_cw else mean[b0:b1]
-    else:
-        mean_wanted = np.zeros(series.shape[0], dtype=bool)
-        mean_wanted[:b1] = True
-        mean_wanted[mains_with] = True
-        stats = series_stats(k, series, mean_wanted)
-        maximum, mean, argmax = stats.maximum, stats.mean, stats.argmax
-        cycle = 2.0 * np.pi
-        theta = theta_rev
-        curves_all = series_on_grid(k, series, curve_samples)
-        pin_curve, main_curve = curves_all[:b0], curves_all[b0:b1]
-        main_curve_with = curves_all[mains_with]
-        moment_max = maximum[b1:b2]
-        moment_max_with = maximum[moments_with]
-        main_max_with, main_mean_with = maximum[mains_with], mean[mains_with]
-    moment_curves = series_on_grid(k, series[b1:b2], curve_samples)
-    moment_curves_with = (
-        series_on_grid(k, series[moments_with], curve_samples) if has_cw else moment_curves
-    )
-    by_z = np.argsort(model.pin_z, kind="stable")  # pins in the order of their planes
-    return Bearings(
-        theta=theta,
-        cycle=cycle,
-        gas=with_gas,
-        pin_z=model.pin_z[by_z],
-        pin_throw=model.pin_throw[by_z],
-        pin_cylinders=tuple(model.cylinders[j] for j in by_z),
-        pin_max=maximum[:b0][by_z],
-        pin_mean=mean[:b0][by_z],
-        pin_max_angle=argmax[:b0][by_z],
-        main_z=zm,
-        main_max=maximum[b0:b1],
-        main_mean=mean[b0:b1],
-        main_max_with_proposal=main_max_with,
-        main_mean_with_proposal=main_mean_with,
-        moment_max=moment_max,
-        moment_max_with_proposal=moment_max_with,
-        pin_load=pin_curve[by_z],
-        main_load=main_curve,
-        main_load_with_proposal=main_curve_with,
-        moment_theta=theta_rev,
-        internal_moment=moment_curves,
-        internal_moment_with_proposal=moment_curves_with,
-        counterweights=cws,
-    )
-
-
-def largest_loads(
-    engine: Engine,
-    counterweight_sets: Sequence[Iterable[tuple[float, complex]]],
-    mains: ArrayLike | None = None,
-    gas: bool = True,
-) -> tuple[FloatArray, FloatArray]:
-    """Largest main-bearing load [N] and internal moment [N m] for each set of counterweights.
-
-    One pass for every set (a balance-factor study: one proposal per factor): the pin loads
-    are computed once and each set adds its order-1 term (:func:`analysis_bearings`).
-
-    Returns
-    -------
-    main_max, moment_max : ndarray
-        Shape (sets,): the largest over all mains of the largest magnitude over the cycle.
-    """
-    zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
-    with_gas = gas and engine.gas is not None
-    model = _Model(engine, zm, (), with_gas)
-    n_pins, n_mains, n_sets = model.pin_z.size, zm.size, len(counterweight_sets)
-    w2 = float(speed_squared(engine.speed))
-    cw_main = np.zeros((n_sets, n_mains), dtype=np.complex128)
-    cw_moment = np.zeros((n_sets, n_mains), dtype=np.complex128)
-    for s, cws in enumerate(counterweight_sets):
-        pairs = [(float(z), complex(u)) for z, u in cws]
-        if pairs:
-            cz = np.array([z for z, _ in pairs])
-            cu = np.array([u for _, u in pairs]) * w2
-            cw_main[s] = lever_shares(cz, zm) @ cu
-            cw_moment[s] = moment_arms(cz, zm) @ cu
-    k, coeffs = model.inertia_series()
-    one = (k == 1).astype(np.float64)
-    mains_c, moments_c = coeffs[n_pins : n_pins + n_mains], coeffs[n_pins + n_mains :]
-    moment_rows = (moments_c[None] + cw_moment[:, :, None] * one).reshape(-1, k.size)
-    if with_gas:
-        assert engine.gas is not None
-        cycle = math.radians(engine.gas.cycle_deg)
-
-        def loads(t: FloatArray) -> FloatArray:
-            pins = model.pins(t, True)
-            main = model.mains_of(model.throws(pins, t), t)
-            turning = np.exp(1j * t)[None, None, :]
-            return np.abs(main[None] + cw_main[:, :, None] * turning).reshape(-1, t.size)
-
-        nodes, weights, edges = _gas_nodes(engine, model)
-        main_max = node_stats(loads, nodes, weights, edges, cycle, mean_wanted=False).maximum
-        moment_max = series_stats(
-            k, moment_rows, np.zeros(moment_rows.shape[0], dtype=bool)
-        ).maximum
-    else:
-        main_rows = (mains_c[None] + cw_main[:, :, None] * one).reshape(-1, k.size)
-        rows = np.concatenate([main_rows, moment_rows], axis=0)
-        stats = series_stats(k, rows, np.zeros(rows.shape[0], dtype=bool))
-        main_max, moment_max = (
-            stats.maximum[: main_rows.shape[0]],
-            stats.maximum[main_rows.shape[0] :],
-        )
-    return (
-        main_max.reshape(n_sets, n_mains).max(axis=1),
-        moment_max.reshape(n_sets, n_mains).max(axis=1),
-    )
-
-
 # --------------------------------------------------------------------------- statistics
 
 
@@ -952,9 +799,24 @@ def _magnitudes(parts: tuple[ComplexArray, ...]) -> FloatArray:
     return np.abs(np.concatenate(parts, axis=0))
 
 
-def _gas_nodes(engine: Engine, model: _Model) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Gauss–Legendre nodes [rad] and weights over the cycle, between the trace's kinks
-    (the interval edges [rad], the last one period after the first)."""
+def gas_nodes(engine: Engine, model: LoadModel) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Gauss–Legendre nodes and weights over the cycle, between the pressure traces' kinks.
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with a ``gas:`` section.
+    model : LoadModel
+        Its load model with gas (the pressure tables).
+
+    Returns
+    -------
+    nodes, weights : ndarray
+        The nodes [rad] and their weights [rad], :data:`balance.core._numerics.GAUSS_NODES`
+        per interval of at most :data:`GAS_MAX_STEP_DEG`.
+    edges : ndarray
+        The interval edges [rad], the last one period after the first.
+    """
     gas = engine.gas
     assert gas is not None and model.tables is not None
     cycle = gas.cycle_deg

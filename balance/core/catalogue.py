@@ -34,6 +34,7 @@ __all__ = [
     "Compared",
     "Output",
     "compared",
+    "compared_sections",
     "outputs_of",
     "speed_rpm",
     "value",
@@ -45,7 +46,7 @@ SCHEMA = "balance.analysis/1"
 #: The frame and sign conventions, as the result Dataset's ``conventions`` attribute and
 #: the report state them.
 CONVENTIONS = (
-    "balance CONTRACT: frame z crank axis, y up, angles from +y in the "
+    "balance conventions (docs/conventions.md): frame z crank axis, y up, angles from +y in the "
     "direction of rotation; (x, y) as y + i x"
 )
 
@@ -120,8 +121,19 @@ class Output:
 
 
 def speed_rpm(speed: float) -> float:
-    """Crank speed [rad/s] in rpm as reported, to 12 significant digits (8000 rpm read from
-    a file stays 8000, not 7999.999999999999)."""
+    """Crank speed in rpm as reported, to 12 significant digits (8000 rpm read from a file
+    stays 8000, not 7999.999999999999).
+
+    Parameters
+    ----------
+    speed : float
+        Crank speed [rad/s].
+
+    Returns
+    -------
+    float
+        The speed [rpm].
+    """
     return float(f"{rad_per_s_to_rpm(speed):.12g}")
 
 
@@ -386,7 +398,18 @@ BASE: tuple[Output, ...] = (
 
 
 def outputs_of(result: Result) -> Iterator[Output]:
-    """The outputs a result has: :data:`BASE`, then each part's, in section order."""
+    """The outputs a result has: :data:`BASE`, then each part's, in section order.
+
+    Parameters
+    ----------
+    result : Result
+        The result.
+
+    Returns
+    -------
+    iterator of Output
+        Each output present in the result (:meth:`Output.present`).
+    """
     for output in BASE:
         if output.present(result):
             yield output

@@ -411,11 +411,11 @@ def pin_force(
     Returns
     -------
     ndarray of complex
-        :math:`(F_Y + \mathrm{i}F_X)\,e^{\mathrm{i}\psi_b}` (:math:`y + \mathrm{i}x`, CONTRACT
-        §1) with :math:`F = (N, -P) + m\omega^2 r(\sin\beta, \cos\beta)` in the cylinder's
-        frame: the rod passes the piston's push to the pin, and the mass at the pin pulls
-        outwards.  Its components along and across the throw are :math:`-K` and :math:`T`
-        plus the centrifugal force.
+        :math:`(F_Y + \mathrm{i}F_X)\,e^{\mathrm{i}\psi_b}` (:math:`y + \mathrm{i}x`,
+        docs/conventions.md, "Frame and angles") with :math:`F = (N, -P) + m\omega^2 r(\sin\beta,
+        \cos\beta)` in the cylinder's frame: the rod passes the piston's push to the pin, and the
+        mass at the pin pulls outwards.  Its components along and across the throw are :math:`-K`
+        and :math:`T` plus the centrifugal force.
     """
     b = _f(beta)
     c = _f(centrifugal)

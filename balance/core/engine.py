@@ -84,13 +84,12 @@ class BalanceSettings:
 class Links:
     """Articulated (master-and-link) rods: which cylinders hang on another cylinder's rod.
 
-    One entry per cylinder of the engine.  A *link cylinder* is one whose rod is hinged on
-    the rod of its *master* cylinder (CONTRACT §5); the two share throw and axial
-    position.  For a link cylinder the engine's ``conrod_length`` is the link rod's length
-    (link-pin centre to piston-pin centre), its ``crank_radius`` its master's, and its
-    lumped masses are those of its piston and link rod split by static equivalence about
-    the link pin (:func:`balance.core.masses.two_mass_split`); the physics is in
-    :mod:`balance.core.links`.
+    One entry per cylinder of the engine.  A *link cylinder* is one whose rod is hinged on the rod
+    of its *master* cylinder (docs/layout-format.md, "Articulated rods"); the two share throw and
+    axial position.  For a link cylinder the engine's ``conrod_length`` is the link rod's length
+    (link-pin centre to piston-pin centre), its ``crank_radius`` its master's, and its lumped
+    masses are those of its piston and link rod split by static equivalence about the link pin
+    (:func:`balance.core.masses.two_mass_split`); the physics is in :mod:`balance.core.links`.
 
     Attributes
     ----------

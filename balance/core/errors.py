@@ -18,6 +18,7 @@ __all__ = [
     "LayoutError",
     "LayoutErrors",
     "Location",
+    "OutputExists",
     "raise_all",
 ]
 
@@ -57,6 +58,25 @@ class InputError(BalanceError):
     """Bad input: a file, an option or an argument that cannot be used as given."""
 
     exit_code = 2
+
+
+class OutputExists(InputError):
+    """An output that exists, where replacing it was not asked for (``force``).
+
+    The message names the setting; the command line names its option instead.
+
+    Parameters
+    ----------
+    target : str or path-like
+        The output.
+    what : str
+        ``"file exists"``, or ``"exists"`` for an output that may be a directory.
+    """
+
+    def __init__(self, target: object, what: str = "file exists") -> None:
+        self.target = target
+        self.what = what
+        super().__init__(f"{target}: {what} and replacing it was not asked for (force)")
 
 
 class LayoutError(InputError):
@@ -132,7 +152,18 @@ class LayoutErrors(LayoutError):
 
 def raise_all(errors: Sequence[LayoutError]) -> None:
     """Raise the problems found (nothing when there are none): one as itself, several as
-    :class:`LayoutErrors` in file order (line, then column), each reported once."""
+    :class:`LayoutErrors` in file order (line, then column), each reported once.
+
+    Parameters
+    ----------
+    errors : sequence of LayoutError
+        The problems found, in any order, duplicates allowed.
+
+    Raises
+    ------
+    LayoutError
+        The one problem, or :class:`LayoutErrors` holding several.
+    """
     unique: dict[str, LayoutError] = {}
     for error in errors:
         unique.setdefault(error.one_line(), error)

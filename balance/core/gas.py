@@ -68,7 +68,18 @@ MODEL_STEP_DEG = 0.05
 
 
 def cycle_degrees(cycle: str) -> float:
-    """Crank angle of one working cycle [deg]: 720 four-stroke, 360 two-stroke."""
+    """Crank angle of one working cycle: 720 four-stroke, 360 two-stroke.
+
+    Parameters
+    ----------
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+
+    Returns
+    -------
+    float
+        The cycle [deg].
+    """
     return 720.0 if cycle == "four-stroke" else 360.0
 
 
@@ -154,19 +165,32 @@ def firing_tdc(
 ) -> FloatArray | str:
     r"""Crank angle of each cylinder's firing TDC [deg], or a message saying what is missing.
 
-    A cylinder's cycle starts at its actual top dead centre, where its piston pin is farthest
-    from the crank axis (where the cylinder volume is smallest, and where a measured trace's
-    crank angle is counted from): :math:`\theta = \psi_i - \varphi_i + \beta_{TDC,i}`
-    (mod 360), with :math:`\beta_{TDC,i}` (``tdc_lag``, in (-180, 180]) how far it lies after
-    the nominal TDC :math:`\theta + \varphi_i - \psi_i = 0` of CONTRACT §1:
+    A cylinder's cycle starts at its actual top dead centre, where its piston pin is farthest from
+    the crank axis (where the cylinder volume is smallest, and where a measured trace's crank angle
+    is counted from): :math:`\theta = \psi_i - \varphi_i + \beta_{TDC,i}` (mod 360), with
+    :math:`\beta_{TDC,i}` (``tdc_lag``, in (-180, 180]) how far it lies after the nominal TDC
+    :math:`\theta + \varphi_i - \psi_i = 0` of docs/conventions.md, "Frame and angles":
     :math:`\arcsin(e/(l + r))` for an offset plain cylinder, the link piston's own for a link
-    cylinder (:func:`balance.core.links.dead_centre_lag`), 0 without offset or link.  A
-    two-stroke fires at every TDC.  A four-stroke fires at one of two TDCs 360 deg apart: the
-    first cylinder of ``firing_order`` at its TDC in [0, 360), each next one at its first TDC
-    after the one before; without a firing order, each cylinder's ``tdc`` angle (mod 720)
-    when every cylinder gives one.  A ``tdc`` given in the layout is the nominal TDC (it
-    defines the throw, ``throw = bank - tdc``, CONTRACT §3); the cylinder then fires at
-    ``tdc`` + :math:`\beta_{TDC}`.
+    cylinder (:func:`balance.core.cylinders.dead_centre_lag`), 0 without offset or link.  A
+    two-stroke fires at every TDC.  A four-stroke fires at one of two TDCs 360 deg apart: the first
+    cylinder of ``firing_order`` at its TDC in [0, 360), each next one at its first TDC after the
+    one before; without a firing order, each cylinder's ``tdc`` angle (mod 720) when every cylinder
+    gives one.  A ``tdc`` given in the layout is the nominal TDC (it defines the throw, ``throw =
+    bank - tdc``, docs/layout-format.md, "Explicit form"); the cylinder then fires at ``tdc`` +
+    :math:`\beta_{TDC}`.
+
+    Parameters
+    ----------
+    throw_deg, bank_deg : ndarray
+        Each cylinder's throw :math:`\varphi_i` and bank :math:`\psi_i` [deg].
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+    firing_order : tuple of int or None
+        Cylinder numbers (1-based) in firing order, if the layout gives one.
+    tdc_given : list of (float or None), optional
+        Each cylinder's ``tdc`` from the layout [deg] (None where it gives a ``throw``).
+    tdc_lag : ndarray, optional
+        :math:`\beta_{TDC,i}` [deg]; default 0 for every cylinder.
 
     Returns
     -------
@@ -245,13 +269,29 @@ def cylinder_volume(
     ratio: float,
     travel: PistonTravel | None = None,
 ) -> FloatArray:
-    r"""Cylinder volume [m^3] at cycle angle ``alpha_deg`` for compression ratio ``ratio``.
+    r"""Cylinder volume at cycle angle ``alpha_deg`` for compression ratio ``ratio``.
 
     :math:`V = V_s/(\varepsilon - 1) + A(s_{max} - s)`, :math:`V_s = A(s_{max} - s_{min})`;
     with ``travel`` (a link piston) :math:`s`, :math:`s_{max}` and :math:`s_{min}` are its.
     The cycle angle is counted from the actual top dead centre: a plain cylinder's crank
     angle from its nominal TDC direction is :math:`\beta = \alpha + \arcsin(e/(l + r))`, so
     that the volume is smallest at :math:`\alpha = 0` with an offset too.
+
+    Parameters
+    ----------
+    alpha_deg : ndarray
+        Cycle angles from the actual top dead centre [deg].
+    bore, radius, length, offset : float
+        Bore, crank radius, conrod length and offset of the cylinder [m].
+    ratio : float
+        Compression ratio :math:`\varepsilon` [1], more than 1.
+    travel : PistonTravel, optional
+        The piston's travel when it is no plain crank slider (a link piston).
+
+    Returns
+    -------
+    ndarray
+        :math:`V` [m^3], the shape of ``alpha_deg``.
     """
     area = math.pi / 4.0 * bore**2
     if travel is not None:
@@ -388,13 +428,28 @@ def pressure_tables(
     cycle: str,
     travels: Sequence[PistonTravel | None] | None = None,
 ) -> list[tuple[FloatArray, FloatArray]]:
-    """Each cylinder's pressure table: cycle angle from firing TDC [deg] and absolute
-    pressure [Pa].
+    """Each cylinder's pressure table: cycle angle from firing TDC and absolute pressure.
 
     The trace for every cylinder, or the model's table (:func:`model_pressure`) of the
-    cylinder's crank radius, conrod length and offset [m], computed once for each distinct
+    cylinder's crank radius, conrod length and offset, computed once for each distinct
     geometry; a link piston's (an entry of ``travels`` that is not None) is its own, once
     for each distinct travel.
+
+    Parameters
+    ----------
+    gas : GasInput
+        The ``gas:`` section (a trace, or the model's parameters and the bore).
+    radius, length, offset : ndarray
+        Crank radius, conrod length and offset of each cylinder [m].
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+    travels : sequence of (PistonTravel or None), optional
+        Each cylinder's piston travel when it is no plain crank slider.
+
+    Returns
+    -------
+    list of (ndarray, ndarray)
+        Per cylinder: cycle angle from firing TDC [deg] and absolute pressure [Pa].
     """
     n = len(radius)
     if gas.angle is not None and gas.pressure is not None:
@@ -427,6 +482,18 @@ def periodic_tables(
     :func:`cylinder_pressure` interpolates with the same arithmetic as ``np.interp`` with a
     period, without sorting the table again at every call (the searches of
     :func:`balance.core.bearings.bearing_loads` call it many times).
+
+    Parameters
+    ----------
+    tables : sequence of (ndarray, ndarray)
+        Angle [deg] and pressure [Pa] of each table (:func:`pressure_tables`).
+    period : float
+        The cycle [deg].
+
+    Returns
+    -------
+    list of (ndarray, ndarray)
+        The prepared tables, in the order given.
     """
     prepared: dict[int, tuple[FloatArray, FloatArray]] = {}
     out = []
@@ -516,11 +583,29 @@ def pressure_at(
     cycle: str,
     travels: list[PistonTravel | None] | None = None,
 ) -> FloatArray:
-    """Absolute pressure [Pa] of each cylinder at cycle angles ``alpha_deg`` (cylinders, N).
+    """Absolute pressure of each cylinder at cycle angles ``alpha_deg``.
 
     Linear interpolation, periodic over the cycle, in the trace or the model's table (a link
     piston's own, from its entry of ``travels``; :func:`pressure_tables`), as
     :func:`cylinder_pressure` does at crank angles.
+
+    Parameters
+    ----------
+    gas : GasInput
+        The ``gas:`` section.
+    alpha_deg : ndarray
+        Cycle angles from firing TDC [deg], shape (cylinders, N).
+    radius, length, offset : ndarray
+        Crank radius, conrod length and offset of each cylinder [m].
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+    travels : list of (PistonTravel or None), optional
+        Each cylinder's piston travel when it is no plain crank slider.
+
+    Returns
+    -------
+    ndarray
+        Pressure [Pa], shape (cylinders, N).
     """
     alpha = np.asarray(alpha_deg, dtype=np.float64)
     tables = pressure_tables(gas, radius, length, offset, cycle, travels)

@@ -45,6 +45,7 @@ __all__ = [
     "piston_velocity",
     "rod_ratio",
     "roll_coefficients",
+    "rounding_floor",
     "series_coefficients_centred",
     "textbook_slider",
 ]
@@ -65,6 +66,16 @@ def rod_ratio(crank_radius: ArrayLike, conrod_length: ArrayLike) -> FloatArray:
     Every place that needs :math:`\lambda` forms it here, by the one division, so that a
     sweep, a single analysis and a view agree bit for bit.  Precondition: ``conrod_length``
     is positive (checked where the layout is read).
+
+    Parameters
+    ----------
+    crank_radius, conrod_length : array_like
+        :math:`r` and :math:`l` [m], broadcasting.
+
+    Returns
+    -------
+    ndarray
+        :math:`\lambda` [1].
     """
     return np.asarray(
         np.asarray(crank_radius, dtype=np.float64) / np.asarray(conrod_length, dtype=np.float64)
@@ -75,6 +86,16 @@ def offset_ratio(offset: ArrayLike, crank_radius: ArrayLike) -> FloatArray:
     r"""The offset (desaxé) ratio :math:`\varepsilon = e / r` (pin offset over crank radius).
 
     Precondition: ``crank_radius`` is positive (checked where the layout is read).
+
+    Parameters
+    ----------
+    offset, crank_radius : array_like
+        :math:`e` and :math:`r` [m], broadcasting.
+
+    Returns
+    -------
+    ndarray
+        :math:`\varepsilon` [1].
     """
     return np.asarray(
         np.asarray(offset, dtype=np.float64) / np.asarray(crank_radius, dtype=np.float64)
@@ -142,6 +163,13 @@ def normalised_slider(
 def textbook_slider(beta: ArrayLike, ratio: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""The two-term approximation of the crank slider (no offset), divided by the crank radius.
 
+    Parameters
+    ----------
+    beta : array_like
+        Crank angle from the cylinder's TDC direction [rad].
+    ratio : array_like
+        :math:`\lambda = r/l` [1].
+
     Returns
     -------
     s, ds, d2s : ndarray
@@ -170,9 +198,21 @@ def textbook_slider(beta: ArrayLike, ratio: ArrayLike) -> tuple[FloatArray, Floa
 def normalised_acceleration(
     beta: ArrayLike, ratio: ArrayLike, offset_ratio: ArrayLike = 0.0
 ) -> FloatArray:
-    r"""Normalised reciprocating inertia :math:`-s''(\beta)/r` [1].
+    r"""Normalised reciprocating inertia :math:`-s''(\beta)/r` (see :func:`normalised_slider`).
 
-    See :func:`normalised_slider` for the notation.
+    Parameters
+    ----------
+    beta : array_like
+        Crank angle from the cylinder's TDC direction [rad].
+    ratio : array_like
+        :math:`\lambda = r/l` [1].
+    offset_ratio : array_like
+        :math:`\varepsilon = e/r` [1].
+
+    Returns
+    -------
+    ndarray
+        :math:`-s''/r` [1/rad^2], broadcast over the arguments.
     """
     sin_b, cos_b, u, D, lam = _conrod_terms(beta, ratio, offset_ratio)
     return cos_b + lam * ((cos_b**2 - u * sin_b) / D + (lam * u * cos_b) ** 2 / D**3)
@@ -188,9 +228,21 @@ def _slider(
 def piston_position(
     beta: ArrayLike, crank_radius: ArrayLike, conrod_length: ArrayLike, offset: ArrayLike = 0.0
 ) -> FloatArray:
-    r"""Distance of the piston pin from the crank centre along the bore [m].
+    r"""Distance of the piston pin from the crank centre along the bore.
 
     :math:`s(\beta) = r\cos\beta + \sqrt{l^2 - (r\sin\beta - e)^2}`.
+
+    Parameters
+    ----------
+    beta : array_like
+        Crank angle from the cylinder's TDC direction [rad].
+    crank_radius, conrod_length, offset : array_like
+        :math:`r`, :math:`l` and :math:`e` [m].
+
+    Returns
+    -------
+    ndarray
+        :math:`s` [m].
     """
     r = np.asarray(crank_radius, dtype=np.float64)
     s, _, _ = _slider(beta, r, conrod_length, offset)
@@ -204,9 +256,23 @@ def piston_velocity(
     offset: ArrayLike = 0.0,
     speed: ArrayLike = 1.0,
 ) -> FloatArray:
-    r"""Piston velocity along the bore, away from the crank positive [m/s].
+    r"""Piston velocity along the bore, away from the crank positive.
 
     :math:`v = \omega\, s'(\beta)`; with ``speed=1`` this is :math:`s'` [m/rad].
+
+    Parameters
+    ----------
+    beta : array_like
+        Crank angle from the cylinder's TDC direction [rad].
+    crank_radius, conrod_length, offset : array_like
+        :math:`r`, :math:`l` and :math:`e` [m].
+    speed : array_like
+        Crank speed :math:`\omega` [rad/s].
+
+    Returns
+    -------
+    ndarray
+        :math:`v` [m/s].
     """
     r = np.asarray(crank_radius, dtype=np.float64)
     _, ds, _ = _slider(beta, r, conrod_length, offset)
@@ -220,9 +286,23 @@ def piston_acceleration(
     offset: ArrayLike = 0.0,
     speed: ArrayLike = 1.0,
 ) -> FloatArray:
-    r"""Piston acceleration along the bore at constant crank speed [m/s^2].
+    r"""Piston acceleration along the bore at constant crank speed.
 
     :math:`a = \omega^2 s''(\beta)`; with ``speed=1`` this is :math:`s''` [m/rad^2].
+
+    Parameters
+    ----------
+    beta : array_like
+        Crank angle from the cylinder's TDC direction [rad].
+    crank_radius, conrod_length, offset : array_like
+        :math:`r`, :math:`l` and :math:`e` [m].
+    speed : array_like
+        Crank speed :math:`\omega` [rad/s].
+
+    Returns
+    -------
+    ndarray
+        :math:`a` [m/s^2].
     """
     r = np.asarray(crank_radius, dtype=np.float64)
     _, _, d2s = _slider(beta, r, conrod_length, offset)
@@ -232,10 +312,22 @@ def piston_acceleration(
 def conrod_angle(
     beta: ArrayLike, crank_radius: ArrayLike, conrod_length: ArrayLike, offset: ArrayLike = 0.0
 ) -> FloatArray:
-    r"""Angle of the conrod from the bore axis [rad].
+    r"""Angle of the conrod from the bore axis.
 
     :math:`\sin\gamma = (r\sin\beta - e)/l`, positive when the big end is on the side the
     pin moves to after TDC.
+
+    Parameters
+    ----------
+    beta : array_like
+        Crank angle from the cylinder's TDC direction [rad].
+    crank_radius, conrod_length, offset : array_like
+        :math:`r`, :math:`l` and :math:`e` [m].
+
+    Returns
+    -------
+    ndarray
+        :math:`\gamma` [rad].
     """
     r = np.asarray(crank_radius, dtype=np.float64)
     return np.arcsin(
@@ -247,6 +339,15 @@ def conrod_angle_derivatives(
     beta: ArrayLike, ratio: ArrayLike, offset_ratio: ArrayLike = 0.0
 ) -> tuple[FloatArray, FloatArray]:
     r"""First and second derivative of the conrod angle with respect to crank angle.
+
+    Parameters
+    ----------
+    beta : array_like
+        Crank angle from the cylinder's TDC direction [rad].
+    ratio : array_like
+        :math:`\lambda = r/l` [1].
+    offset_ratio : array_like
+        :math:`\varepsilon = e/r` [1].
 
     Returns
     -------
@@ -375,7 +476,18 @@ def fourier_coefficients(
 
 def rounding_floor(ratio: ArrayLike, offset_ratio: ArrayLike) -> FloatArray:
     r"""Estimated rounding error of the exact coefficients, :math:`10^{-14}(1-x)^{-3/2}`
-    with :math:`x = \lambda(1+|e|/r)` (see :mod:`balance.core.accuracy`)."""
+    with :math:`x = \lambda(1+|e|/r)` (see :mod:`balance.core.accuracy`).
+
+    Parameters
+    ----------
+    ratio, offset_ratio : array_like
+        :math:`\lambda = r/l` and :math:`\varepsilon = e/r` [1], broadcasting.
+
+    Returns
+    -------
+    ndarray
+        The estimate [1], relative to the coefficients' scale.
+    """
     x = np.asarray(ratio, dtype=np.float64) * (1 + np.abs(np.asarray(offset_ratio)))
     return np.asarray(1e-14 * (1.0 - x) ** -1.5, dtype=np.float64)
 
@@ -422,6 +534,20 @@ def series_coefficients_centred(ratio: ArrayLike, terms: int, order: int) -> Flo
     from the binomial expansion of :math:`\sqrt{1-\lambda^2\sin^2\beta}`, giving
     :math:`A_2 = \lambda + \lambda^3/4 + 15\lambda^5/128 + \dots`,
     :math:`A_4 = -\lambda^3/4 - 3\lambda^5/16 - \dots`, :math:`A_6 = 9\lambda^5/128 + \dots`.
+
+    Parameters
+    ----------
+    ratio : array_like
+        :math:`\lambda = r/l` [1].
+    terms : int
+        Binomial terms :math:`N` kept.
+    order : int
+        The order :math:`k`, 1 or more.
+
+    Returns
+    -------
+    ndarray
+        :math:`A_k` [1], the shape of ``ratio``.
 
     References
     ----------
@@ -553,12 +679,22 @@ def roll_coefficients(
 ) -> tuple[ComplexArray, ComplexArray]:
     r"""Fourier coefficients of the two normalised roll-torque functions of one cylinder.
 
+    Parameters
+    ----------
+    ratio : array_like
+        :math:`\lambda = r/l` per cylinder [1].
+    offset_ratio : array_like
+        :math:`\varepsilon = e/r` per cylinder [1].
+    orders : sequence of int
+        The orders.
+
     Returns
     -------
     reciprocating, conrod : ndarray of complex
         :math:`G_k = a_k - i b_k` of :math:`g_{rec}(\beta) = (s''/r)(s'/r + \varepsilon)` and
         :math:`g_{rod}(\beta) = \gamma''(1+\gamma')`; the roll torque the block receives is
-        :math:`\omega^2[m_{rec} r^2 g_{rec} + \Delta I\, g_{rod}]`.
+        :math:`\omega^2[m_{rec} r^2 g_{rec} + \Delta I\, g_{rod}]`.  Shape: that of
+        ``ratio`` and one axis of orders.
 
     Notes
     -----

@@ -1,10 +1,10 @@
 r"""Articulated (master-and-link) connecting rods: kinematics, Fourier coefficients, forces.
 
-A *link cylinder* j hangs its rod on a pin of its *master* cylinder m's rod (CONTRACT §5):
-both share the crank pin :math:`C`; the master rod runs from :math:`C` to the master piston
-pin, and carries the link pin :math:`L` at ``pin_radius`` :math:`\rho` from :math:`C`, at
-``pin_angle`` :math:`\alpha` from its centre line; the link rod of length :math:`l_j` runs
-from :math:`L` to the link piston pin on cylinder j's bore.
+A *link cylinder* j hangs its rod on a pin of its *master* cylinder m's rod (docs/layout-format.md,
+"Articulated rods"): both share the crank pin :math:`C`; the master rod runs from :math:`C` to the
+master piston pin, and carries the link pin :math:`L` at ``pin_radius`` :math:`\rho` from
+:math:`C`, at ``pin_angle`` :math:`\alpha` from its centre line; the link rod of length :math:`l_j`
+runs from :math:`L` to the link piston pin on cylinder j's bore.
 
 Notation
 --------
@@ -14,7 +14,7 @@ Lengths are divided by the crank radius :math:`r`.  :math:`\beta_j = \theta + \v
 :math:`\gamma` from its bore axis has :math:`\sin\gamma = \lambda_m(\sin\beta_m -
 \varepsilon_m)` (:func:`balance.core.kinematics.conrod_angle_derivatives`).  In cylinder j's
 frame, as the complex number :math:`Y + iX` (Y along the bore, X across it towards where the
-pin goes after TDC, CONTRACT §1), the link pin is
+pin goes after TDC, docs/conventions.md, "Frame and angles"), the link pin is
 
 .. math::
 
@@ -86,17 +86,13 @@ from balance.core.kinematics import (
 from balance.core.speed import speed_squared
 
 __all__ = [
-    "LinkCoefficients",
     "LinkGeometry",
     "LinkMotion",
     "LinkRodForces",
     "articulated_big_end_forces",
     "articulated_free_phasors",
-    "dead_centre_lag",
-    "dead_centres",
-    "engine_dead_centres",
     "engine_geometry",
-    "link_coefficients",
+    "link_dead_centres",
     "link_geometry",
     "link_motion",
     "link_reach",
@@ -178,8 +174,22 @@ def link_geometry(
     bank: ArrayLike,
     links: Links,
 ) -> LinkGeometry:
-    """The :class:`LinkGeometry` of an engine's link cylinders from its per-cylinder arrays
-    (SI, radians; ``conrod_length`` of a link cylinder is its link rod's length)."""
+    """The :class:`LinkGeometry` of an engine's link cylinders from its per-cylinder arrays.
+
+    Parameters
+    ----------
+    crank_radius, conrod_length, offset : array_like
+        Per cylinder [m] (``conrod_length`` of a link cylinder is its link rod's length).
+    bank : array_like
+        Per cylinder [rad].
+    links : Links
+        The articulated rods (master, pin radius [m] and pin angle [rad] of each cylinder).
+
+    Returns
+    -------
+    LinkGeometry
+        One entry per link cylinder.
+    """
     r = np.asarray(crank_radius, dtype=np.float64)
     length = np.asarray(conrod_length, dtype=np.float64)
     e = np.asarray(offset, dtype=np.float64)
@@ -201,7 +211,17 @@ def link_geometry(
 
 def engine_geometry(engine: Engine) -> LinkGeometry:
     """The :class:`LinkGeometry` of an engine with link rods (:func:`link_geometry` of its
-    per-cylinder arrays)."""
+    per-cylinder arrays).
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with link rods.
+
+    Returns
+    -------
+    LinkGeometry
+    """
     assert engine.links is not None
     return link_geometry(
         engine.crank_radius, engine.conrod_length, engine.offset, engine.bank, engine.links
@@ -371,7 +391,18 @@ def link_motion(
 
 def pin_roll(motion: LinkMotion) -> FloatArray:
     r""":math:`\operatorname{Re}(\bar\Lambda'\Lambda'') - \operatorname{Im}(\bar\Lambda
-    \Lambda'')`: the roll of a unit mass at the link pin per :math:`r^2\omega^2`."""
+    \Lambda'')`: the roll of a unit mass at the link pin per :math:`r^2\omega^2`.
+
+    Parameters
+    ----------
+    motion : LinkMotion
+        The link pin's motion (:func:`link_motion`).
+
+    Returns
+    -------
+    ndarray
+        The roll per unit mass [1], shaped as the motion's arrays.
+    """
     m = motion
     return np.asarray(
         m.dpin_y * m.d2pin_y + m.dpin_x * m.d2pin_x - (m.pin_y * m.d2pin_x - m.pin_x * m.d2pin_y)
@@ -388,6 +419,16 @@ def link_reach(geometry: LinkGeometry) -> FloatArray:
     maximum is sampled on :data:`REACH_GRID` crank angles; between samples :math:`|h|` can
     exceed the sampled maximum by at most :math:`\max|h''|\,(\pi/N)^2/2`, which is added.
     Infinite where the master rod itself cannot move.
+
+    Parameters
+    ----------
+    geometry : LinkGeometry
+        The link cylinders.
+
+    Returns
+    -------
+    ndarray
+        The bound per link cylinder [1].
     """
     if geometry.size == 0:
         return np.zeros(0)
@@ -405,6 +446,11 @@ def link_reach(geometry: LinkGeometry) -> FloatArray:
 
 def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""Top and bottom dead centres of link pistons.
+
+    Parameters
+    ----------
+    geometry : LinkGeometry
+        The link cylinders.
 
     Returns
     -------
@@ -440,121 +486,6 @@ def link_dead_centres(geometry: LinkGeometry) -> tuple[FloatArray, FloatArray, F
     return np.mod(beta[:, 0], 2.0 * np.pi), at[:, 0], at[:, 1]
 
 
-def dead_centres(
-    throw: ArrayLike,
-    bank: ArrayLike,
-    crank_radius: ArrayLike,
-    conrod_length: ArrayLike,
-    offset: ArrayLike,
-    links: Links | None = None,
-) -> tuple[FloatArray, FloatArray]:
-    r"""Actual stroke and top-dead-centre crank angle of every cylinder.
-
-    Parameters
-    ----------
-    throw, bank : array_like
-        Per cylinder [rad].
-    crank_radius, conrod_length, offset : array_like
-        Per cylinder [m] (a link cylinder's ``conrod_length`` is its link rod's).
-    links : Links, optional
-        The articulated rods.
-
-    Returns
-    -------
-    stroke : ndarray
-        Travel of each piston pin between its dead centres [m].
-    tdc : ndarray
-        Crank angle :math:`\theta` in :math:`[0, 2\pi)` at which each piston pin is farthest
-        from the crank axis [rad].
-
-    Notes
-    -----
-    A plain crank slider is at its dead centres when rod and crank are in line:
-    :math:`\sin\beta_{TDC} = e/(l + r)`, :math:`s_{TDC} = \sqrt{(l+r)^2 - e^2}`,
-    :math:`\beta_{BDC} = \pi + \arcsin(e/(l - r))`, :math:`s_{BDC} = \sqrt{(l-r)^2 - e^2}`;
-    a link piston's dead centres are found by :func:`link_dead_centres`.  Then
-    :math:`\theta_{TDC} = \beta_{TDC} + \psi - \varphi`.
-    """
-    phi = np.asarray(throw, dtype=np.float64)
-    psi = np.asarray(bank, dtype=np.float64)
-    beta_top, stroke = _top_and_stroke(crank_radius, conrod_length, offset, bank, links)
-    tdc = np.mod(beta_top + psi - phi, 2.0 * np.pi)
-    tdc = np.where(tdc >= 2.0 * np.pi, 0.0, tdc)
-    return np.asarray(stroke, dtype=np.float64), np.asarray(tdc, dtype=np.float64)
-
-
-def _top_and_stroke(
-    crank_radius: ArrayLike,
-    conrod_length: ArrayLike,
-    offset: ArrayLike,
-    bank: ArrayLike,
-    links: Links | None,
-) -> tuple[FloatArray, FloatArray]:
-    r""":math:`\beta_{TDC}` [rad] (a link cylinder's in :math:`[0, 2\pi)`) and the stroke [m]
-    of every cylinder (:func:`dead_centres`)."""
-    r = np.asarray(crank_radius, dtype=np.float64)
-    length = np.asarray(conrod_length, dtype=np.float64)
-    e = np.asarray(offset, dtype=np.float64)
-    beta_top = np.arcsin(e / (length + r))
-    with np.errstate(invalid="ignore"):  # a link cylinder's row is replaced below
-        stroke = np.where(
-            e == 0.0, 2.0 * r, np.sqrt((length + r) ** 2 - e**2) - np.sqrt((length - r) ** 2 - e**2)
-        )
-    if links is not None and np.any(links.master >= 0):
-        geometry = link_geometry(r, length, e, bank, links)
-        top, s_top, s_bottom = link_dead_centres(geometry)
-        j = geometry.cylinder
-        beta_top = np.array(beta_top, dtype=np.float64)
-        stroke = np.array(stroke, dtype=np.float64)
-        beta_top[j] = top
-        stroke[j] = r[j] * (s_top - s_bottom)
-    return np.asarray(beta_top, dtype=np.float64), np.asarray(stroke, dtype=np.float64)
-
-
-def dead_centre_lag(
-    crank_radius: ArrayLike,
-    conrod_length: ArrayLike,
-    offset: ArrayLike,
-    bank: ArrayLike,
-    links: Links | None = None,
-) -> FloatArray:
-    r"""How far each piston's actual top dead centre lies after its nominal one [rad].
-
-    The crank angle :math:`\beta_{TDC}` from the cylinder's nominal TDC direction
-    (:math:`\theta + \varphi - \psi = 0`, CONTRACT §1) at which the piston pin is farthest
-    from the crank axis, in :math:`(-\pi, \pi]`: :math:`\arcsin(e/(l + r))` for a plain crank
-    slider (exactly 0 without offset), :func:`link_dead_centres` for a link piston.
-
-    Parameters
-    ----------
-    crank_radius, conrod_length, offset : array_like
-        Per cylinder [m] (a link cylinder's ``conrod_length`` is its link rod's).
-    bank : array_like
-        Per cylinder [rad].
-    links : Links, optional
-        The articulated rods.
-
-    Returns
-    -------
-    ndarray
-        :math:`\beta_{TDC}` per cylinder [rad].
-    """
-    top, _ = _top_and_stroke(crank_radius, conrod_length, offset, bank, links)
-    return np.asarray(np.where(top > np.pi, top - 2.0 * np.pi, top), dtype=np.float64)
-
-
-def engine_dead_centres(engine: Engine) -> tuple[FloatArray, FloatArray]:
-    """:func:`dead_centres` of an engine: stroke [m] and TDC crank angle [rad] per cylinder."""
-    return dead_centres(
-        engine.throw,
-        engine.bank,
-        engine.crank_radius,
-        engine.conrod_length,
-        engine.offset,
-        engine.links,
-    )
-
-
 # --------------------------------------------------------------------------- Fourier series
 
 
@@ -588,7 +519,7 @@ class LinkCoefficients:
     samples: int
 
 
-def link_coefficients(
+def _link_coefficients(
     geometry: LinkGeometry,
     orders: ArrayLike,
     plain: tuple[ArrayLike, ArrayLike] | None = None,
@@ -672,11 +603,21 @@ def link_coefficients(
 
 
 def pin_masses(engine: Engine) -> FloatArray:
-    r"""The link rods' shares at their link pins [kg], one per cylinder (0 elsewhere).
+    """The link rods' shares at their link pins, one per cylinder (0 elsewhere).
 
     A link cylinder's ``rotating_mass`` is its link rod's link-pin share plus its share of
     the throw's ``crank_unbalance`` (:func:`balance.core.masses.two_mass_split`); the
     link-pin share is that less the crank's.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine (its links and masses).
+
+    Returns
+    -------
+    ndarray
+        The link-pin mass per cylinder [kg].
     """
     out = np.zeros(engine.rotating_mass.shape)
     if engine.links is None:
@@ -715,10 +656,23 @@ def articulated_free_phasors(
 ) -> dict[str, ComplexArray | None]:
     r"""Free force, moment and roll phasors at unit crank speed of an engine with link rods.
 
-    Arguments as :func:`balance.core.analysis.free_phasors`, with ``pin_mass`` the link
-    rods' link-pin shares per cylinder [kg] (:func:`pin_masses`).  The masses, the lever
-    and the inertia corrections may carry leading grid axes (a sweep of masses); the
-    geometry is one engine's (1-D).
+    The masses, the lever and the inertia corrections may carry leading grid axes (a sweep of
+    masses); the geometry is one engine's (1-D).
+
+    Parameters
+    ----------
+    reciprocating_mass, rotating_mass, pin_mass : array_like
+        Per cylinder [kg]; ``pin_mass`` the link rods' link-pin shares (:func:`pin_masses`).
+    crank_radius, conrod_length, offset, throw, bank, lever, conrod_inertia_correction
+        Per cylinder, as :func:`balance.core.analysis.free_phasors` [m, rad, kg m²].
+    links : Links
+        The articulated rods.
+    orders : ndarray of int
+        The K orders.
+    model, terms
+        Acceleration model and series terms (see the notes).
+    moments, roll : bool
+        Whether to form the moment and roll sums.
 
     Returns
     -------
@@ -727,7 +681,7 @@ def articulated_free_phasors(
         ``pin_forward``, ``pin_backward`` (each cylinder's link-pin phasors, shape
         ``(..., n, K)``, zero for the other cylinders), and (as asked) ``moment_*``,
         ``rotating_moment``, ``roll``: the arrays of
-        :class:`balance.core.analysis.FreePhasors`.
+        :class:`balance.core.result.FreeForces` [kg m, kg m²].
 
     Notes
     -----
@@ -772,7 +726,7 @@ def articulated_free_phasors(
     eps = offset_ratio(e, r)
     exact_links = None
     if model == "exact" or roll:  # one batch: link cylinders, then the plain ones
-        exact_links = link_coefficients(geometry, ks, (ratio[plain], eps[plain]))
+        exact_links = _link_coefficients(geometry, ks, (ratio[plain], eps[plain]))
     at_plain = slice(j.size, None)
     if model == "exact":
         assert exact_links is not None

@@ -5,7 +5,7 @@ needs from a :class:`~balance.core.result.Result`: the free force and moment pha
 (reciprocating, plus the rotating ones at order 1; with the proposal, the residual phasors
 that add every proposed mass) and the roll torque (with the gas torque's reaction when the
 engine has gas forces, whose orders may be halves).  :func:`mounts_of` solves the response
-(``CONTRACT`` §7).
+(docs/conventions.md, "The engine on its mounts").
 """
 
 from __future__ import annotations
@@ -31,7 +31,6 @@ __all__ = [
     "FIGURE_SPEEDS",
     "OUTPUTS",
     "MountsPart",
-    "OrderLoads",
     "figure_speeds",
     "mounts_of",
     "mounts_part",
@@ -187,7 +186,18 @@ FIGURE_SPEEDS = (0.15, 1.3, 231)
 
 
 def figure_speeds(speed: float) -> FloatArray:
-    """The speeds [rad/s] the mount-force figure draws for an analysis at ``speed``."""
+    """The speeds the mount-force figure draws for an analysis at ``speed``.
+
+    Parameters
+    ----------
+    speed : float
+        The analysis's crank speed [rad/s].
+
+    Returns
+    -------
+    ndarray
+        The speeds of :data:`FIGURE_SPEEDS` [rad/s].
+    """
     low, high, count = FIGURE_SPEEDS
     return np.linspace(low * speed, high * speed, count)
 
@@ -201,8 +211,27 @@ def mounts_part(
     speeds: ArrayLike | str | None = None,
 ) -> Result:
     """The ``mounts`` section (:mod:`balance.core.sections`): the engine's response on its
-    mounts (:func:`mounts_of`), and over ``speeds`` [rad/s] when given (``"figure"``: those
-    of the mount-force figure, :func:`figure_speeds`)."""
+    mounts (:func:`mounts_of`), and over a range of speeds when asked.
+
+    Parameters
+    ----------
+    engine : Engine
+        The analysed engine (its ``mounts:`` section).
+    request : Request
+        The request.
+    result : Result
+        The result so far (its phasors and roll, and its proposal part).
+    with_proposal : bool
+        Load the mounts with the residual (the proposal added) instead of the free forces.
+    speeds : array_like or str, optional
+        Crank speeds [rad/s] of a speed sweep; ``"figure"`` for those of the mount-force figure
+        (:func:`figure_speeds`).
+
+    Returns
+    -------
+    Result
+        ``result`` with the ``mounts`` part added.
+    """
     response = mounts_of(result, with_proposal)
     sweep = None
     if isinstance(speeds, str):

@@ -9,11 +9,11 @@ motion is small about static equilibrium.  Its coordinates are the *CG coordinat
 
     \mathbf{q} = (u_x, u_y, u_z, \theta_x, \theta_y, \theta_z)
 
-: the translations of the CG [m] and the small rotations [rad] about axes through the CG
-parallel to the engine frame, right-handed about :math:`+x, +y, +z`
-(:math:`\hat{x} \times \hat{y} = \hat{z}`).  The crank turns from :math:`+y` towards
-:math:`+x` (``CONTRACT`` §1): that is a *negative* rotation about :math:`+z`, so a roll
-torque that is positive "in the direction of rotation" is a torque about :math:`-z`.
+: the translations of the CG [m] and the small rotations [rad] about axes through the CG parallel
+to the engine frame, right-handed about :math:`+x, +y, +z` (:math:`\hat{x} \times \hat{y} =
+\hat{z}`).  The crank turns from :math:`+y` towards :math:`+x` (docs/conventions.md, "Frame and
+angles"): that is a *negative* rotation about :math:`+z`, so a roll torque that is positive "in the
+direction of rotation" is a torque about :math:`-z`.
 
 Equations of motion (Harris & Piersol 2002, ch. 3):
 
@@ -32,11 +32,11 @@ is its stiffness in the engine frame (rows of :math:`\mathbf{A}_i`: the mount's 
 :math:`\mathbf{C}` likewise from the dampings.  :math:`\mathbf{f}` holds the forces on the
 body and their moments about the CG.
 
-Harmonic quantities are complex amplitudes: :math:`x(t) = \mathrm{Re}(\hat{x}\,
-e^{i\Omega t})`, with the crank angle :math:`\theta = \omega t` and :math:`\Omega = k\omega`
-for order :math:`k`.  A component :math:`a\cos k\theta + b\sin k\theta` has
-:math:`\hat{x} = a - ib`, and its amplitude (``CONTRACT`` §7: the :math:`a` of
-:math:`a\cos(k\theta + \text{phase})`) is :math:`|\hat{x}|`.
+Harmonic quantities are complex amplitudes: :math:`x(t) = \mathrm{Re}(\hat{x}\, e^{i\Omega t})`,
+with the crank angle :math:`\theta = \omega t` and :math:`\Omega = k\omega` for order :math:`k`.  A
+component :math:`a\cos k\theta + b\sin k\theta` has :math:`\hat{x} = a - ib`, and its amplitude
+(docs/conventions.md, "The engine on its mounts": the :math:`a` of :math:`a\cos(k\theta +
+\text{phase})`) is :math:`|\hat{x}|`.
 
 Every function takes numpy arrays in SI units; leading axes broadcast (a speed sweep over
 all orders is one batched linear solve).  The core assumes valid input:
@@ -149,7 +149,8 @@ class MountSystem:
     inertia : ndarray, shape (3, 3)
         Inertia tensor about the CG in engine axes [kg m^2], symmetric positive definite,
         with the products of inertia on the off-diagonal as
-        :math:`J_{xy} = -\\int x y \\,dm` (``CONTRACT`` §7).
+        :math:`J_{xy} = -\\int x y \\,dm`
+        (docs/conventions.md, "The engine on its mounts").
     points : tuple of MountPoint
         The mounts, at least one.
     """
@@ -406,14 +407,13 @@ def normal_modes(mass: ArrayLike, stiffness: ArrayLike) -> Modes:
 
     Notes
     -----
-    With the Cholesky factor :math:`M = LL^{\mathsf T}`, the symmetric matrix
-    :math:`A = L^{-1} K L^{-\mathsf T}` has the eigenvalues :math:`\lambda_j = \omega_j^2`
-    and eigenvectors :math:`\psi_j = L^{\mathsf T}\phi_j` (``numpy.linalg.eigh``).
-    :math:`f_j = \sqrt{\lambda_j} / 2\pi`; round-off negatives of a singular :math:`K`
-    (a direction the mounts do not hold) give 0 Hz.  Energy share of coordinate
-    :math:`c` in mode :math:`j`: :math:`\phi_{c}(M\phi)_{c} / \phi^{\mathsf T}M\phi`
-    (``CONTRACT`` §7).  Within a repeated frequency the shapes are any basis of the
-    eigenspace.
+    With the Cholesky factor :math:`M = LL^{\mathsf T}`, the symmetric matrix :math:`A = L^{-1} K
+    L^{-\mathsf T}` has the eigenvalues :math:`\lambda_j = \omega_j^2` and eigenvectors
+    :math:`\psi_j = L^{\mathsf T}\phi_j` (``numpy.linalg.eigh``). :math:`f_j = \sqrt{\lambda_j} /
+    2\pi`; round-off negatives of a singular :math:`K` (a direction the mounts do not hold) give 0
+    Hz.  Energy share of coordinate :math:`c` in mode :math:`j`: :math:`\phi_{c}(M\phi)_{c} /
+    \phi^{\mathsf T}M\phi` (docs/conventions.md, "The engine on its mounts").  Within a repeated
+    frequency the shapes are any basis of the eigenspace.
     """
     m = np.asarray(mass, dtype=np.float64)
     k = np.asarray(stiffness, dtype=np.float64)
@@ -459,7 +459,7 @@ def crank_loads(
     cg : array_like, shape (3,)
         Centre of gravity [m].
     force_forward, force_backward : array_like of complex
-        Force phasors :math:`P^{\pm}` of one order [N] (``CONTRACT`` §2).
+        Force phasors :math:`P^{\pm}` of one order [N] (docs/conventions.md, "Phasors").
     moment_forward, moment_backward : array_like of complex
         Moment phasors :math:`\sum (z_i - z_{ref}) F_i` [N m], drawn like forces.
     roll : array_like of complex
@@ -485,7 +485,7 @@ def crank_loads(
         \hat F_x = -i\,(P^{+} - \overline{P^{-}}).
 
     The moment phasor :math:`Q` gives the couple :math:`M_x = -\mathrm{Re}\,Q`,
-    :math:`M_y = \mathrm{Im}\,Q` (``CONTRACT`` §2), so :math:`\hat M_x = -(Q^{+} +
+    :math:`M_y = \mathrm{Im}\,Q` (docs/conventions.md, "Moments"), so :math:`\hat M_x = -(Q^{+} +
     \overline{Q^{-}})` and :math:`\hat M_y = -i(Q^{+} - \overline{Q^{-}})`.  The crank turns
     from :math:`+y` towards :math:`+x`, a negative rotation about :math:`+z`
     (:math:`\hat{x}\times\hat{y} = \hat{z}`), so the roll torque about :math:`+z` is

@@ -29,6 +29,7 @@ __all__ = [
     "CANCELLATION_FACTOR",
     "QUANTITIES",
     "Phasors",
+    "Quantity",
     "cancel_to_zero",
     "phase_deg",
     "reciprocating_force_and_moment",
@@ -125,6 +126,16 @@ def sum_over_cylinders(terms: NDArray[Any]) -> NDArray[Any]:
     eight along a contiguous axis, plain accumulation otherwise), so the same terms could
     round differently alone and inside a sweep's grid.  Here the order is fixed:
     :math:`((t_1 + t_2) + t_3) + \dots`, whatever the leading axes.
+
+    Parameters
+    ----------
+    terms : ndarray
+        Terms of shape ``(..., n, K)``: cylinders on axis -2, any unit.
+
+    Returns
+    -------
+    ndarray
+        The sums, shape ``(..., K)``, in the unit of ``terms``.
     """
     n = terms.shape[-2]
     if n == 0:
@@ -294,8 +305,18 @@ def reciprocating_force_and_moment(
 ) -> tuple[ComplexArray | None, ComplexArray | None, ComplexArray | None, ComplexArray | None]:
     r"""Forward and backward phasors of the reciprocating inertia force and moment at once.
 
-    Arguments as :func:`reciprocating_phasors`; the moment is formed when ``lever`` is
-    given, the force unless ``force`` is false (None for what is not formed).
+    Parameters
+    ----------
+    amplitude, coefficients, throw, bank, orders, lever
+        As :func:`reciprocating_phasors`; the moment is formed when ``lever`` [m] is given.
+    force : bool
+        Form the force (otherwise its phasors are None).
+
+    Returns
+    -------
+    force_forward, force_backward, moment_forward, moment_backward : ndarray of complex or None
+        :math:`P_k^{\pm}` [N] and :math:`M_k^{\pm}` [N m], shape ``(..., K)``; None for what is
+        not formed.
 
     Notes
     -----
@@ -342,8 +363,21 @@ def rotating_phasor(
     r"""Forward first-order phasor of the rotating (centrifugal) force or moment.
 
     :math:`P^{+} = \sum_i m_{rot,i} r_i \omega^2 e^{i\varphi_i}` (times
-    :math:`z_i - z_{ref}` for the moment), with ``amplitude`` :math:`m_{rot} r\omega^2` [N]
-    per cylinder on the last axis.  There is no backward part.
+    :math:`z_i - z_{ref}` for the moment).  There is no backward part.
+
+    Parameters
+    ----------
+    amplitude : array_like
+        :math:`m_{rot} r\omega^2` per cylinder on the last axis [N].
+    throw : array_like
+        Throw angle per cylinder [rad].
+    lever : array_like, optional
+        :math:`z_i - z_{ref}` per cylinder [m]; given, the result is the moment.
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`P^{+}` [N, or N m with ``lever``], the leading axes of ``amplitude``.
     """
     amp = np.asarray(amplitude, dtype=np.float64)
     phi = np.asarray(throw, dtype=np.float64)
@@ -414,6 +448,16 @@ def phase_deg(phasor: ArrayLike) -> FloatArray:
     magnitude is 0, NaN where the phasor is NaN (not computed).
 
     Rounded to 1e-9 deg so that rounding noise (1e-14 deg) does not show as a phase.
+
+    Parameters
+    ----------
+    phasor : array_like of complex
+        The phasors (docs/conventions.md, "Phasors").
+
+    Returns
+    -------
+    ndarray
+        The phases [deg], the shape of ``phasor``.
     """
     z = np.asarray(phasor, dtype=np.complex128)
     deg = np.round(np.mod(np.degrees(np.angle(z)), 360.0), 9)
@@ -426,7 +470,21 @@ def phase_deg(phasor: ArrayLike) -> FloatArray:
 def safe_ratio(values: Any, scale: float) -> Any:
     """``values / scale``: NaN where the scale is zero or not finite, and inf (without a
     warning) where the ratio lies beyond the float range (a normalising force of a few
-    1e-300 N, as a layout with a 1e-308 kg piston has)."""
+    1e-300 N, as a layout with a 1e-308 kg piston has).
+
+    Parameters
+    ----------
+    values : array_like
+        What is normalised (a force [N], a moment [N m] ...).
+    scale : float
+        The reference in the unit of ``values`` (:func:`balance.core.analysis.reference_force`,
+        times the pitch for moments).
+
+    Returns
+    -------
+    ndarray
+        The ratios [1], the shape of ``values``.
+    """
     if not math.isfinite(scale) or scale == 0.0:
         return np.full(np.shape(values), np.nan)
     with np.errstate(over="ignore"):

@@ -3,7 +3,7 @@
 :func:`proposal_part` proposes counterweights and balance shafts for an analysed engine
 (:func:`balance.core.balancing.propose`) and forms the residual: the free forces with
 every proposed mass added.  :func:`factor_study_part` traces the residual first-order
-force against the balance factor (:func:`balance.core.balancing.balance_factor_study`).
+force against the balance factor (:func:`balance_factor_study`).
 Both are sections (:mod:`balance.core.sections`); their outputs are :data:`OUTPUTS` and
 :data:`STUDY_OUTPUTS`.
 """
@@ -21,8 +21,6 @@ from balance.core import kinematics
 from balance.core.analysis import compute_phasors
 from balance.core.balancing import (
     Proposal,
-    balance_factor_study,
-    optimal_balance_factor,
     proposal_phasors,
     propose,
     shaft_roll_phasors,
@@ -39,9 +37,10 @@ __all__ = [
     "FactorStudy",
     "ProposalResult",
     "balance_engine",
+    "balance_factor_study",
     "factor_study",
     "factor_study_part",
-    "first_order_parts",
+    "optimal_balance_factor",
     "proposal_part",
     "residual",
 ]
@@ -273,7 +272,25 @@ def proposal_part(
     """The ``proposal`` section: the proposal and the residual (:class:`ProposalResult`).
 
     A proposal needs the moments and the roll; without them the result is returned as it
-    is.  Settings as :func:`balance_engine`.
+    is.
+
+    Parameters
+    ----------
+    engine : Engine
+        The analysed engine.
+    request : Request
+        The request.
+    result : Result
+        The result so far (its free forces, and the roll with gas forces when the torque
+        section has run).
+    cancel, strategy, balance_factor, counterweight_radius, cancel_roll
+        Proposal settings, as :func:`balance_engine` (orders to cancel; ``'two-plane'`` or
+        ``'per-throw'``; a fraction [1]; a radius [m]; place the shafts to cancel the roll).
+
+    Returns
+    -------
+    Result
+        ``result`` with the ``proposal`` part added.
     """
     if not result.has_moments or result.roll is None:
         return result
@@ -321,7 +338,7 @@ class FactorStudy:
     largest_internal_moment: FloatArray | None = None
 
 
-def first_order_parts(
+def _first_order_parts(
     layout: Engine,
 ) -> tuple[ComplexArray, tuple[ComplexArray, ComplexArray] | None]:
     r"""What the balance-factor study needs of each cylinder's first order, from one
@@ -352,6 +369,117 @@ def first_order_parts(
     return g1, (free.link_pins.force_forward[:, 0], free.link_pins.force_backward[:, 0])
 
 
+def _residual_first_order(
+    layout: Engine,
+    first_order: ComplexArray,
+    factor: float,
+    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
+) -> tuple[complex, complex, complex]:
+    """Free first-order force phasors (forward, backward) and moment peak after counterweights
+    carrying rotating mass plus ``factor`` of the reciprocating mass, per-throw; link pins'
+    relative motion (``pin_first_order``: forward and backward per cylinder [N]) added."""
+    w2 = float(speed_squared(layout.speed))
+    r = layout.crank_radius
+    c1 = 0.5 * np.asarray(first_order, dtype=np.complex128)
+    rec = layout.reciprocating_mass * r * w2
+    along = np.exp(1j * layout.bank)
+    turn = np.exp(1j * (layout.throw - layout.bank))
+    fwd_terms = rec * c1 * turn * along - factor * rec * np.exp(1j * layout.throw)
+    bwd_terms = rec * np.conj(c1) * np.conj(turn) * along
+    if pin_first_order is not None:
+        fwd_terms = fwd_terms + pin_first_order[0]
+        bwd_terms = bwd_terms + pin_first_order[1]
+    lever = layout.z - layout.reference_z
+    moment_peak = abs(complex((fwd_terms * lever).sum())) + abs(complex((bwd_terms * lever).sum()))
+    return complex(fwd_terms.sum()), complex(bwd_terms.sum()), complex(moment_peak)
+
+
+def balance_factor_study(
+    layout: Engine,
+    first_order: ComplexArray,
+    factors: Sequence[float] | FloatArray,
+    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
+) -> dict[str, FloatArray]:
+    r"""Residual first-order force against balance factor.
+
+    The rotating masses are balanced in full; ``factor`` of each cylinder's reciprocating
+    mass is added to the crank.  The residual first-order force traces an ellipse; its
+    vertical (y) and horizontal (x) peaks are
+
+    .. math:: |P^{+} + \bar P^{-}| \quad\text{and}\quad |P^{+} - \bar P^{-}|
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine (masses, crank radii, throws, banks, ``z`` and speed).
+    first_order : ndarray of complex
+        :math:`G_1` of each cylinder's :math:`-s''/r` [1] (1 without offset).
+    factors : sequence of float
+        The balance factors to evaluate [1].
+    pin_first_order : tuple of ndarray of complex, optional
+        The link pins' first-order forward and backward phasors per cylinder [N], for an
+        engine with link rods.
+
+    Returns
+    -------
+    dict of ndarray
+        ``factor`` [1], ``vertical_peak`` [N], ``horizontal_peak`` [N], ``moment_peak``
+        [N m] (first order).
+    """
+    f = np.asarray(factors, dtype=np.float64).ravel()
+    vertical = np.empty(f.size)
+    horizontal = np.empty(f.size)
+    moment = np.empty(f.size)
+    for i, factor in enumerate(f):
+        fwd, bwd, mpk = _residual_first_order(layout, first_order, float(factor), pin_first_order)
+        vertical[i] = abs(fwd + bwd.conjugate())
+        horizontal[i] = abs(fwd - bwd.conjugate())
+        moment[i] = mpk.real
+    return {
+        "factor": f,
+        "vertical_peak": vertical,
+        "horizontal_peak": horizontal,
+        "moment_peak": moment,
+    }
+
+
+def optimal_balance_factor(
+    layout: Engine,
+    first_order: ComplexArray,
+    pin_first_order: tuple[ComplexArray, ComplexArray] | None = None,
+) -> float:
+    """Balance factor that minimises the larger of the vertical and horizontal first-order
+    residual peaks (ternary search: the larger of two convex functions is convex).
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    first_order : ndarray of complex
+        :math:`G_1` of each cylinder's :math:`-s''/r` [1].
+    pin_first_order : tuple of ndarray of complex, optional
+        The link pins' first-order forward and backward phasors per cylinder [N].
+
+    Returns
+    -------
+    float
+        The balance factor in [0, 1].
+    """
+
+    def worst(factor: float) -> float:
+        study = balance_factor_study(layout, first_order, [factor], pin_first_order)
+        return float(max(study["vertical_peak"][0], study["horizontal_peak"][0]))
+
+    lo, hi = 0.0, 1.0
+    for _ in range(200):
+        m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
+        if worst(m1) <= worst(m2):
+            hi = m2
+        else:
+            lo = m1
+    return 0.5 * (lo + hi)
+
+
 def factor_study(layout: Engine, factors: ArrayLike | None = None) -> FactorStudy:
     """Residual first-order force against balance factor.
 
@@ -369,7 +497,7 @@ def factor_study(layout: Engine, factors: ArrayLike | None = None) -> FactorStud
         factor that makes the larger of the two force peaks smallest.
     """
     f = np.linspace(0.0, 1.0, 21) if factors is None else np.asarray(factors, dtype=np.float64)
-    g1, pins = first_order_parts(layout)  # pins: the link rods' (None without link rods)
+    g1, pins = _first_order_parts(layout)  # pins: the link rods' (None without link rods)
     study = _zero_below_rounding(balance_factor_study(layout, g1, f, pins), layout, g1, f)
     return FactorStudy(
         factor=f,
@@ -417,7 +545,24 @@ def _zero_below_rounding(
 def factor_study_part(
     engine: Engine, request: Any, result: Result, *, factors: ArrayLike | None = None
 ) -> Result:
-    """The ``factor_study`` section: :func:`factor_study` of the analysed engine."""
+    """The ``factor_study`` section: :func:`factor_study` of the analysed engine.
+
+    Parameters
+    ----------
+    engine : Engine
+        The analysed engine.
+    request : Request
+        The request.
+    result : Result
+        The result so far.
+    factors : array_like, optional
+        Balance factors [1]; default 0 to 1 in steps of 0.05.
+
+    Returns
+    -------
+    Result
+        ``result`` with the ``factor_study`` part (:class:`FactorStudy`) added.
+    """
     return result.with_part("factor_study", factor_study(engine, factors))
 
 

@@ -38,7 +38,8 @@ class ModelRung:
     Attributes
     ----------
     name : {'exact', 'series', 'textbook', 'time'}
-        The piston acceleration model (docs/benchmarks.md, "The model ladder").
+        The piston acceleration model (docs/theory.md, "Fourier coefficients of the
+        acceleration"; each model's error and cost: docs/benchmarks.md).
     terms : int
         Binomial terms of the ``series`` model (0 for ``time``).
     samples : int

@@ -39,11 +39,9 @@ from balance.core.speed import speed_squared
 
 __all__ = [
     "ArticulatedSolution",
-    "articulated_kinematics",
     "articulated_newton_euler",
     "crank_angles",
     "link_pin_force_samples",
-    "link_piston_acceleration",
     "link_piston_acceleration_at",
     "phasors_from_samples",
     "reciprocating_force_samples",
@@ -58,7 +56,18 @@ ComplexArray = NDArray[np.complex128]
 
 
 def crank_angles(samples: int) -> FloatArray:
-    """``samples`` equally spaced crank angles over one revolution [rad]."""
+    r"""Equally spaced crank angles over one revolution.
+
+    Parameters
+    ----------
+    samples : int
+        Number of angles.
+
+    Returns
+    -------
+    ndarray
+        :math:`2\pi i/N`, :math:`i = 0 \dots N-1` [rad].
+    """
     return 2.0 * np.pi * np.arange(samples) / samples
 
 
@@ -66,6 +75,15 @@ def reciprocating_force_samples(
     layout: Engine, theta: ArrayLike, lever: bool = False
 ) -> ComplexArray:
     r"""Reciprocating inertia force (or moment) on the block at each crank angle.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine (its masses, geometry and speed).
+    theta : array_like
+        Crank angles [rad], shape (angles,).
+    lever : bool
+        Return the moment instead of the force.
 
     Returns
     -------
@@ -80,7 +98,22 @@ def reciprocating_force_samples(
 
 
 def rotating_force_samples(layout: Engine, theta: ArrayLike, lever: bool = False) -> ComplexArray:
-    """Centrifugal force (or moment) of the rotating masses at each crank angle [N, N m]."""
+    """Centrifugal force (or moment) of the rotating masses at each crank angle.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    theta : array_like
+        Crank angles [rad], shape (angles,).
+    lever : bool
+        Return the moment about ``reference_z`` instead of the force.
+
+    Returns
+    -------
+    ndarray of complex
+        One value per crank angle [N, or N m with ``lever``].
+    """
     th = np.asarray(theta, dtype=np.float64)[:, None]
     force = (
         layout.rotating_mass
@@ -101,6 +134,18 @@ def phasors_from_samples(
     For :math:`Q(\theta) = \sum_k P_k^{+}e^{ik\theta} + P_k^{-}e^{-ik\theta}` sampled at
     :func:`crank_angles`, :math:`P_k^{+}` is FFT bin :math:`k` and :math:`P_k^{-}` bin
     :math:`-k`, divided by the number of samples.
+
+    Parameters
+    ----------
+    samples : array_like of complex
+        :math:`Q` at :func:`crank_angles`, angles on the last axis (any unit).
+    orders : array_like of int
+        The orders k.
+
+    Returns
+    -------
+    forward, backward : ndarray of complex
+        :math:`P_k^{+}` and :math:`P_k^{-}`, in the unit of ``samples``.
     """
     q = np.asarray(samples, dtype=np.complex128)
     n = q.shape[-1]
@@ -110,7 +155,20 @@ def phasors_from_samples(
 
 
 def roll_phasors_from_samples(samples: ArrayLike, orders: ArrayLike) -> ComplexArray:
-    r"""Phasors :math:`R_k` of a real torque :math:`\sum_k \mathrm{Re}(R_k e^{ik\theta})`."""
+    r"""Phasors :math:`R_k` of a real torque :math:`\sum_k \mathrm{Re}(R_k e^{ik\theta})`.
+
+    Parameters
+    ----------
+    samples : array_like
+        The torque at :func:`crank_angles` [N m], angles on the last axis.
+    orders : array_like of int
+        The orders k.
+
+    Returns
+    -------
+    ndarray of complex
+        :math:`R_k` [N m].
+    """
     t = np.asarray(samples, dtype=np.float64)
     n = t.shape[-1]
     spectrum = np.fft.fft(t, axis=-1) / n
@@ -324,7 +382,7 @@ class _Group:
     link_rods: _Rod  # arrays (links, angles)
 
 
-def articulated_kinematics(layout: Engine, theta: ArrayLike) -> list[_Group]:
+def _articulated_kinematics(layout: Engine, theta: ArrayLike) -> list[_Group]:
     r"""The kinematics of every master with its link rods (see :func:`_rod_on_bore`).
 
     The link pin of link rod j is :math:`L = C + \rho e^{i(\vartheta_m + \alpha)}` on the
@@ -380,13 +438,24 @@ def _pin_shares(layout: Engine, every: bool = False) -> FloatArray:
 
 
 def link_pin_force_samples(layout: Engine, theta: ArrayLike) -> ComplexArray:
-    r"""Inertia force of each link rod's link-pin share relative to its crank pin [N].
+    r"""Inertia force of each link rod's link-pin share relative to its crank pin.
 
-    :math:`-m\omega^2(L'' - C'')` per link cylinder (rows in cylinder order), from the
-    constraint kinematics (:func:`articulated_kinematics`).
+    :math:`-m\omega^2(L'' - C'')` per link cylinder, from the constraint kinematics.
+
+    Parameters
+    ----------
+    layout : Engine
+        An engine with link rods.
+    theta : array_like
+        Crank angles [rad], shape (angles,).
+
+    Returns
+    -------
+    ndarray of complex
+        Force [N], shape (link cylinders, angles), rows in cylinder order.
     """
     th = np.asarray(theta, dtype=np.float64)
-    return _link_pin_forces(layout, articulated_kinematics(layout, th), th.size)
+    return _link_pin_forces(layout, _articulated_kinematics(layout, th), th.size)
 
 
 def _link_rows(layout: Engine) -> dict[int, int]:
@@ -426,27 +495,53 @@ def _link_piston_rows(
     return out
 
 
-def link_piston_acceleration(layout: Engine, theta: ArrayLike) -> FloatArray:
+def _link_piston_acceleration(layout: Engine, theta: ArrayLike) -> FloatArray:
     """:math:`s''/r` of each link piston along its bore (rows: link cylinders in order), from
     the constraint kinematics, at the crank angles ``theta``."""
     th = np.asarray(theta, dtype=np.float64)
-    return _link_piston_rows(layout, articulated_kinematics(layout, th), th.size)
+    return _link_piston_rows(layout, _articulated_kinematics(layout, th), th.size)
 
 
 def link_piston_acceleration_at(layout: Engine, theta: ArrayLike) -> FloatArray:
-    """:func:`link_piston_acceleration` with each link cylinder at its own crank angles
-    (``theta`` of shape (links, angles), rows in cylinder order).
+    """:math:`s''/r` of each link piston along its bore, each link cylinder at its own crank
+    angles, from the constraint kinematics.
 
-    One pass of :func:`articulated_kinematics` over all rows' angles, each link cylinder
-    then read at its own row's."""
+    One pass of the kinematics over all rows' angles, each link cylinder then read at its own
+    row's.
+
+    Parameters
+    ----------
+    layout : Engine
+        An engine with link rods.
+    theta : array_like
+        Crank angles [rad], shape (link cylinders, angles), rows in cylinder order.
+
+    Returns
+    -------
+    ndarray
+        :math:`s''/r` [1/rad^2], the shape of ``theta``.
+    """
     th = np.asarray(theta, dtype=np.float64)
-    groups = articulated_kinematics(layout, th.reshape(-1))
+    groups = _articulated_kinematics(layout, th.reshape(-1))
     return _link_piston_rows(layout, groups, th.shape[-1], own_angles=True)
 
 
 def reciprocating_samples(layout: Engine, theta: ArrayLike) -> tuple[ComplexArray, ComplexArray]:
     """:func:`reciprocating_force_samples` without and with the lever, from one pass of the
-    kinematics: the force [N] and the moment [N m] at each crank angle."""
+    kinematics.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    theta : array_like
+        Crank angles [rad], shape (angles,).
+
+    Returns
+    -------
+    force, moment : ndarray of complex
+        The force [N] and the moment about ``reference_z`` [N m] at each crank angle.
+    """
     th = np.asarray(theta, dtype=np.float64)
     if layout.has_links:
         return _articulated_reciprocating(layout, th)
@@ -485,7 +580,7 @@ def _articulated_reciprocating(
     along = crank_train.reciprocating_force(layout.reciprocating_mass[plain], w2, r[plain], d2s)
     force = -along * np.exp(1j * layout.bank[plain])
     j = layout.links.link_indices
-    groups = articulated_kinematics(layout, theta)
+    groups = _articulated_kinematics(layout, theta)
     link_acc = _link_piston_rows(layout, groups, theta.size)  # (links, angles)
     m_j, r_j = layout.reciprocating_mass[j][:, None], r[j][:, None]
     pistons = (
@@ -643,7 +738,7 @@ def articulated_newton_euler(
     )
     m_pin = _pin_shares(layout)
     crank_share = np.asarray(layout.rotating_mass - _pin_shares(layout, every=True))
-    groups = articulated_kinematics(layout, th)
+    groups = _articulated_kinematics(layout, th)
     wall = np.zeros((layout.n_cylinders, n_t))
     rod_force = np.zeros((layout.n_cylinders, n_t))
     pin_force = np.zeros((len(groups), n_t), dtype=np.complex128)

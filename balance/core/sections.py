@@ -21,7 +21,7 @@ A section says
 :data:`SECTIONS`; the writers (Dataset, JSON, CSV, table, report, plots) loop over the
 parts a result holds and never name one.  Functions and outputs are named by their module
 path, so that a section's module is imported only when it is used.  How to add a concern
-is in docs/architecture.md, "Adding a concern".
+is in docs/architecture.md, "Adding a physical concern".
 """
 
 from __future__ import annotations
@@ -146,6 +146,15 @@ SECTIONS: tuple[Section, ...] = (
 def section(name: str) -> Section:
     """The section of this name.
 
+    Parameters
+    ----------
+    name : str
+        A section's name (``"proposal"``, ``"bearings"`` …).
+
+    Returns
+    -------
+    Section
+
     Raises
     ------
     KeyError
@@ -169,6 +178,17 @@ def default_sections() -> dict[str, dict[str, Any]]:
 
 @cache
 def load(path: str) -> Any:
-    """The object at ``"module:NAME"`` (imported on first use)."""
+    """The object at ``"module:NAME"`` (imported on first use).
+
+    Parameters
+    ----------
+    path : str
+        ``"module:NAME"``, as :attr:`Section.part` and :attr:`Section.outputs` give it.
+
+    Returns
+    -------
+    object
+        The module's attribute ``NAME``.
+    """
     module, _, name = path.partition(":")
     return getattr(import_module(module), name)

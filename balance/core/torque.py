@@ -84,9 +84,11 @@ from balance.core.speed import speed_squared
 
 __all__ = [
     "CYCLE_SAMPLES_PER_DEGREE",
+    "OUTPUTS",
     "TorqueResult",
     "compute_torque",
     "engine_pressure_tables",
+    "indicated_work",
     "piston_travels",
     "roll_orders",
 ]
@@ -155,7 +157,21 @@ def layout_inertia(layout: Engine, theta_deg: FloatArray) -> float:
 
 
 def roll_orders(orders: NDArray[np.intp], cycle: str) -> FloatArray:
-    """Roll orders reported with gas: halves up to the highest order for a four-stroke."""
+    """Roll orders reported with gas: halves up to the highest order for a four-stroke.
+
+    Parameters
+    ----------
+    orders : ndarray of int
+        The orders asked for.
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+
+    Returns
+    -------
+    ndarray
+        0.5, 1, 1.5 … up to the highest order for a four-stroke; the orders themselves for a
+        two-stroke.
+    """
     top = int(np.max(orders))
     if cycle == "four-stroke":
         return np.arange(1, 2 * top + 1) / 2.0
@@ -303,9 +319,19 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
 
 
 def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
-    """Each cylinder's pressure table: cycle angle from firing TDC [deg] and absolute
-    pressure [Pa] (:func:`balance.core.gas.pressure_tables` of the engine's geometry, a link
-    piston's over its own travel, :func:`piston_travels`)."""
+    """Each cylinder's pressure table (:func:`balance.core.gas.pressure_tables` of the engine's
+    geometry, a link piston's over its own travel, :func:`piston_travels`).
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with a ``gas:`` section.
+
+    Returns
+    -------
+    list of (ndarray, ndarray)
+        Per cylinder: cycle angle from firing TDC [deg] and absolute pressure [Pa].
+    """
     assert engine.gas is not None
     return pressure_tables(
         engine.gas,
@@ -318,9 +344,20 @@ def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]
 
 
 def piston_travels(engine: Engine) -> list[PistonTravel | None]:
-    """Each link piston's travel against its cycle angle from its actual TDC
-    (:class:`balance.core.gas.PistonTravel`, for the gas model's volume); None for the other
-    cylinders."""
+    """Each link piston's travel against its cycle angle from its actual TDC (for the gas
+    model's volume).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine.
+
+    Returns
+    -------
+    list of (PistonTravel or None)
+        Per cylinder, a :class:`balance.core.gas.PistonTravel` for a link piston, None for the
+        other cylinders.
+    """
     from balance.core.links import engine_geometry, link_dead_centres, link_motion
 
     out: list[PistonTravel | None] = [None] * engine.n_cylinders
@@ -548,5 +585,16 @@ OUTPUTS: tuple[Output, ...] = (
 
 
 def indicated_work(torque: TorqueResult) -> float:
-    """Indicated work of the engine per cycle [J]: the mean torque times the cycle angle."""
+    """Indicated work of the engine per cycle: the mean torque times the cycle angle.
+
+    Parameters
+    ----------
+    torque : TorqueResult
+        The engine's torque over the cycle (:func:`compute_torque`).
+
+    Returns
+    -------
+    float
+        The work [J].
+    """
     return torque.mean * 2.0 * math.pi * torque.cycle_deg / 360.0

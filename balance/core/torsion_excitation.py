@@ -179,7 +179,7 @@ def place_firing_tdc(
     """
     if engine.gas is not None:
         return np.asarray(engine.gas.firing_tdc, dtype=np.float64)
-    from balance.core.links import dead_centre_lag
+    from balance.core.cylinders import dead_centre_lag
 
     lag = dead_centre_lag(
         engine.crank_radius, engine.conrod_length, engine.offset, engine.bank, engine.links

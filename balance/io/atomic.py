@@ -57,7 +57,7 @@ from functools import cache
 from pathlib import Path
 from typing import NoReturn
 
-from balance.core.errors import InputError
+from balance.core.errors import InputError, OutputExists
 
 __all__ = [
     "check_directory_target",
@@ -86,18 +86,31 @@ def _check_parent(target: Path) -> None:
 def check_target(path: str | Path, force: bool = False) -> Path:
     """Check that ``path`` can be written; return it as a Path.
 
+    Parameters
+    ----------
+    path : str or Path
+        The target file.
+    force : bool
+        Replace an existing file.
+
+    Returns
+    -------
+    Path
+        The target.
+
     Raises
     ------
+    OutputExists
+        If the file exists and ``force`` is false.
     InputError
-        If the directory does not exist or is not writable, if the path is a directory,
-        or if the file exists and ``force`` is false.
+        If the directory does not exist or is not writable, or if the path is a directory.
     """
     target = Path(path)
     if target.is_dir():
         raise InputError(f"{target}: is a directory; give a file name")
     _check_parent(target)
     if target.exists() and not force:
-        raise InputError(f"{target}: file exists; use --force to replace it")
+        raise OutputExists(target)
     return target
 
 
@@ -219,19 +232,33 @@ def exit_now(code: int) -> NoReturn:
     instead unwinds through whatever library code was running, which may then hang on a
     lock it held when the exception arrived (xarray's netCDF writer does), or go on
     writing.
+
+    Parameters
+    ----------
+    code : int
+        The process's exit status.
     """
     _clean_up_at_exit()
     os._exit(code)
 
 
 def stop_at_checkpoint(code: int) -> bool:
-    """For a signal handler: if a write whose writer uses threads is under way, ask it to
-    stop at its next :func:`checkpoint` (``SystemExit(code)`` raised there) and return
-    True; return False if there is none, or if a signal has asked already (then the
-    handler should :func:`exit_now`).
+    """For a signal handler: ask a threaded write under way to stop at its next
+    :func:`checkpoint`.
 
     Removing a directory while the writer's threads still write into it (and re-create
     it) could leave a part behind; at a checkpoint none of them is writing.
+
+    Parameters
+    ----------
+    code : int
+        The exit status that :func:`checkpoint` raises ``SystemExit`` with.
+
+    Returns
+    -------
+    bool
+        True if such a write is under way and has been asked to stop; False if there is none,
+        or if a signal has asked already (then the handler should :func:`exit_now`).
     """
     pid = os.getpid()
     threaded = any(entry[0] == pid and entry[2] for entry in list(_PENDING.values()))
@@ -353,7 +380,7 @@ def _link_anonymous(target: Path, data: bytes | bytearray | memoryview, force: b
                 return True
             except FileExistsError:
                 if not force:
-                    raise InputError(f"{target}: file exists; use --force to replace it") from None
+                    raise OutputExists(target) from None
             except OSError:
                 return False
         try:
@@ -420,17 +447,34 @@ def check_directory_target(
 ) -> Path:
     """Check that a directory output (a Zarr store) can be written; return it as a Path.
 
+    Parameters
+    ----------
+    path : str or Path
+        The target directory.
+    force : bool
+        Replace an existing target.
+    is_replaceable : callable
+        ``is_replaceable(path)``: whether an existing directory may be replaced (a Zarr
+        store, not any directory).
+
+    Returns
+    -------
+    Path
+        The target.
+
     Raises
     ------
+    OutputExists
+        If the target exists and ``force`` is false.
     InputError
-        If the parent directory is missing or not writable, if the target exists and
-        ``force`` is false, or if it is a directory that ``is_replaceable`` refuses.
+        If the parent directory is missing or not writable, or if the target is a directory
+        that ``is_replaceable`` refuses.
     """
     target = Path(path)
     _check_parent(target)
     if target.exists():
         if not force:
-            raise InputError(f"{target}: exists; use --force to replace it")
+            raise OutputExists(target, "exists")
         if target.is_dir() and not is_replaceable(target):
             raise InputError(
                 f"{target}: is a directory that is not a Zarr store; will not replace it"
@@ -471,6 +515,22 @@ def write_atomic_directory(
     directory that ``is_replaceable`` accepts (a Zarr store, not any directory): the two
     are exchanged in one step and the old one deleted.  A failed or interrupted write
     leaves the old target as it was.
+
+    Parameters
+    ----------
+    path : str or Path
+        The target directory.
+    write : callable
+        ``write(temporary_dir)`` writes the complete directory's contents.
+    force : bool
+        Replace an existing target.
+    is_replaceable : callable
+        ``is_replaceable(path)``: whether an existing directory may be replaced.
+
+    Returns
+    -------
+    Path
+        The target.
     """
     target = check_directory_target(path, force, is_replaceable)
     _remove_orphans(target.parent)

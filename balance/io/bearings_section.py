@@ -1,4 +1,5 @@
-"""The layout file's ``bearings:`` section (CONTRACT §6) and its conversion to main positions.
+"""The layout file's ``bearings:`` section and its conversion to main positions
+(docs/layout-format.md, "Bearing loads").
 
 ::
 
@@ -40,7 +41,7 @@ from balance.io.layout_sections import SectionReader
 from balance.io.problems import FieldProblem
 from balance.io.schema import Length, Strict
 
-__all__ = ["PLANE_TOLERANCE", "SECTION", "BearingsSpec", "check_mains", "main_positions"]
+__all__ = ["PLANE_TOLERANCE", "SECTION", "BearingsSpec", "main_positions"]
 
 #: A main closer than this to a crank pin's plane is in that plane [m].
 PLANE_TOLERANCE = 1e-6
@@ -73,7 +74,20 @@ class BearingsSpec(Strict):
 
 
 def main_positions(spec: BearingsSpec | None, engine: Engine) -> NDArray[np.float64]:
-    """Main-bearing positions [m] of an engine: the section's, or the defaults.
+    """Main-bearing positions of an engine: the section's, or the defaults.
+
+    Parameters
+    ----------
+    spec : BearingsSpec or None
+        The validated ``bearings:`` section, if the layout has one.
+    engine : Engine
+        The engine (its cylinder planes ``z``; for the defaults its pitch and stroke,
+        :func:`balance.core.bearings.engine_default_mains`).
+
+    Returns
+    -------
+    ndarray
+        Main positions [m], strictly increasing.
 
     Raises
     ------
@@ -84,11 +98,23 @@ def main_positions(spec: BearingsSpec | None, engine: Engine) -> NDArray[np.floa
         from balance.core.bearings import engine_default_mains
 
         return engine_default_mains(engine)
-    return check_mains(spec.mains, engine.z)
+    return _check_mains(spec.mains, engine.z)
 
 
-def check_mains(mains: Sequence[float], z: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The mains [m] as an array, none in the plane of a crank pin (cylinder planes ``z``).
+def _check_mains(mains: Sequence[float], z: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The mains as an array, none in the plane of a crank pin.
+
+    Parameters
+    ----------
+    mains : sequence of float
+        Main positions [m].
+    z : ndarray
+        The cylinders' throw planes [m].
+
+    Returns
+    -------
+    ndarray
+        The mains [m].
 
     Raises
     ------

@@ -41,7 +41,9 @@ angles may be bare degrees.  A tolerance is ``±TOL`` (``+-`` and ``+/-`` also a
 
 Every option that takes a quantity reads it through :func:`parse_option_quantity`, so that
 a problem names the option and proposes what to write (``--speed 6000`` -> "give a unit,
-e.g. --speed 6000rpm").
+e.g. --speed 6000rpm").  The command line passes each function its option's name
+(``option="--vary"``); a Python caller gets the parameter's (``vary: conrod_length: 130 has
+no unit; give a unit, e.g. conrod_length=130mm``).
 """
 
 from __future__ import annotations
@@ -78,8 +80,8 @@ __all__ = [
     "Scatter",
     "Vary",
     "check_speed",
+    "check_varies",
     "load_of",
-    "option_error",
     "parse_field",
     "parse_half_orders",
     "parse_option_quantity",
@@ -101,10 +103,20 @@ MAX_ORDER = 1000
 def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -> NDArray[np.intp]:
     """Orders from an int (1..N), a spec string (``"1-8"``, ``"2"``, ``"1,2,4-6"``) or a list.
 
+    Parameters
+    ----------
+    spec : int, str, sequence of int or None
+        The orders as given; None is 1 to :data:`DEFAULT_ORDERS`.
+
+    Returns
+    -------
+    ndarray of int
+        The distinct orders, sorted.
+
     Raises
     ------
     InputError
-        For an empty, malformed or out-of-range spec.
+        For an empty, malformed or out-of-range spec (orders 1 to :data:`MAX_ORDER`).
     """
     if spec is None:
         return np.arange(1, DEFAULT_ORDERS + 1)
@@ -135,7 +147,17 @@ def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -
 
 
 def check_speed(speed: float) -> float:
-    """A crank speed [rad/s] that every analysis can use: finite and above zero.
+    """A crank speed that every analysis can use: finite and above zero.
+
+    Parameters
+    ----------
+    speed : float
+        Crank speed [rad/s].
+
+    Returns
+    -------
+    float
+        The speed [rad/s].
 
     Raises
     ------
@@ -147,12 +169,26 @@ def check_speed(speed: float) -> float:
     return float(speed)
 
 
-def option_error(option: str, problem: ValueError, prefix: str = "") -> InputError:
+def _option_error(option: str, problem: ValueError, prefix: str = "") -> InputError:
     """The :class:`InputError` of a quantity an option could not read.
 
-    ``problem`` is a :class:`balance.io.units.UnitProblem`; a proposed text is written as
-    it would be typed (``--speed 6000rpm``; quoted when the unit has a space), after
-    ``prefix`` (``conrod_length=`` for ``--vary``).
+    A proposed text is written as it would be typed: after the option on the command line
+    (``--speed 6000rpm``; quoted when the unit has a space), after ``prefix`` alone for a
+    Python caller (``conrod_length=130mm``).
+
+    Parameters
+    ----------
+    option : str
+        The option (``--speed``) or parameter (``vary``) the text was given to.
+    problem : ValueError
+        The :class:`balance.io.units.UnitProblem` raised for the text.
+    prefix : str
+        What the value follows (``conrod_length=`` for ``--vary``).
+
+    Returns
+    -------
+    InputError
+        ``"OPTION: [FIELD: ]problem; what is valid"``.
     """
     valid = getattr(problem, "valid", "")
     suggestion = getattr(problem, "suggestion", None)
@@ -161,7 +197,8 @@ def option_error(option: str, problem: ValueError, prefix: str = "") -> InputErr
         number, _, unit = suggestion.partition(" ")
         typed = f"{number}{unit}" if " " not in unit else f"'{suggestion}'"
         if valid.startswith("give a unit"):
-            valid = f"give a unit, e.g. {option} {prefix}{typed}"
+            flag = f"{option} " if option.startswith("-") else ""
+            valid = f"give a unit, e.g. {flag}{prefix}{typed}"
         else:
             valid = valid.replace(f"'{suggestion}'", typed)
     where = f"{option}: {field}: " if field else f"{option}: "
@@ -175,10 +212,26 @@ def parse_option_quantity(
     likely: Callable[[float], str] | None = None,
     prefix: str = "",
 ) -> float:
-    """A command-line quantity of unit kind ``kind`` in SI (degrees for angles).
+    """A quantity given to an option, in SI (degrees for angles).
 
-    ``prefix`` is what the value follows on the command line (``conrod_length=`` for
-    ``--vary``), for the message (:func:`option_error`).
+    Parameters
+    ----------
+    text : str
+        The quantity as written, with its unit (``7000rpm``, ``2.0 L``).
+    kind : str
+        The unit kind (:data:`balance.io.units.KINDS`).
+    option : str
+        The option (``--displacement``) or parameter it was given to, for the message.
+    likely : callable, optional
+        The unit proposed for a bare number (:func:`balance.io.units.likely_unit` by
+        default).
+    prefix : str
+        What the value follows (``conrod_length=`` for ``--vary``), for the message.
+
+    Returns
+    -------
+    float
+        The value in SI (degrees for angles).
 
     Raises
     ------
@@ -192,13 +245,24 @@ def parse_option_quantity(
     try:
         return parse_quantity(text, kind, likely)
     except UnitProblem as exc:
-        raise option_error(option, exc, prefix) from None
+        raise _option_error(option, exc, prefix) from None
 
 
-def parse_speed(text: str | None, option: str = "--speed") -> float | None:
-    """The crank speed of a command-line option in rad/s (None when it is not given):
-    read with its unit (``7000rpm``, ``733rad/s``; a bare number is refused with the
-    likely unit proposed) and checked (:func:`check_speed`).
+def parse_speed(text: str | None, option: str = "speed") -> float | None:
+    """A crank speed given as text with its unit (``7000rpm``, ``733rad/s``; a bare number is
+    refused with the likely unit proposed), checked by :func:`check_speed`.
+
+    Parameters
+    ----------
+    text : str or None
+        The speed as written; None when it is not given.
+    option : str
+        The option (``--speed``) or parameter it was given to, for the message.
+
+    Returns
+    -------
+    float or None
+        The speed [rad/s]; None for None.
 
     Raises
     ------
@@ -284,8 +348,22 @@ def _valid_fields() -> str:
     )
 
 
-def parse_field(text: str, layout: Engine, option: str = "--vary") -> Field:
+def parse_field(text: str, layout: Engine, option: str = "vary") -> Field:
     """Read a field name (see the module notes).
+
+    Parameters
+    ----------
+    text : str
+        The field as written (``conrod_length``, ``masses.reciprocating``,
+        ``cylinders[3].throw``).
+    layout : Engine
+        The layout whose field it is (its cylinders, and whether its masses are by part).
+    option : str
+        The option (``--vary``) or parameter (``vary``) it was given to, for the message.
+
+    Returns
+    -------
+    Field
 
     Raises
     ------
@@ -350,7 +428,7 @@ def _quantity(
     """A value of ``field`` for ``option``; a proposal is written as ``FIELD{typed}VALUE``
     for ``--vary`` and ``--scatter`` (``typed``: ``=`` or ``=±``), as the value alone for
     other options."""
-    prefix = f"{field.text}{typed}" if option in ("--vary", "--scatter") else ""
+    prefix = f"{field.text}{typed}" if option.lstrip("-") in ("vary", "scatter") else ""
     return parse_option_quantity(text.strip(), field.kind, option, likely, prefix)
 
 
@@ -370,8 +448,22 @@ def _check_thousands(parts: list[str], field: Field, option: str) -> None:
             )
 
 
-def parse_values(text: str, field: Field, option: str = "--vary") -> FloatArray:
-    """Values of a field from ``start:stop:count`` or ``a,b,c`` (SI, degrees for angles).
+def parse_values(text: str, field: Field, option: str = "vary") -> FloatArray:
+    """Values of a field from ``start:stop:count`` or ``a,b,c``.
+
+    Parameters
+    ----------
+    text : str
+        The values as written, each with its unit (angles may be bare degrees).
+    field : Field
+        The field they are for (its unit kind).
+    option : str
+        The option (``--vary``) or parameter (``vary``) they were given to, for the message.
+
+    Returns
+    -------
+    ndarray
+        The values in SI (degrees for angles).
 
     Raises
     ------
@@ -421,21 +513,52 @@ class Vary:
         return self.field.name
 
 
-def parse_vary(text: str, layout: Engine) -> Vary:
-    """Read ``FIELD=VALUES`` (see :func:`parse_field`, :func:`parse_values`)."""
+def parse_vary(text: str, layout: Engine, option: str = "vary") -> Vary:
+    """Read ``FIELD=VALUES`` (see :func:`parse_field`, :func:`parse_values`).
+
+    Parameters
+    ----------
+    text : str
+        The varied field as written (``conrod_length=130mm:160mm:31``).
+    layout : Engine
+        The layout swept.
+    option : str
+        The option (``--vary``) or parameter (``vary``) it was given to, for the message.
+
+    Returns
+    -------
+    Vary
+
+    Raises
+    ------
+    InputError
+        If the text is malformed, names no numeric field, or gives bad values.
+    """
     if "=" not in text:
         raise InputError(
-            f"--vary: cannot read {text!r}; write FIELD=start:stop:count, e.g. "
+            f"{option}: cannot read {text!r}; write FIELD=start:stop:count, e.g. "
             "conrod_length=130mm:160mm:31"
         )
     name, _, spec = text.partition("=")
-    field = parse_field(name, layout)
-    return Vary(field, parse_values(spec, field))
+    field = parse_field(name, layout, option)
+    return Vary(field, parse_values(spec, field, option))
 
 
-def check_varies(varies: list[Vary]) -> list[Vary]:
+def check_varies(varies: list[Vary], option: str = "vary") -> list[Vary]:
     """Check the fields of a sweep together: each once, finite values in range, a grid
     of at most :data:`MAX_POINTS` points.
+
+    Parameters
+    ----------
+    varies : list of Vary
+        The varied fields.
+    option : str
+        The option (``--vary``) or parameter (``vary``) they were given to, for the message.
+
+    Returns
+    -------
+    list of Vary
+        ``varies``, checked.
 
     Raises
     ------
@@ -445,27 +568,27 @@ def check_varies(varies: list[Vary]) -> list[Vary]:
     names = [v.dim for v in varies]
     for name in names:
         if names.count(name) > 1:
-            raise InputError(f"--vary: {name} is varied twice; give it once")
+            raise InputError(f"{option}: {name} is varied twice; give it once")
     if not varies:
-        raise InputError("--vary: give at least one field to vary")
+        raise InputError(f"{option}: give at least one field to vary")
     for v in varies:
         if v.values.ndim != 1 or v.values.size == 0 or not np.all(np.isfinite(v.values)):
-            raise InputError(f"--vary: {v.field.text}: values must be finite numbers")
-        _check_values(v)
+            raise InputError(f"{option}: {v.field.text}: values must be finite numbers")
+        _check_values(v, option)
     total = math.prod(v.values.size for v in varies)
     if total > MAX_POINTS:
-        raise InputError(f"--vary: {total:.3g} grid points; at most {MAX_POINTS:.0e}")
+        raise InputError(f"{option}: {total:.3g} grid points; at most {MAX_POINTS:.0e}")
     return varies
 
 
-def _check_values(v: Vary) -> None:
+def _check_values(v: Vary, option: str) -> None:
     low = float(v.values.min())
     key = v.field.key
     positive = {"speed", "stroke", "crank_radius", "conrod_length"}
     if key in positive and low <= 0:
-        raise InputError(f"--vary: {v.field.text}: values must be above zero, got {low:g}")
+        raise InputError(f"{option}: {v.field.text}: values must be above zero, got {low:g}")
     if key in {"reciprocating", "rotating"} and low < 0:
-        raise InputError(f"--vary: {v.field.text}: masses cannot be negative, got {low:g}")
+        raise InputError(f"{option}: {v.field.text}: masses cannot be negative, got {low:g}")
 
 
 @dataclass(frozen=True)
@@ -476,8 +599,22 @@ class Scatter:
     tolerance: float
 
 
-def parse_scatter(text: str, layout: Engine) -> Scatter:
+def parse_scatter(text: str, layout: Engine, option: str = "scatter") -> Scatter:
     """Read ``FIELD=±TOL`` (e.g. ``masses.reciprocating=±3g``).
+
+    Parameters
+    ----------
+    text : str
+        The scattered field as written.
+    layout : Engine
+        The layout scattered.
+    option : str
+        The option (``--scatter``) or parameter (``scatter``) it was given to, for the
+        message.
+
+    Returns
+    -------
+    Scatter
 
     Raises
     ------
@@ -486,7 +623,7 @@ def parse_scatter(text: str, layout: Engine) -> Scatter:
     """
     if "=" not in text:
         raise InputError(
-            f"--scatter: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
+            f"{option}: cannot read {text!r}; write FIELD=±TOL, e.g. reciprocating=±3g"
         )
     name, _, spec = text.partition("=")
     key = name.strip()
@@ -494,10 +631,10 @@ def parse_scatter(text: str, layout: Engine) -> Scatter:
         attribute, kind = CYLINDER_FIELDS[key]
         field = Field(key, key, attribute, kind, key, None)
     else:
-        field = parse_field(name, layout, option="--scatter")
+        field = parse_field(name, layout, option)
     if field.attribute in {"speed", "reference_z"}:
         raise InputError(
-            f"--scatter: '{name.strip()}' is not a part or geometry field of a cylinder; "
+            f"{option}: '{name.strip()}' is not a part or geometry field of a cylinder; "
             "scatter masses, stroke, conrod_length, offset, z, throw or bank"
         )
     spec = spec.strip()
@@ -506,10 +643,10 @@ def parse_scatter(text: str, layout: Engine) -> Scatter:
             spec = spec[len(prefix) :]
             break
     else:
-        raise InputError(f"--scatter: {field.text}: write the tolerance as ±TOL, e.g. ±3g")
-    tol = _quantity(spec, field, "--scatter", _tolerance_unit(field.kind), "=±")
+        raise InputError(f"{option}: {field.text}: write the tolerance as ±TOL, e.g. ±3g")
+    tol = _quantity(spec, field, option, _tolerance_unit(field.kind), "=±")
     if not tol >= 0:
-        raise InputError(f"--scatter: {field.text}: the tolerance must not be negative")
+        raise InputError(f"{option}: {field.text}: the tolerance must not be negative")
     return Scatter(field, tol)
 
 

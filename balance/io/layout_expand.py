@@ -184,7 +184,7 @@ def _link_comments(layout: Engine) -> str:
     if not layout.has_links:
         return ""
     assert layout.links is not None
-    from balance.core.links import dead_centres
+    from balance.core.cylinders import dead_centres
 
     stroke, tdc = dead_centres(
         layout.throw,

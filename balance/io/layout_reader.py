@@ -94,14 +94,49 @@ def read_document(source: str | Path) -> SourceDocument:
 
 
 def layout_from_text(text: str, file: str = "<input>") -> Engine:
-    """Build a layout from YAML text (see :func:`load_layout`)."""
+    """Build a layout from YAML text (see :func:`load_layout`).
+
+    Parameters
+    ----------
+    text : str
+        The layout file's text.
+    file : str
+        The name the messages give the text.
+
+    Returns
+    -------
+    Engine
+
+    Raises
+    ------
+    LayoutError
+        For every problem of the text (several at once as
+        :class:`~balance.core.errors.LayoutErrors`).
+    """
     return build_layout(parse_yaml(text, file))[1]
 
 
 def layout_from_dict(data: dict[str, Any], file: str = "<dict>") -> Engine:
     """Build a layout from plain data shaped like a layout file, read by the file's rules:
     a dimensional quantity is text with its unit (``"86 mm"``); a bare number other than 0
-    is refused, as in a file (see :func:`load_layout`)."""
+    is refused, as in a file (see :func:`load_layout`).
+
+    Parameters
+    ----------
+    data : dict
+        The layout's keys and values, as YAML would give them.
+    file : str
+        The name the messages give the data.
+
+    Returns
+    -------
+    Engine
+
+    Raises
+    ------
+    LayoutError
+        For every problem of the data.
+    """
     return build_layout(SourceDocument(data=data, file=file))[1]
 
 
@@ -426,7 +461,7 @@ def _gas(
     links: Links | None = None,
 ) -> GasInput:
     """Resolve the ``gas:`` and ``flywheel:`` sections: read the trace, place firing TDCs."""
-    from balance.core.links import dead_centre_lag
+    from balance.core.cylinders import dead_centre_lag
 
     section = spec.gas
     assert section is not None
@@ -569,7 +604,9 @@ def _link_error(
     return LayoutError(message, doc.location(path), field=dotted_path(path), valid=valid)
 
 
-_SHARED = "a link cylinder shares its master's throw and z (CONTRACT §5)"
+_SHARED = (
+    "a link cylinder shares its master's throw and z (docs/layout-format.md, 'Articulated rods')"
+)
 
 
 def _link_masters(

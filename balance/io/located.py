@@ -31,7 +31,7 @@ from balance.io.problems import FieldProblem
 from balance.io.units import UnitProblem
 from balance.io.yamlsource import SourceDocument, dotted_path
 
-__all__ = ["Hints", "Path", "located_errors", "problem_error", "validate"]
+__all__ = ["Hints", "Path", "problem_error", "validate"]
 
 Path = tuple[str | int, ...]
 M = TypeVar("M", bound=BaseModel)
@@ -101,11 +101,11 @@ def validate(
     try:
         return model.model_validate(data), []
     except ValidationError as exc:
-        errors = located_errors(exc, doc, model, prefix, hints, also)
+        errors = _located_errors(exc, doc, model, prefix, hints, also)
     return None, errors  # outside the handler: the ValidationError is no part of the report
 
 
-def located_errors(
+def _located_errors(
     exc: ValidationError,
     doc: SourceDocument,
     model: type[BaseModel],
@@ -113,8 +113,14 @@ def located_errors(
     hints: Hints = _NO_HINTS,
     also: Sequence[str] = (),
 ) -> list[LayoutError]:
-    """Every problem of a failed validation of ``model``, located in the file (see
-    :func:`validate` for the parameters).
+    """Every problem of a failed validation of ``model``, located in the file.
+
+    Parameters
+    ----------
+    exc : pydantic.ValidationError
+        The failed validation.
+    doc, model, prefix, hints, also
+        As for :func:`validate`.
 
     Returns
     -------

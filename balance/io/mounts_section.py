@@ -1,15 +1,15 @@
-"""The ``mounts:`` section: the powertrain's mass, inertia and mounts (``CONTRACT`` §7).
+"""The ``mounts:`` section: the powertrain's mass, inertia and mounts
+(docs/layout-format.md, "The engine on its mounts").
 
-:class:`MountsSpec` is the section's pydantic model (quantities read with units, like the
-rest of the layout file: lengths, a mass, inertias, stiffnesses in ``N/mm`` or ``N/m``,
-dampings in ``N s/m``; a bare number other than 0 is refused, ``CONTRACT`` §3).
-:func:`mount_system` turns a validated
-section into a :class:`balance.core.mounts.MountSystem`.  :func:`load_mounts` reads a
-standalone mounts file (``--mounts FILE``): the section's keys at the top level, or the
-section under ``mounts:``.  Every problem is a :class:`~balance.core.errors.LayoutError`
-naming file, line, field and what would be valid (:mod:`balance.io.located`, as for every
-section).  :data:`SECTION` is the section's entry in the layout reader's registry
-(:mod:`balance.io.layout_sections`).
+:class:`MountsSpec` is the section's pydantic model (quantities read with units, like the rest of
+the layout file: lengths, a mass, inertias, stiffnesses in ``N/mm`` or ``N/m``, dampings in ``N
+s/m``; a bare number other than 0 is refused, docs/layout-format.md, "Quantities and units").
+:func:`mount_system` turns a validated section into a
+:class:`balance.core.mounts.MountSystem`.  :func:`load_mounts` reads a standalone mounts file
+(``--mounts FILE``): the section's keys at the top level, or the section under ``mounts:``.  Every
+problem is a :class:`~balance.core.errors.LayoutError` naming file, line, field and what would be
+valid (:mod:`balance.io.located`, as for every section).  :data:`SECTION` is the section's entry in
+the layout reader's registry (:mod:`balance.io.layout_sections`).
 """
 
 from __future__ import annotations
@@ -83,7 +83,7 @@ def _per_unit(
     value: Any, what: str, si: str, units: dict[str, float], example: str, likely: str
 ) -> float:
     """A stiffness or damping [SI] from text with a unit; a bare number other than 0 is
-    refused with the likely unit proposed (``CONTRACT`` §3)."""
+    refused with the likely unit proposed (docs/layout-format.md, "Quantities and units")."""
     valid = f"give {what} with a unit, e.g. {example}"
     if isinstance(value, bool) or not isinstance(value, int | float | str):
         shown = "a list" if isinstance(value, list) else repr(value)
@@ -214,7 +214,7 @@ class MountPointSpec(Strict):
 
 
 class MountsSpec(Strict):
-    """The ``mounts:`` section (``CONTRACT`` §7)."""
+    """The ``mounts:`` section (docs/layout-format.md, "The engine on its mounts")."""
 
     mass: Mass
     cg: Point
@@ -317,7 +317,24 @@ def load_mounts(source: str | Path) -> MountSystem:
 
 
 def mounts_from_text(text: str, file: str = "<input>") -> MountSystem:
-    """A mount system from YAML text (see :func:`load_mounts`); ``file`` names it in messages."""
+    """A mount system from YAML text (see :func:`load_mounts`).
+
+    Parameters
+    ----------
+    text : str
+        The mounts file's text: the section's keys at the top level, or a ``mounts:`` mapping.
+    file : str
+        The name the messages give the text.
+
+    Returns
+    -------
+    MountSystem
+
+    Raises
+    ------
+    LayoutError
+        If the text is not a valid mounts section.
+    """
     return _from_document(parse_yaml(text, file))
 
 

@@ -23,7 +23,7 @@ from balance.core.result import Request
 from balance.core.sections import SECTIONS, Section
 from balance.io.fields import check_speed, parse_orders
 
-__all__ = ["MODELS", "SECTION_OPTIONS", "SPEED_MODELS", "build_request", "turned_on"]
+__all__ = ["MODELS", "SECTION_OPTIONS", "SPEED_MODELS", "build_request"]
 
 #: The piston acceleration models, and ``time`` (sampled).
 MODELS = (*kinematics.MODELS, "time")
@@ -43,9 +43,21 @@ SECTION_OPTIONS: dict[str, str] = {
 }
 
 
-def turned_on(section: Section, engine: Engine) -> bool:
-    """Whether ``section`` is computed when a request says nothing of it: a default one,
-    or one whose layout section the engine has."""
+def _turned_on(section: Section, engine: Engine) -> bool:
+    """Whether ``section`` is computed when a request says nothing of it.
+
+    Parameters
+    ----------
+    section : Section
+        The section (:data:`balance.core.sections.SECTIONS`).
+    engine : Engine
+        The engine (its ``gas:`` and concern sections).
+
+    Returns
+    -------
+    bool
+        True for a default section, or one whose layout section the engine has.
+    """
     if section.default:
         return True
     if section.layout_key is None:
@@ -173,7 +185,7 @@ def _sections(
         own = {k: v for k, v in own.items() if v is not None}
         with_options = any(_given(v) for v in own.values())
         # an option given turns its section on, unless the section is turned off
-        on = (turned_on(section, engine) or with_options) if value is None else bool(value)
+        on = (_turned_on(section, engine) or with_options) if value is None else bool(value)
         unknown = set(own) - set(section.options)
         if unknown:
             raise InputError(

@@ -60,12 +60,12 @@ __all__ = [
     "GasSpec",
     "GeometrySpec",
     "LayoutSpec",
+    "Length",
     "LinkSpec",
     "MassesSpec",
     "ShaftSpec",
     "Strict",
     "TableSpec",
-    "exactly_one",
     "kg_m2",
     "positive",
     "quantity",
@@ -125,7 +125,18 @@ def quantity(kind: str, likely: Callable[[float], str] | None = None) -> BeforeV
 
 def kg_m2(number: float) -> str:
     """The unit proposed for a bare moment of inertia of a whole body (a flywheel, a
-    powertrain on its mounts): kg m^2 at any size."""
+    powertrain on its mounts): kg m^2 at any size.
+
+    Parameters
+    ----------
+    number : float
+        The bare number (its size does not matter).
+
+    Returns
+    -------
+    str
+        ``"kg m^2"``.
+    """
     return "kg m^2"
 
 
@@ -164,13 +175,28 @@ def positive(value: float | None, name: str, allow_zero: bool = False) -> None:
         raise FieldProblem(f"{name} is {value:g}", f"{name} must be {need}", (name,))
 
 
-def exactly_one(
+def _exactly_one(
     spec: BaseModel, first: str, second: str, example: str, *, at: str = "", what: str = ""
 ) -> None:
     """Raise unless exactly one of the fields ``first`` and ``second`` of ``spec`` is given.
 
-    When both are given the problem is located at ``at`` (``second`` unless named); ``what``
-    replaces ``"first and second"`` in the message.
+    Parameters
+    ----------
+    spec : pydantic.BaseModel
+        The validated part of the file.
+    first, second : str
+        The two fields' names.
+    example : str
+        What would be valid, for the message.
+    at : str
+        The field the problem is located at when both are given (default ``second``).
+    what : str
+        Replaces ``"first and second"`` in the message.
+
+    Raises
+    ------
+    FieldProblem
+        When neither or both are given.
     """
     if (getattr(spec, first) is None) == (getattr(spec, second) is None):
         at = at or second
@@ -303,7 +329,7 @@ class GeometrySpec(TableSpec, rows=placed(GEOMETRY)):
 
     @model_validator(mode="after")
     def _check(self) -> GeometrySpec:
-        exactly_one(
+        _exactly_one(
             self,
             "stroke",
             "crank_radius",
@@ -397,7 +423,7 @@ class CylinderSpec(TableSpec, rows=entry_fields(), entry=True):
 
     @model_validator(mode="after")
     def _check(self) -> CylinderSpec:
-        exactly_one(
+        _exactly_one(
             self,
             "throw",
             "tdc",
@@ -534,7 +560,7 @@ class GasModelSpec(
 
     @model_validator(mode="after")
     def _check(self) -> GasModelSpec:
-        exactly_one(
+        _exactly_one(
             self,
             "heat_released",
             "peak_pressure",
@@ -599,7 +625,7 @@ class GasSpec(Strict):
 
     @model_validator(mode="after")
     def _check(self) -> GasSpec:
-        exactly_one(
+        _exactly_one(
             self,
             "pressure_trace",
             "model",
@@ -619,7 +645,7 @@ class FlywheelSpec(Strict):
 
     @model_validator(mode="after")
     def _check(self) -> FlywheelSpec:
-        exactly_one(
+        _exactly_one(
             self,
             "inertia",
             "speed_fluctuation",
@@ -658,7 +684,7 @@ class LayoutSpec(Strict):
 
     @model_validator(mode="after")
     def _check(self) -> LayoutSpec:
-        exactly_one(
+        _exactly_one(
             self,
             "cylinders",
             "crank",

@@ -4,11 +4,11 @@ Layout files and the command line give quantities as strings with units (``"86 m
 ``"6000 rpm"``).  This module turns each into a float in the unit the core computes in, and
 nothing past it sees a unit.
 
-A dimensional quantity (a length, mass, moment of inertia, speed, pressure or volume)
-written as a bare number is refused, with the unit it most likely has proposed
-(``6000`` for a speed: "give a unit, e.g. '6000 rpm'"; ``CONTRACT`` §3); only 0 may be
-bare.  Angles may be bare numbers, read as degrees; fractions may be bare (0.5 = 50 %),
-but a bare fraction above 2 is refused as a likely percentage (``60`` -> "'60 %'").
+A dimensional quantity (a length, mass, moment of inertia, speed, pressure or volume) written as a
+bare number is refused, with the unit it most likely has proposed (``6000`` for a speed: "give a
+unit, e.g. '6000 rpm'"; docs/layout-format.md, "Quantities and units"); only 0 may be bare.  Angles
+may be bare numbers, read as degrees; fractions may be bare (0.5 = 50 %), but a bare fraction above
+2 is refused as a likely percentage (``60`` -> "'60 %'").
 
 Unit names are read as written.  A name of two or more letters, each of its words two or
 more letters long, whose other capitalisations are no unit of the same kind, is also read
@@ -142,6 +142,18 @@ def likely_unit(number: float, kind: str) -> str:
     more for kg cm^2 (a conrod's is about 20 kg cm^2), smaller ones for kg m^2.
     A field may know better (a powertrain's mass is in kilograms, its inertia in kg m^2):
     see :func:`parse_quantity`'s ``likely``.
+
+    Parameters
+    ----------
+    number : float
+        The bare number as written.
+    kind : str
+        The unit kind expected (:data:`KINDS`).
+
+    Returns
+    -------
+    str
+        The unit, as a user would write it (``"mm"``, ``"g"``, ``"rpm"`` …).
     """
     size = abs(number)
     if kind == "length":
@@ -351,6 +363,11 @@ CASE_MATTERS: dict[str, tuple[tuple[str, ...], str]] = {
 
 def check_thousands(text: str) -> None:
     """Refuse a number written with thousands separators (``13,000 rpm``, ``13 000 rpm``).
+
+    Parameters
+    ----------
+    text : str
+        A quantity as written.
 
     Raises
     ------

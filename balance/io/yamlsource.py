@@ -24,7 +24,6 @@ __all__ = [
     "MAX_DEPTH",
     "MAX_NODES",
     "SourceDocument",
-    "decode_text",
     "dotted_path",
     "parse_yaml",
     "read_yaml_file",
@@ -190,6 +189,18 @@ def _is_tab(text: str, line: int, column: int, problem: str) -> bool:
 
 
 def dotted_path(path: Path) -> str:
+    """A path in the document as the messages write it.
+
+    Parameters
+    ----------
+    path : tuple of (str or int)
+        Keys and 0-based list indices from the document's root.
+
+    Returns
+    -------
+    str
+        The keys joined by dots, list entries numbered from 1 (``cylinders[2].link.master``).
+    """
     text = ""
     for part in path:
         if isinstance(part, int):
@@ -199,8 +210,27 @@ def dotted_path(path: Path) -> str:
     return text
 
 
-def decode_text(raw: bytes, file: str) -> str:
-    """Decode a layout file's bytes as UTF-8, refusing binary and oversized input."""
+def _decode_text(raw: bytes, file: str) -> str:
+    """Decode a layout file's bytes as UTF-8, refusing binary and oversized input.
+
+    Parameters
+    ----------
+    raw : bytes
+        The file's contents.
+    file : str
+        The name the messages give the file.
+
+    Returns
+    -------
+    str
+        The text (a UTF-8 byte order mark dropped).
+
+    Raises
+    ------
+    LayoutError
+        For more than :data:`MAX_BYTES` bytes, a NUL byte, or bytes that are no UTF-8 (with
+        their line and column).
+    """
     if len(raw) > MAX_BYTES:
         raise LayoutError(
             f"file is {len(raw)} bytes, more than the {MAX_BYTES} bytes a layout may have",
@@ -228,10 +258,27 @@ def decode_text(raw: bytes, file: str) -> str:
 def read_yaml_file(path: pathlib.Path, source: str | pathlib.Path, what: str) -> SourceDocument:
     """Read, decode and parse a YAML file (a layout, a mounts file).
 
-    ``source`` is the name the user gave (used in the messages), ``what`` names the kind of
-    file for the message when ``path`` is a directory. A missing, unreadable or directory
-    path is an :class:`~balance.core.errors.InputError`; the text is decoded by
-    :func:`decode_text` and parsed by :func:`parse_yaml`.
+    The text is decoded by :func:`_decode_text` and parsed by :func:`parse_yaml`.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    source : str or pathlib.Path
+        The name the user gave (used in the messages).
+    what : str
+        The kind of file, for the message when ``path`` is a directory (``"layout file"``).
+
+    Returns
+    -------
+    SourceDocument
+
+    Raises
+    ------
+    InputError
+        If the path is missing, unreadable or a directory.
+    LayoutError
+        If the text cannot be decoded or is no YAML.
     """
     if not path.exists():
         raise InputError(f"{source}: no such file")
@@ -241,7 +288,7 @@ def read_yaml_file(path: pathlib.Path, source: str | pathlib.Path, what: str) ->
         raw = path.read_bytes()
     except OSError as exc:
         raise InputError(f"{source}: cannot read ({exc.strerror})") from None
-    return parse_yaml(decode_text(raw, str(source)), str(path))
+    return parse_yaml(_decode_text(raw, str(source)), str(path))
 
 
 def parse_yaml(text: str, file: str = "<input>") -> SourceDocument:

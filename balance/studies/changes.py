@@ -38,8 +38,6 @@ __all__ = [
     "LUMPED",
     "Change",
     "apply_changes",
-    "check_link_fields",
-    "lumped_again",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -84,7 +82,7 @@ def apply_changes(
         and ``reference_z`` as given (arrays for a grid).
     """
     if engine.has_links:
-        check_link_fields(engine, [field for field, _ in changes])
+        _check_link_fields(engine, [field for field, _ in changes])
     new: dict[str, Any] = {}
     parts: dict[str, Any] = {}
     lumped: list[Change] = []
@@ -111,7 +109,7 @@ def apply_changes(
             relump |= attribute == "conrod_length" and engine.mass_parts is not None
     if relump:
         assert engine.mass_parts is not None
-        rec, rot, correction = lumped_again(engine, current("conrod_length"), parts, problem)
+        rec, rot, correction = _lumped_again(engine, current("conrod_length"), parts, problem)
         new.update(
             reciprocating_mass=rec,
             rotating_mass=rot,
@@ -142,7 +140,7 @@ LINK_GEOMETRY = frozenset(
 _ROD_PARTS = frozenset(f.attribute for f in FIELDS if f.group == "rod")
 
 
-def check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:
+def _check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:
     """Refuse the fields that a study cannot change exactly on an engine with link rods.
 
     A study of an engine with link rods keeps its geometry: the link rods' Fourier
@@ -151,6 +149,13 @@ def check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:
     ``reference_z``, the masses by part (engine-wide ``piston_group`` and
     ``crank_unbalance``; any part of one cylinder) and lumped masses of cylinders that are
     not link cylinders.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine studied.
+    fields : sequence of Field
+        The fields the study changes.
 
     Raises
     ------
@@ -193,11 +198,29 @@ def _put(base: ArrayLike, field: Field, value: ArrayLike, n: int, add: bool) -> 
     return np.where(np.arange(n) == field.cylinder, new, old)
 
 
-def lumped_again(
+def _lumped_again(
     layout: Engine, conrod_length: ArrayLike, parts: Mapping[str, ArrayLike], problem: str
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Lumped masses of a by-part layout with some parts (arrays that broadcast) or the
-    conrod length changed, as loading the file would give them.
+    """Lumped masses of a by-part layout with some parts or the conrod length changed, as
+    loading the file would give them.
+
+    Parameters
+    ----------
+    layout : Engine
+        A layout with masses by part.
+    conrod_length : array_like
+        Conrod length per cylinder [m], possibly with grid axes.
+    parts : mapping of str to array_like
+        The changed parts by name (:data:`balance.core.masses.PART_FIELDS`), arrays that
+        broadcast against the cylinders.
+    problem : str
+        The message when a conrod's centre of gravity would lie beyond its small end.
+
+    Returns
+    -------
+    reciprocating, rotating, correction : ndarray
+        Reciprocating and rotating mass [kg] and the conrod inertia correction [kg m^2] per
+        cylinder (:meth:`balance.core.masses.MassParts.lumped`).
 
     Raises
     ------

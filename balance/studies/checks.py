@@ -59,6 +59,20 @@ def tolerance_warnings(
     """The plausibility warnings of a tolerance study: the base layout with each scattered
     field at ±TOL, one warning per rule and field.
 
+    Parameters
+    ----------
+    base : Engine
+        The layout scattered.
+    scatter : sequence of Scatter or str
+        The scattered fields (``reciprocating=±3g``...), as for
+        :func:`balance.studies.tolerance.tolerance`.
+
+    Returns
+    -------
+    tuple of PlausibilityWarning
+        The warnings (:func:`balance.core.plausibility.check_engine`) at the corners of the
+        scatter, each rule once.
+
     Raises
     ------
     InputError

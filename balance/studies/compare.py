@@ -37,6 +37,18 @@ def scale_layout(layout: Engine, factor: float) -> Engine:
 
     Moments of inertia scale with the fifth power.  Forces at the same speed then scale
     with ``factor**4`` and moments with ``factor**5``.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    factor : float
+        The length scale [1], more than zero.
+
+    Returns
+    -------
+    Engine
+        The scaled engine, at the same speed.
     """
     if not (math.isfinite(factor) and factor > 0):
         raise InputError(f"scale factor must be a positive number, got {factor!r}")

@@ -143,6 +143,16 @@ def firing_order(
     Each cylinder reaches TDC at crank angle ``bank - throw`` (mod 360) and fires at that
     angle or 360° later; the order found is the lexicographically smallest starting at
     cylinder 1.
+
+    Parameters
+    ----------
+    cylinder_throws, banks : sequence of float
+        Each cylinder's throw and bank [deg].
+
+    Returns
+    -------
+    tuple of int or None
+        Cylinder numbers (1-based) in firing order; None when no order fires evenly.
     """
     n = len(cylinder_throws)
     interval = 720.0 / n
@@ -214,25 +224,25 @@ def search(
     bank_list = [float(b) for b in banks]
     B = len(bank_list)
     if objective not in OBJECTIVES:
-        raise InputError(f"--objective: {objective!r}; valid: {', '.join(OBJECTIVES)}")
+        raise InputError(f"objective: {objective!r}; valid: {', '.join(OBJECTIVES)}")
     if B < 1 or cylinders < 1 or cylinders % B:
-        raise InputError(f"--cylinders: {cylinders} cylinders cannot be shared out over {B} banks")
+        raise InputError(f"cylinders: {cylinders} cylinders cannot be shared out over {B} banks")
     if not (0 < step <= 360) or abs(360.0 / step - round(360.0 / step)) > 1e-9:
-        raise InputError(f"--step: {step:g} deg does not divide 360 deg; e.g. 30deg")
+        raise InputError(f"step: {step:g} deg does not divide 360 deg; e.g. 30deg")
     if not (0 < rod_ratio < 1):
-        raise InputError(f"--rod-ratio: {rod_ratio:g} is not between 0 and 1")
+        raise InputError(f"rod_ratio: {rod_ratio:g} is not between 0 and 1")
     m = round(360.0 / step)
     T = cylinders // B
     n_split = m ** (B - 1) if (split and B > 1) else 1
     total = m ** (T - 1) * n_split
     if total > _MAX_CANDIDATES:
         raise InputError(
-            f"{total:.3g} arrangements to enumerate; at most {_MAX_CANDIDATES:.0e}: use a "
-            "larger --step or --no-split"
+            f"step: {total:.3g} arrangements to enumerate; at most {_MAX_CANDIDATES:.0e}: use a "
+            "larger step, or no split-pin offsets"
         )
     ks = np.asarray(sorted({int(k) for k in orders}), dtype=np.intp)
     if ks.size == 0 or ks.min() < 1:
-        raise InputError("--orders: give orders from 1, e.g. 1-2")
+        raise InputError("orders: give orders from 1, e.g. 1-2")
     # transverse reflection maps bank j to the bank at -angle (if every bank has one)
     neg = [
         next(

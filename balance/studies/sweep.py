@@ -105,7 +105,7 @@ def variant(layout: Engine, values: Mapping[str, float]) -> Engine:
 
 
 _CG_BEYOND_ROD = (
-    "--vary: the conrod's centre of gravity would lie beyond its small end "
+    "vary: the conrod's centre of gravity would lie beyond its small end "
     "(conrod_cg_to_big_end > conrod_length); keep it between the two ends"
 )
 
@@ -121,6 +121,18 @@ def chunk_slices(shape: Sequence[int], chunk_size: int) -> list[tuple[slice, ...
     does not fit is cut into slabs and the ones before it are taken one index at a time.
     Every chunk is therefore itself a grid, so the varied fields keep their broadcast
     (outer-product) structure inside it.
+
+    Parameters
+    ----------
+    shape : sequence of int
+        The grid's shape.
+    chunk_size : int
+        Most grid points per chunk, 1 or more.
+
+    Returns
+    -------
+    list of tuple of slice
+        One index per chunk, in grid order.
     """
     shape = tuple(int(s) for s in shape)
     size = max(int(chunk_size), 1)
@@ -199,7 +211,7 @@ def _unit_phasors(plan: _Plan, p: dict[str, Any]) -> FreeForces:
             links=plan.layout.links if plan.layout.has_links else None,
         )
     except AnalysisError as exc:
-        raise InputError(f"--vary: some grid points have an impossible geometry: {exc}") from None
+        raise InputError(f"vary: some grid points have an impossible geometry: {exc}") from None
 
 
 def _chunk(
@@ -320,7 +332,7 @@ def _plan(
     roll: bool,
 ) -> _Plan:
     if model not in kinematics.MODELS:
-        raise InputError(f"--model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
+        raise InputError(f"model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
     refuse_variable_speed(layout, "sweep")
     ks = parse_orders(orders)
     return _Plan(layout, tuple(_as_varies(layout, vary)), ks, model, terms, moments, roll)
@@ -388,8 +400,8 @@ def _attrs(plan: _Plan) -> dict[str, Any]:
         "model": plan.model,
         "varied_fields": ";".join(v.field.text for v in plan.varies),
         "balance_version": __version__,
-        "conventions": "balance CONTRACT; values of every analysis as 'balance analyse' gives "
-        "them for the layout with the varied fields set",
+        "conventions": "balance conventions (docs/conventions.md); values of every analysis as "
+        "'balance analyse' gives them for the layout with the varied fields set",
     }
 
 
@@ -464,7 +476,20 @@ def sweep_arrays(
 ) -> tuple[_Plan, dict[str, FloatArray] | None]:
     """Run a sweep chunk by chunk; hand each chunk to ``sink`` or gather it in memory.
 
-    Returns the plan and, without a sink, the full arrays.  See :func:`sweep`.
+    Parameters
+    ----------
+    layout, vary, orders, model, terms, moments, roll, chunk_size, client, progress
+        As for :func:`sweep`.
+    sink : callable, optional
+        ``sink(where, arrays)``: takes each chunk's arrays by variable name, ``where`` its
+        index in the grid (:func:`chunk_slices`); without it the chunks are gathered.
+
+    Returns
+    -------
+    plan : object
+        The sweep's plan: the layout, the checked varied fields, the orders, the model.
+    arrays : dict of ndarray or None
+        Every variable over the whole grid (SI), without a sink; None with one.
     """
     plan = _plan(layout, vary, orders, model, terms, moments, roll)
     chunks = chunk_slices(plan.shape, chunk_size)
@@ -627,11 +652,26 @@ def sweep_to_file(
 def check_output(path: str | Path, force: bool = False, file_format: str | None = None) -> str:
     """Check a sweep's output before the work starts; return its format.
 
+    Parameters
+    ----------
+    path : str or Path
+        The file (``.nc``) or store (``.zarr``) to write.
+    force : bool
+        Replace an existing output.
+    file_format : {'netcdf', 'zarr'}, optional
+        The format, instead of the one the suffix names.
+
+    Returns
+    -------
+    str
+        ``'netcdf'`` or ``'zarr'``.
+
     Raises
     ------
     InputError
         For an unknown suffix, a missing ``zarr`` package, or a target that cannot be
-        written (:mod:`balance.io.atomic`).
+        written (:mod:`balance.io.atomic`; an existing one without ``force`` is
+        :class:`~balance.core.errors.OutputExists`).
     """
     from balance.io.atomic import check_directory_target, check_target
 

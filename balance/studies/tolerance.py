@@ -127,11 +127,11 @@ def tolerance(
     refuse_variable_speed(layout, "tolerance")
     items = [s if isinstance(s, Scatter) else parse_scatter(s, layout) for s in scatter]
     if not items:
-        raise InputError("--scatter: give at least one field to scatter")
+        raise InputError("scatter: give at least one field to scatter")
     if distribution not in {"uniform", "normal"}:
-        raise InputError(f"--distribution: {distribution!r}; valid: uniform, normal")
+        raise InputError(f"distribution: {distribution!r}; valid: uniform, normal")
     if samples < 1:
-        raise InputError("--samples: must be at least 1")
+        raise InputError("samples: must be at least 1")
     ks = parse_orders(orders)
     nominal = compute_phasors(layout, ks, model=model, roll=False)
     added = proposal_phasors(balance_engine(layout, nominal).proposal, layout, ks)
@@ -157,7 +157,7 @@ def tolerance(
             delta = s.field.to_layout_units(draw)
             changes.append((s.field, delta if s.field.cylinder is None else delta[:, None]))
         drawn = apply_changes(fixed, changes, add=True, problem=_CG_BEYOND_ROD)
-        # with link rods, one geometry (check_link_fields): the link path wants it 1-D
+        # with link rods, one geometry (changes._check_link_fields): the link path wants it 1-D
         links = layout.links if layout.has_links else None
         p = {
             name: value
@@ -166,15 +166,13 @@ def tolerance(
             for name, value in engine_cylinders(drawn).items()
         }
         if np.any(p["reciprocating_mass"] < 0) or np.any(p["rotating_mass"] < 0):
-            raise InputError("--scatter: the scatter makes some masses negative; reduce it")
+            raise InputError("scatter: the scatter makes some masses negative; reduce it")
         try:
             unit = free_phasors_of(
                 p, p["z"] - layout.reference_z, ks, model=model, roll=False, links=links
             )
         except AnalysisError as exc:
-            raise InputError(
-                f"--scatter: some samples have an impossible geometry: {exc}"
-            ) from None
+            raise InputError(f"scatter: some samples have an impossible geometry: {exc}") from None
         free = unit.phasors.scaled(w2).free()
         balanced = free + added
         sl = slice(lo, lo + m)
@@ -195,5 +193,5 @@ def tolerance(
 
 
 _CG_BEYOND_ROD = (
-    "--scatter: the scatter puts a conrod's centre of gravity beyond its small end; reduce it"
+    "scatter: the scatter puts a conrod's centre of gravity beyond its small end; reduce it"
 )

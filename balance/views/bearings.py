@@ -1,5 +1,5 @@
 """Views of the ``bearings`` section: crank-pin and main-bearing loads
-(:class:`balance.core.bearings.Bearings`, docs/bearings.md).
+(:class:`balance.core.bearing_loads.Bearings`, docs/bearings.md).
 
 Every function reads a :class:`~balance.core.result.Result` (or the loads of its section)
 and nothing else: the JSON block, the rich tables, the three figures (crank-pin load in
@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from balance.core.bearings import Bearings
+from balance.core.bearing_loads import Bearings
 from balance.views.polar import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -30,16 +30,8 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "PLOTS",
     "REPORT_TITLE",
-    "bearings_json",
-    "bearings_report_section",
-    "bearings_tables",
     "json_block",
-    "plot_internal_moment",
-    "plot_main_loads",
-    "plot_pin_load",
-    "printed",
     "report_section",
-    "strategy_table",
     "tables",
 ]
 
@@ -57,7 +49,7 @@ def _mm(value: float) -> str:
     return f"{value * 1e3:.4g}"
 
 
-def printed(b: Bearings) -> dict[str, np.ndarray]:
+def _printed(b: Bearings) -> dict[str, np.ndarray]:
     """The loads [N] and moments [N m] as tables print them: what is below the rounding of
     their sums is 0 (:func:`balance.views.polar.zero_below_rounding`).
 
@@ -96,8 +88,8 @@ _MOMENTS = ("moment_max", "moment_max_with_proposal")
 
 
 def _main_rows(b: Bearings, v: dict[str, np.ndarray], names: Sequence[str]) -> list[list[str]]:
-    """One row of text per main (tables and report): number, z, then the printed values
-    ``v`` (:func:`printed`) of ``names``, in that order."""
+    """One row of text per main (tables and report): number, z, then the _printed values
+    ``v`` (:func:`_printed`) of ``names``, in that order."""
     return [
         [str(m + 1), _mm(float(b.main_z[m])), *(format_number(float(v[name][m])) for name in names)]
         for m in range(b.main_z.size)
@@ -105,8 +97,8 @@ def _main_rows(b: Bearings, v: dict[str, np.ndarray], names: Sequence[str]) -> l
 
 
 def _pin_rows(b: Bearings, v: dict[str, np.ndarray], angle: bool) -> list[list[str]]:
-    """One row of text per crank pin: number, z, cylinders, the printed values ``v``
-    (:func:`printed`) of the largest load, its crank angle (with ``angle``) and the mean
+    """One row of text per crank pin: number, z, cylinders, the _printed values ``v``
+    (:func:`_printed`) of the largest load, its crank angle (with ``angle``) and the mean
     load."""
     rows = []
     for j in range(b.pin_z.size):
@@ -137,13 +129,25 @@ def _records(columns: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``bearings`` (:func:`bearings_json`)."""
+    """The section's part of the analysis JSON: ``bearings``.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``bearings`` section.
+
+    Returns
+    -------
+    dict
+        ``{"bearings": ...}``: crank pins, mains and internal moments (docs/conventions.md,
+        "Crank-pin and main-bearing loads").
+    """
     loads = _loads(result)
     assert loads is not None
-    return {"bearings": bearings_json(loads)}
+    return {"bearings": _bearings_json(loads)}
 
 
-def bearings_json(b: Bearings) -> dict[str, Any]:
+def _bearings_json(b: Bearings) -> dict[str, Any]:
     """The ``"bearings"`` block of the JSON result (docs/bearings.md)."""
     return {
         "crank_pins": _records(
@@ -172,23 +176,34 @@ def bearings_json(b: Bearings) -> dict[str, Any]:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's tables: the loads (:func:`bearings_tables`) and, when the strategies
-    were compared, :func:`strategy_table`."""
+    """The section's tables: crank-pin loads, main-bearing loads and internal moments, each
+    without and with the proposed counterweights; when the counterweight strategies were
+    compared, the largest loads with each.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``bearings`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
     part = result.part("bearings")
-    out = bearings_tables(part.loads)
+    out = _bearings_tables(part.loads)
     if part.strategies:
-        out += strategy_table(part.strategies)
+        out += _strategy_table(part.strategies)
     return out
 
 
-def bearings_tables(b: Bearings) -> list[RenderableType]:
+def _bearings_tables(b: Bearings) -> list[RenderableType]:
     """Tables: crank-pin loads; main-bearing loads; internal moments; each without and with
     the proposed counterweights."""
     from rich.text import Text
 
     from balance.views.fitted import Column, NumberTable
 
-    v = printed(b)
+    v = _printed(b)
     gas = "with gas forces, over the cycle" if b.gas else "inertia only"
     pins = NumberTable(
         f"Crank-pin loads ({gas})",
@@ -238,14 +253,14 @@ def bearings_tables(b: Bearings) -> list[RenderableType]:
     return [pins, mains, moments, *notes]
 
 
-def strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType]:
+def _strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType]:
     """The counterweight strategies side by side: largest main load and internal moment
     with each one's counterweights (``rows``: strategy name and its bearing loads)."""
     from balance.views.fitted import Column, NumberTable
 
     cells = []
     if rows:
-        base = printed(rows[0][1])
+        base = _printed(rows[0][1])
         cells.append(
             [
                 "none",
@@ -255,7 +270,7 @@ def strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType]
             ]
         )
     for name, b in rows:
-        v = printed(b)
+        v = _printed(b)
         cells.append(
             [
                 name,
@@ -317,7 +332,7 @@ def _polar_diagram(
     ax.set_ylabel(y_label)
 
 
-def plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
+def _plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``pin_load``: polar diagram of each crank-pin load in the crank-fixed frame
     (up: outwards along the throw; right: in the direction of rotation), the textbook chart."""
     b = _loads(result)
@@ -358,7 +373,7 @@ def plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
     return fig
 
 
-def plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
+def _plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``main_loads``: polar diagram of each main bearing's load in the engine
     frame (up: +y, right: +x), without and with the proposed counterweights."""
     b = _loads(result)
@@ -385,7 +400,7 @@ def plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
     return fig
 
 
-def plot_internal_moment(result: Result, *, title: str | None = None) -> Figure:
+def _plot_internal_moment(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``internal_moment``: the largest internal bending moment at each main along
     the crank, without and with the proposed counterweights, and the throw planes."""
     b = _loads(result)
@@ -411,9 +426,9 @@ def plot_internal_moment(result: Result, *, title: str | None = None) -> Figure:
 
 #: The figure kinds of the section.
 PLOTS = {
-    "pin_load": plot_pin_load,
-    "main_loads": plot_main_loads,
-    "internal_moment": plot_internal_moment,
+    "pin_load": _plot_pin_load,
+    "main_loads": _plot_main_loads,
+    "internal_moment": _plot_internal_moment,
 }
 
 #: The heading of the section in the HTML report.
@@ -421,12 +436,24 @@ REPORT_TITLE = "Crank-pin and main-bearing loads"
 
 
 def report_section(result: Result, figures: bool) -> str:
-    """HTML of the report's bearings section, with its three figures."""
+    """HTML of the report's bearings section, with its three figures.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``bearings`` section.
+    figures : bool
+        Include the figures (inline SVG).
+
+    Returns
+    -------
+    str
+    """
     from balance.views.report import escape, html_figure, html_table
 
     loads = _loads(result)
     assert loads is not None
-    html = bearings_report_section(loads, html_table, escape)
+    html = _bearings_report_section(loads, html_table, escape)
     if figures:
         html += "\n" + "\n".join(
             html_figure(result, kind, caption, 95 + n)
@@ -441,14 +468,14 @@ def report_section(result: Result, figures: bool) -> str:
     return html
 
 
-def bearings_report_section(
+def _bearings_report_section(
     b: Bearings,
     table: Callable[..., str],
     escape: Callable[[object], str],
 ) -> str:
     """HTML of the report's bearings section (``table(headers, rows, caption)`` and
     ``escape(text)`` are the report's own helpers)."""
-    v = printed(b)
+    v = _printed(b)
     gas = "with gas forces over the working cycle" if b.gas else "inertia only"
     pins = table(
         ["pin", "z [mm]", "cylinders", "max [N]", "mean [N]"],

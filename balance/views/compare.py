@@ -51,6 +51,19 @@ def comparison_dataset(
     """The analyses of a comparison (:func:`balance.studies.compare.compare_results`)
     stacked along ``layout``, one label and length scale factor each.
 
+    Parameters
+    ----------
+    results : sequence of Result
+        One analysis per layout, with the same orders.
+    labels : sequence of str
+        Each layout's label (its name, or the file when names repeat).
+    scale_factors : sequence of float
+        The length scale applied to each layout [1] (1 without ``displacement``).
+    speed : float, optional
+        The common crank speed asked for [rad/s].
+    displacement : float, optional
+        The common displacement asked for [m^3].
+
     Returns
     -------
     xarray.Dataset
@@ -157,10 +170,21 @@ def _scalar(ds: xr.Dataset, name: str) -> float:
 
 
 def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], list[list[str]]]:
-    """Headers and formatted rows of a comparison (zeros print as 0).
+    r"""Headers and formatted rows of a comparison (zeros print as 0).
 
-    Normalised: peaks per :math:`F_1 = m_{rec} r\\omega^2` and per :math:`F_1 a`, roll per
-    :math:`m_{rec} r^2\\omega^2`.  Absolute: N, N m.
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The comparison (:func:`comparison_dataset`).
+    normalised : bool
+        Peaks per :math:`F_1 = m_{rec} r\omega^2` and per :math:`F_1 a`, roll per
+        :math:`m_{rec} r^2\omega^2`; otherwise absolute, in N and N m.
+
+    Returns
+    -------
+    headers : list of str
+    rows : list of list of str
+        One row per layout.
     """
     ks = [int(k) for k in ds["order"].values]
     suffix = "_normalised" if normalised else ""
@@ -198,7 +222,19 @@ def compare_table(ds: xr.Dataset, normalised: bool = True) -> tuple[list[str], l
 
 
 def markdown_table(headers: list[str], rows: list[list[str]]) -> str:
-    """A GitHub-flavoured Markdown table."""
+    """A GitHub-flavoured Markdown table.
+
+    Parameters
+    ----------
+    headers : list of str
+        The column headers.
+    rows : list of list of str
+        The cells, row by row.
+
+    Returns
+    -------
+    str
+    """
 
     def line(cells: list[str]) -> str:
         return "| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |"
@@ -212,7 +248,18 @@ def markdown_table(headers: list[str], rows: list[list[str]]) -> str:
 
 
 def compare_json(ds: xr.Dataset) -> dict[str, object]:
-    """The comparison as plain data: one entry per layout, in the analysis JSON's shape."""
+    """The comparison as plain data: one entry per layout, in the analysis JSON's shape.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The comparison (:func:`comparison_dataset`).
+
+    Returns
+    -------
+    dict
+        Plain data for ``json.dumps``.
+    """
     entries = []
     for label in ds["layout"].values:
         one = ds.sel(layout=label)
@@ -271,7 +318,19 @@ def _orders(ds: xr.Dataset, prefix: str) -> list[dict[str, Any]]:
 
 
 def compare_csv(headers: list[str], rows: list[list[str]]) -> str:
-    """The table of :func:`compare_table` as CSV."""
+    """The table of :func:`compare_table` as CSV.
+
+    Parameters
+    ----------
+    headers : list of str
+        The column headers.
+    rows : list of list of str
+        The cells, row by row.
+
+    Returns
+    -------
+    str
+    """
     import csv
     import io
 
@@ -291,6 +350,17 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
     values are per each layout's own :math:`F_1 = m_{rec} r\omega^2`, :math:`F_1 a` and
     :math:`m_{rec} r^2\omega^2`; where a layout has no pitch (every cylinder in one plane)
     its moments per :math:`F_1 a` print as ``n/a``, and a note under the table says why.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The comparison (:func:`comparison_dataset`).
+    absolute : bool
+        Print forces in N and moments in N m instead of normalised values.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
     """
     from rich.text import Text
 

@@ -28,6 +28,16 @@ def to_csv(result: Result) -> str:
 
     Columns carry their units in brackets, e.g. ``force_forward_magnitude [N]``.  Roll is
     joined on the same order where the roll orders match the orders.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    str
+        The CSV text, one row per order.
     """
     values = {output.name: output for output in BASE}
     parts = [("force", "N")]

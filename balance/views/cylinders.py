@@ -17,7 +17,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.cylinders import DeadCentres
     from balance.core.result import Result
 
-__all__ = ["cylinder_entries", "cylinders_table", "json_block", "report_columns", "tables"]
+__all__ = ["cylinders_table", "json_block", "report_columns", "tables"]
 
 
 def _part(result: Result) -> DeadCentres:
@@ -25,8 +25,8 @@ def _part(result: Result) -> DeadCentres:
     return part
 
 
-def cylinder_entries(result: Result) -> list[dict[str, Any]]:
-    """The ``cylinders`` list of the JSON (docs/conventions.md, "Link rods"): number,
+def _cylinder_entries(result: Result) -> list[dict[str, Any]]:
+    """The ``cylinders`` list of the JSON (docs/cli.md, "JSON output"): number,
     actual stroke [m], TDC crank angle [deg] in [0, 360); a link cylinder also gets its
     ``link`` (master, pin and rod)."""
     part = _part(result)
@@ -50,12 +50,34 @@ def cylinder_entries(result: Result) -> list[dict[str, Any]]:
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``cylinders``."""
-    return {"cylinders": cylinder_entries(result)}
+    """The section's part of the analysis JSON: ``cylinders``.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``cylinders`` section.
+
+    Returns
+    -------
+    dict
+        ``{"cylinders": [...]}``: each cylinder's number, actual stroke [m], TDC crank angle
+        [deg] in [0, 360), and a link cylinder's ``link`` (docs/cli.md, "JSON output").
+    """
+    return {"cylinders": _cylinder_entries(result)}
 
 
 def cylinders_table(result: Result) -> NumberTable:
-    """Each cylinder's actual stroke and TDC crank angle, and its link rod if it has one."""
+    """Each cylinder's actual stroke and TDC crank angle, and its link rod if it has one.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``cylinders`` section.
+
+    Returns
+    -------
+    NumberTable
+    """
     part = _part(result)
     engine = result.engine
     links = engine.links
@@ -96,7 +118,17 @@ def cylinders_table(result: Result) -> NumberTable:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's table: :func:`cylinders_table`."""
+    """The section's table: :func:`cylinders_table`.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``cylinders`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
     return [cylinders_table(result)]
 
 

@@ -49,15 +49,30 @@ from balance.core.catalogue import Output, outputs_of
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
 
-__all__ = ["build_dataset", "coordinate", "variable"]
+__all__ = ["build_dataset", "variable"]
 
 
 def variable(output: Output, data: Any, result: Any, dims: tuple[str, ...] = ()) -> xr.Variable:
-    """A variable with the output's ``units`` and ``long_name`` (``dims`` in front of its
-    own: a sweep's grid).
+    """A variable with the output's ``units`` and ``long_name``.
 
     The data are always numpy arrays here, so xarray's fast path is safe; it also spares a
     probe for duck-array libraries that would import dask or pint on a cold start.
+
+    Parameters
+    ----------
+    output : Output
+        The output (:class:`balance.core.catalogue.Output`): its dimensions, units and
+        ``long_name``.
+    data : array_like
+        The values, shaped ``dims`` then the output's own dimensions.
+    result : Result
+        The analysis, for a ``long_name`` that depends on it.
+    dims : tuple of str
+        Dimensions in front of the output's own (a sweep's grid).
+
+    Returns
+    -------
+    xarray.Variable
     """
     return xr.Variable(
         (*dims, *output.dims),
@@ -67,8 +82,8 @@ def variable(output: Output, data: Any, result: Any, dims: tuple[str, ...] = ())
     )
 
 
-def coordinate(output: Output, data: Any, result: Any) -> xr.IndexVariable:
-    """An index coordinate built from a pandas Index.
+def _coordinate(output: Output, data: Any, result: Any) -> xr.IndexVariable:
+    """An index _coordinate built from a pandas Index.
 
     (Handing xarray a pandas Index spares it a duck-array check that imports pint, which
     would cost a cold start about 0.1 s.)
@@ -110,7 +125,7 @@ def build_dataset(result: Result) -> xr.Dataset:
         if output.kind == "attr":
             attrs[output.name] = value
         elif output.kind == "coord":
-            coords[output.name] = coordinate(output, value, result)
+            coords[output.name] = _coordinate(output, value, result)
         else:
             data[output.name] = variable(output, value, result)
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)

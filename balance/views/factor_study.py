@@ -16,7 +16,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.proposal import FactorStudy
     from balance.core.result import Result
 
-__all__ = ["json_block", "render_factor_study", "tables"]
+__all__ = ["json_block", "tables"]
 
 
 def _part(result: Result) -> FactorStudy:
@@ -25,7 +25,19 @@ def _part(result: Result) -> FactorStudy:
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``balance_factor_study``."""
+    """The section's part of the analysis JSON: ``balance_factor_study``.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``factor_study`` section.
+
+    Returns
+    -------
+    dict
+        The optimal factor and, per factor, the first-order vertical, horizontal and moment
+        peaks [N, N m].
+    """
     study = _part(result)
     return {
         "balance_factor_study": {
@@ -43,7 +55,7 @@ def json_block(result: Result) -> dict[str, Any]:
     }
 
 
-def render_factor_study(study: FactorStudy) -> list[RenderableType]:
+def _render_factor_study(study: FactorStudy) -> list[RenderableType]:
     """Rich renderables of a balance-factor study: the peaks per factor (and, with the
     bearing loads, the largest main load and internal moment) and the best factor."""
     from rich.text import Text
@@ -76,5 +88,16 @@ def render_factor_study(study: FactorStudy) -> list[RenderableType]:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's tables: :func:`render_factor_study`."""
-    return render_factor_study(_part(result))
+    """The section's tables: the first-order peaks per balance factor (with the bearing loads,
+    the largest main load and internal moment) and the best factor.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``factor_study`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
+    return _render_factor_study(_part(result))

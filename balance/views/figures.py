@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.views import signals as synthesis
+from balance.views import signals
 from balance.views.signals import Quantity, Source
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -475,12 +475,12 @@ def order_signals(
         Which orders are large enough to draw: their peaks
         (:func:`balance.views.signals.peak_of`) not zero next to the largest.
     """
-    ks, forward, backward = synthesis.phasors_of(result, quantity, source)
+    ks, forward, backward = signals.phasors_of(result, quantity, source)
     keep = pick_orders(ks, orders)
     ks, forward, backward = ks[keep], forward[keep], backward[keep]
     divisor, unit, _ = scale_of(result, quantity, normalised)
-    per_order = synthesis.signal_per_order(forward, backward, ks, theta_deg) / divisor
-    peaks = synthesis.peak_of(result, quantity, source)[keep]
+    per_order = signals.signal_per_order(forward, backward, ks, theta_deg) / divisor
+    peaks = signals.peak_of(result, quantity, source)[keep]
     reference = float(np.nansum(peaks)) / divisor
     total = per_order.sum(axis=0)
     return (

@@ -29,7 +29,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from rich.console import Console, ConsoleOptions, RenderableType
     from rich.measure import Measurement
 
-__all__ = ["Column", "NumberTable", "table_width"]
+__all__ = ["Column", "NumberTable"]
 
 
 @dataclass(frozen=True)
@@ -132,7 +132,7 @@ def _greedy(
     return groups
 
 
-def table_width(widths: Sequence[int]) -> int:
+def _table_width(widths: Sequence[int]) -> int:
     """Width of a rich table (heavy head box, edges, one space of padding each side) whose
     columns have these content widths."""
     return sum(widths) + 2 * len(widths) + len(widths) + 1
@@ -187,14 +187,14 @@ class NumberTable:
         narrowest that holds its widest cell and its header in that many lines."""
         tokens = [self.columns[i].tokens() for i in indices]
         floor = [self._floor(i) for i in indices]
-        if table_width(floor) > width:
+        if _table_width(floor) > width:
             return None
         tallest = max((len(_wrap(w, f).split("\n")) for w, f in zip(tokens, floor, strict=True)))
         for lines in range(1, tallest + 1):
             widths = [
                 _narrowest(words, low, lines) for words, low in zip(tokens, floor, strict=True)
             ]
-            if table_width(widths) <= width:
+            if _table_width(widths) <= width:
                 return widths
         return floor  # pragma: no cover - the loop ends at the floor widths
 
@@ -295,5 +295,5 @@ class NumberTable:
 
         cells = self._cell_widths
         full = [max(c, _length(col.header)) for c, col in zip(cells, self.columns, strict=True)]
-        widest = max(table_width(full), _length(self.title))
+        widest = max(_table_width(full), _length(self.title))
         return Measurement(min(widest, options.max_width), min(widest, options.max_width))

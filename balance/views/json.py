@@ -3,7 +3,7 @@
 The free forces are read through the one phasor type
 (:class:`~balance.core.phasors.Phasors`: magnitudes, phases and peaks each formed once);
 each section the result holds adds its block (:mod:`balance.views.sections`).  No xarray.
-The shape is that of docs/conventions.md, "The JSON result".
+The shape is that of docs/cli.md, "JSON output".
 """
 
 from __future__ import annotations
@@ -25,11 +25,9 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "merge",
     "order_entries",
-    "phasor_entries",
     "roll_entries",
     "to_dict",
     "to_json",
-    "warnings_json",
 ]
 
 _num = json_number  # the short name this module uses
@@ -42,8 +40,23 @@ def order_entries(
     peak: ArrayLike,
     normalised: ArrayLike,
 ) -> list[dict[str, Any]]:
-    """Per-order entries from arrays: ``magnitude`` and ``phase`` (order, rotation) with the
-    rotations forward and backward, ``peak`` and ``normalised`` per order."""
+    """Per-order entries from arrays, as the JSON writes a force or a moment.
+
+    Parameters
+    ----------
+    orders : array_like of int
+        The orders.
+    magnitude, phase : array_like
+        Shape (orders, 2): forward and backward magnitude [N or N m] and phase [deg].
+    peak, normalised : array_like
+        Per order: the peak [N or N m] and the peak per its reference [1].
+
+    Returns
+    -------
+    list of dict
+        ``{"order", "forward": {"magnitude", "phase_deg"}, "backward": {...}, "peak",
+        "peak_normalised"}`` per order; a value that is not finite is None.
+    """
     mag = np.asarray(magnitude)
     ph = np.asarray(phase)
     pk = np.asarray(peak)
@@ -60,7 +73,7 @@ def order_entries(
     ]
 
 
-def phasor_entries(phasors: Phasors, quantity: Quantity, reference: float) -> list[dict[str, Any]]:
+def _phasor_entries(phasors: Phasors, quantity: Quantity, reference: float) -> list[dict[str, Any]]:
     """Per-order entries of a force or moment: forward and backward magnitude and phase,
     peak ``|P+| + |P-|`` and peak per ``reference``."""
     peak = phasors.peak(quantity)
@@ -74,7 +87,20 @@ def phasor_entries(phasors: Phasors, quantity: Quantity, reference: float) -> li
 
 
 def roll_entries(orders: ArrayLike, roll: Any) -> list[dict[str, Any]]:
-    """Per-order entries of a roll: amplitude and phase (half orders as floats)."""
+    """Per-order entries of a roll: amplitude and phase (half orders as floats).
+
+    Parameters
+    ----------
+    orders : array_like
+        The roll orders (halves with gas forces).
+    roll : array_like of complex
+        Roll phasors per order [N m].
+
+    Returns
+    -------
+    list of dict
+        ``{"order", "amplitude", "phase_deg"}`` per order [N m, deg].
+    """
     amplitude = np.abs(roll)
     phase = phase_deg(roll)
     return [
@@ -94,15 +120,26 @@ def _rotating(phasors: Phasors, quantity: Quantity, reference: float) -> dict[st
 
 
 def to_dict(result: Result) -> dict[str, Any]:
-    """The result as plain data in the JSON shape of docs/conventions.md (SI units,
+    """The result as plain data in the JSON shape of docs/cli.md, "JSON output" (SI units,
     degrees): the free forces, moments and roll, a block per section the result holds, and
-    the plausibility warnings as ``warnings`` (:func:`warnings_json`)."""
+    the plausibility warnings as ``warnings`` (:func:`_warnings_json`).
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    dict
+        Plain data (dicts, lists, numbers, strings) for ``json.dumps``.
+    """
     p = result.phasors
     rotating = {"force": _rotating(p, "force", result.reference_force)}
-    reciprocating = {"force": phasor_entries(p, "force", result.reference_force)}
+    reciprocating = {"force": _phasor_entries(p, "force", result.reference_force)}
     if result.has_moments:
         rotating["moment"] = _rotating(p, "moment", result.reference_moment)
-        reciprocating["moment"] = phasor_entries(p, "moment", result.reference_moment)
+        reciprocating["moment"] = _phasor_entries(p, "moment", result.reference_moment)
     model = result.model
     out: dict[str, Any] = {
         "schema": SCHEMA,
@@ -129,7 +166,7 @@ def to_dict(result: Result) -> dict[str, Any]:
         block = getattr(views, "json_block", None)
         if block is not None:
             merge(out, block(result))
-    out["warnings"] = warnings_json(result)
+    out["warnings"] = _warnings_json(result)
     return out
 
 
@@ -151,12 +188,25 @@ def merge(out: dict[str, Any], block: dict[str, Any]) -> None:
             out[key] = value
 
 
-def warnings_json(result: Result) -> list[dict[str, str]]:
+def _warnings_json(result: Result) -> list[dict[str, str]]:
     """The plausibility warnings: ``[{"rule": ..., "field": ..., "message": ...}]``
     (:mod:`balance.core.plausibility`), an empty list when there are none."""
     return [{"rule": w.rule, "field": w.field, "message": w.message} for w in result.warnings]
 
 
 def to_json(result: Result, indent: int | None = 2) -> str:
-    """The analysis JSON text of a result (:func:`to_dict`)."""
+    """The analysis JSON text of a result (:func:`to_dict`).
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    indent : int or None
+        Spaces per level; None for one line.
+
+    Returns
+    -------
+    str
+        The JSON text (docs/cli.md, "JSON output").
+    """
     return json.dumps(to_dict(result), indent=indent, allow_nan=False) + "\n"

@@ -28,13 +28,8 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "PLOTS",
     "REPORT_TITLE",
-    "crossing_entries",
     "json_block",
-    "mounts_json",
-    "mounts_report_section",
-    "mounts_tables",
     "plot_mount_sweep",
-    "plot_mounts",
     "report_section",
     "sweep_csv",
     "sweep_json",
@@ -58,11 +53,22 @@ def _share(value: float) -> str:
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``mounts`` (:func:`mounts_json`)."""
-    return {"mounts": mounts_json(_part(result).response)}
+    """The section's part of the analysis JSON: ``mounts``.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``mounts`` section.
+
+    Returns
+    -------
+    dict
+        ``{"mounts": ...}`` (docs/conventions.md, "The engine on its mounts").
+    """
+    return {"mounts": _mounts_json(_part(result).response)}
 
 
-def mounts_json(m: MountsResult) -> dict[str, Any]:
+def _mounts_json(m: MountsResult) -> dict[str, Any]:
     """The ``mounts`` block of the analysis JSON (docs/mounts.md), with extras."""
     modes = [
         {
@@ -104,7 +110,7 @@ def mounts_json(m: MountsResult) -> dict[str, Any]:
     }
 
 
-def crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
+def _crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
     """Which order crosses which mode at which speed, within a sweep's speed range."""
     return [
         {
@@ -119,7 +125,20 @@ def crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
 
 def sweep_json(m: MountsResult, layout: str) -> dict[str, Any]:
     """A speed sweep (``balance mounts``) as plain data: the largest mount force per order
-    and speed, the modes and the crossings."""
+    and speed, the modes and the crossings.
+
+    Parameters
+    ----------
+    m : MountsResult
+        The response over a range of speeds (:func:`balance.core.mounts.speed_sweep`).
+    layout : str
+        The layout's name.
+
+    Returns
+    -------
+    dict
+        Plain data for ``json.dumps`` (speeds [rpm], forces [N], frequencies [Hz]).
+    """
     largest = m.largest_force  # (S, K)
     return {
         "schema": "balance.mounts_sweep/1",
@@ -128,9 +147,9 @@ def sweep_json(m: MountsResult, layout: str) -> dict[str, Any]:
         "gas": bool(m.gas),
         "speed_rpm": [json_number(w * RPM) for w in m.speed],
         "orders": [order_value(k) for k in m.orders],
-        "modes": mounts_json(_at_first(m))["modes"],
+        "modes": _mounts_json(_at_first(m))["modes"],
         "largest_mount_force_N": [[json_number(v) for v in row] for row in largest.T],
-        "crossings": crossing_entries(m),
+        "crossings": _crossing_entries(m),
     }
 
 
@@ -145,7 +164,18 @@ def _at_first(m: MountsResult) -> MountsResult:
 
 
 def sweep_csv(m: MountsResult) -> str:
-    """A speed sweep as CSV: speed, then the largest mount force of each order [N]."""
+    """A speed sweep as CSV: speed, then the largest mount force of each order.
+
+    Parameters
+    ----------
+    m : MountsResult
+        The response over a range of speeds.
+
+    Returns
+    -------
+    str
+        One row per speed: the speed [rpm] and each order's largest mount force [N].
+    """
     head = "speed_rpm," + ",".join(f"order_{order_value(k)}_N" for k in m.orders)
     rows = [
         f"{w * RPM:.6g}," + ",".join(f"{v:.6g}" for v in row)
@@ -177,11 +207,22 @@ def _modes_table(m: MountsResult) -> NumberTable:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's tables (:func:`mounts_tables`)."""
-    return mounts_tables(_part(result).response)
+    """The section's tables: the modes with their energy shares, the response per order, the
+    torque-roll axis and each mount's distance from it.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``mounts`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
+    return _mounts_tables(_part(result).response)
 
 
-def mounts_tables(m: MountsResult) -> list[RenderableType]:
+def _mounts_tables(m: MountsResult) -> list[RenderableType]:
     """Modes with energy shares, the response per order, the torque-roll axis and each
     mount's distance from it."""
     from rich.text import Text
@@ -249,7 +290,19 @@ def mounts_tables(m: MountsResult) -> list[RenderableType]:
 
 def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
     """A speed sweep: the modes, the largest mount force per order against speed (a row
-    every few speeds), and the crossings."""
+    every few speeds), and the crossings.
+
+    Parameters
+    ----------
+    m : MountsResult
+        The response over a range of speeds.
+    layout : str
+        The layout's name, for the titles.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
     from rich.text import Text
 
     what = "with the proposal" if m.with_proposal else "without balancing masses"
@@ -288,7 +341,7 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
             notes=notes,
         )
     )
-    found = crossing_entries(m)
+    found = _crossing_entries(m)
     if found:
         parts.append(
             NumberTable(
@@ -333,7 +386,21 @@ def _part(result: Result) -> MountsPart:
 
 def plot_mount_sweep(m: MountsResult, *, title: str | None = None, layout: str = "") -> Figure:
     """Largest mount force of each order against speed, with each order's mode crossings
-    (dotted lines at 60 f_j / k rpm) and the mode frequencies in the legend."""
+    (dotted lines at 60 f_j / k rpm) and the mode frequencies in the legend.
+
+    Parameters
+    ----------
+    m : MountsResult
+        The response over a range of speeds.
+    title : str, optional
+        The figure's title; default one naming the layout.
+    layout : str
+        The layout's name.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8.0, 5.0), layout="constrained")
@@ -370,7 +437,7 @@ def plot_mount_sweep(m: MountsResult, *, title: str | None = None, layout: str =
     return fig
 
 
-def plot_mounts(result: Result, *, title: str | None = None) -> Figure:
+def _plot_mounts(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``mounts``: mount force against speed (over the speeds the mounts section
     was asked for; the figure's are :func:`balance.core.mount_loads.figure_speeds`, 0.15 to
     1.3 times the analysis speed) with the mode lines.  Without mounts in the result, or
@@ -399,7 +466,7 @@ def plot_mounts(result: Result, *, title: str | None = None) -> Figure:
 
 
 #: The figure kinds of the section.
-PLOTS = {"mounts": plot_mounts}
+PLOTS = {"mounts": _plot_mounts}
 
 
 # ---------------------------------------------------------------------------------------
@@ -411,10 +478,22 @@ REPORT_TITLE = "The engine on its mounts"
 
 
 def report_section(result: Result, figures: bool) -> str:
-    """HTML of the report's mounts section, with the mount-force figure."""
+    """HTML of the report's mounts section, with the mount-force figure.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``mounts`` section.
+    figures : bool
+        Include the figure.
+
+    Returns
+    -------
+    str
+    """
     from balance.views.report import escape, html_figure, html_table
 
-    html = mounts_report_section(_part(result).response, html_table, escape)
+    html = _mounts_report_section(_part(result).response, html_table, escape)
     if figures:
         html += "\n" + html_figure(
             result, "mounts", "Largest mount force against speed, with the mode lines", 90
@@ -422,7 +501,7 @@ def report_section(result: Result, figures: bool) -> str:
     return html
 
 
-def mounts_report_section(m: MountsResult, table: Any, escape: Any) -> str:
+def _mounts_report_section(m: MountsResult, table: Any, escape: Any) -> str:
     """HTML of the report's mounts section (``table(headers, rows, caption)`` and
     ``escape(text)`` are the report's own helpers)."""
     modes = table(

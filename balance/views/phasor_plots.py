@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.views import signals as synthesis
+from balance.views import signals
 from balance.views.figures import (
     AxesArg,
     axis_label,
@@ -81,7 +81,22 @@ def phasor_panels(
     """The panels of :func:`plot_phasors` with ``scale="per-order"``: for the force and the
     moment, the orders that have a phasor not zero next to the largest of that quantity
     (:data:`balance.views.figures.ZERO_SHARE`); an empty list draws one panel that says why
-    (zero, not computed)."""
+    (zero, not computed).
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    source : {'reciprocating', 'free', 'residual'}
+        Which phasors (:mod:`balance.views.signals`).
+    orders : iterable of int, optional
+        The orders to consider; default every order of the result.
+
+    Returns
+    -------
+    list of (str, list of int)
+        ``("force", orders)`` and ``("moment", orders)``.
+    """
     return [(p.quantity, p.shown) for p in _panel_phasors(result, source, orders)]
 
 
@@ -90,8 +105,8 @@ class _PanelPhasors(NamedTuple):
 
     quantity: Quantity
     orders: NDArray[np.intp]
-    forward: synthesis.ComplexArray
-    backward: synthesis.ComplexArray
+    forward: signals.ComplexArray
+    backward: signals.ComplexArray
     #: the orders with a panel of their own (:func:`phasor_panels`)
     shown: list[int]
     #: what the one panel of a quantity without any says: not computed, or all zero
@@ -105,10 +120,10 @@ def _panel_phasors(
     the orders of its panels and the note of a panel without any; the phasors are computed
     once for both :func:`phasor_panels` and :func:`plot_phasors`."""
     out = []
-    for quantity in synthesis.QUANTITIES:
-        ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+    for quantity in signals.QUANTITIES:
+        ks, fwd, bwd = signals.phasors_of(result, quantity, source)
         keep = pick_orders(ks, orders)
-        size = synthesis.magnitude_of(result, quantity, source)[keep]  # (orders, 2)
+        size = signals.magnitude_of(result, quantity, source)[keep]  # (orders, 2)
         shown: list[int] = []
         if not np.isnan(size).all():  # computed
             significant = np.asarray(np.asarray(significant_mask(size)).any(axis=1), dtype=bool)
@@ -429,8 +444,8 @@ def _phasors_common(
     with styled():
         fig, axes_list, owned = new_figure(ax, 2, (10.0, 5.4), polar=True, kind="phasors")
         legend_orders: dict[int, Line2D] = {}
-        for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
-            ks, fwd, bwd = synthesis.phasors_of(result, quantity, source)
+        for axes, quantity in zip(axes_list, signals.QUANTITIES, strict=True):
+            ks, fwd, bwd = signals.phasors_of(result, quantity, source)
             divisor, unit, _ = scale_of(result, quantity, normalised)
             fwd, bwd = fwd / divisor, bwd / divisor
             keep = pick_orders(ks, orders)

@@ -56,7 +56,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core.errors import InputError
-from balance.views import signals as synthesis
+from balance.views import signals
 from balance.views.figures import (
     STYLE,
     TOTAL_COLOUR,
@@ -262,17 +262,15 @@ def plot_crank_angle(
     -------
     matplotlib.figure.Figure
     """
-    theta = synthesis.crank_angle_grid(samples)
+    theta = signals.crank_angle_grid(samples)
     with styled():
         fig, axes_list, owned = new_figure(ax, 4, (10.0, 7.0), nrows=2, kind="crank_angle")
-        for row, quantity in enumerate(synthesis.QUANTITIES):
+        for row, quantity in enumerate(signals.QUANTITIES):
             ks, per_order, total, unit, shown = order_signals(
                 result, quantity, source, orders, normalised, theta
             )
             split = (
-                synthesis.transverse_components
-                if quantity == "force"
-                else synthesis.couple_components
+                signals.transverse_components if quantity == "force" else signals.couple_components
             )
             first, second = split(per_order)
             first_total, second_total = split(total)
@@ -344,10 +342,10 @@ def plot_locus(
     -------
     matplotlib.figure.Figure
     """
-    theta = synthesis.crank_angle_grid(samples)
+    theta = signals.crank_angle_grid(samples)
     with styled():
         fig, axes_list, owned = new_figure(ax, 2, (10.5, 5.2), kind="locus")
-        for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
+        for axes, quantity in zip(axes_list, signals.QUANTITIES, strict=True):
             ks, per_order, total, unit, shown = order_signals(
                 result, quantity, source, orders, normalised, theta
             )
@@ -368,7 +366,7 @@ def plot_locus(
             reach = max(float(np.max(np.abs(c[0]), initial=0.0)) for c in curves)
             reach = 1.12 * reach if reach > 0 else 1.0
             for values, colour, width, label in curves:
-                x, y = synthesis.transverse_components(values)
+                x, y = signals.transverse_components(values)
                 axes.plot(x, y, color=colour, lw=width, label=label, zorder=2 if width < 2 else 1)
                 axes.plot([x[0]], [y[0]], "o", color=colour, mfc="white", ms=6)
                 _direction_arrow(axes, x, y, colour, reach)
@@ -442,10 +440,10 @@ def plot_spectrum(
     """
     with styled():
         fig, axes_list, owned = new_figure(ax, 2, (10.0, 4.6), kind="spectrum")
-        for axes, quantity in zip(axes_list, synthesis.QUANTITIES, strict=True):
-            ks, _, _ = synthesis.phasors_of(result, quantity, source)
+        for axes, quantity in zip(axes_list, signals.QUANTITIES, strict=True):
+            ks, _, _ = signals.phasors_of(result, quantity, source)
             divisor, unit, _ = scale_of(result, quantity, normalised)
-            peak = synthesis.peak_of(result, quantity, source) / divisor
+            peak = signals.peak_of(result, quantity, source) / divisor
             name = "peak force" if quantity == "force" else "peak moment"
             order_bars(axes, ks, [(peak, "C0", None)], log=log)
             axes.set_title(name)
@@ -488,19 +486,19 @@ def plot_roll(
     -------
     matplotlib.figure.Figure
     """
-    ks, roll = synthesis.roll_of(result, residual=residual)
+    ks, roll = signals.roll_of(result, residual=residual)
     unit = "N m"
     reference = float(result.reference_roll)
     if normalised and math.isfinite(reference) and reference > 0.0:
         roll = roll / reference
         unit = "per m_rec r² ω²"
     amplitude = np.abs(roll)
-    span = synthesis.roll_span_deg(ks)
-    theta = synthesis.crank_angle_grid(samples, span)
+    span = signals.roll_span_deg(ks)
+    theta = signals.crank_angle_grid(samples, span)
     with styled():
         fig, (torque_axes, bar_axes), owned = new_figure(ax, 2, (10.5, 4.6), kind="roll")
         per_order = denoise(
-            synthesis.roll_signal_per_order(roll, ks, theta), float(np.nansum(amplitude))
+            signals.roll_signal_per_order(roll, ks, theta), float(np.nansum(amplitude))
         )
         shown = significant_mask(amplitude)
         degree_axis(torque_axes, span)
@@ -558,7 +556,23 @@ def section_kinds() -> dict[str, tuple[str, Callable[..., Figure]]]:
 
 
 def plot_kind(kind: str) -> Callable[..., Figure]:
-    """The function that draws figure ``kind`` (:data:`PLOT_KINDS` or a section's)."""
+    """The function that draws a figure kind.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`PLOT_KINDS` or a section's (:func:`all_kinds`).
+
+    Returns
+    -------
+    callable
+        ``function(result, **options) -> Figure``.
+
+    Raises
+    ------
+    InputError
+        For a kind that no figure has, with the kinds there are.
+    """
     if kind in PLOT_KINDS:
         return PLOT_KINDS[kind]
     sections = section_kinds()
@@ -596,7 +610,20 @@ def _agg_canvas(fig: Figure) -> None:
 
 
 def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
-    """A figure as the bytes of a ``png``, ``svg`` or ``pdf`` file (under :data:`STYLE`)."""
+    """A figure as the bytes of a ``png``, ``svg`` or ``pdf`` file (under :data:`STYLE`).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    fmt : {'png', 'svg', 'pdf'}
+        The file format.
+
+    Returns
+    -------
+    bytes
+        The file's contents, without dates (the same figure gives the same bytes).
+    """
     import io
 
     import matplotlib as mpl
@@ -628,7 +655,17 @@ def figure_bytes(fig: Figure, fmt: str = "png") -> bytes:
 def applicable_kinds(result: Result) -> list[str]:
     """The figure kinds that have something to draw for ``result``, in order: those of
     :data:`PLOT_KINDS` (always), then those of every section the result holds whose views
-    draw for it (a views module's ``drawn(result)``, true when it has none)."""
+    draw for it (a views module's ``drawn(result)``, true when it has none).
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    list of str
+    """
     from balance.views.sections import view
 
     def drawn(name: str) -> bool:

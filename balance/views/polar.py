@@ -25,13 +25,33 @@ __all__ = [
 
 
 def json_number(value: Any) -> float | None:
-    """A number as the JSON views write it: a float, or None (null) where it is not finite."""
+    """A number as the JSON views write it: a float, or None (null) where it is not finite.
+
+    Parameters
+    ----------
+    value : number
+        Any real number (numpy scalars included).
+
+    Returns
+    -------
+    float or None
+    """
     number = float(value)
     return number if math.isfinite(number) else None
 
 
 def order_value(order: float) -> float | int:
-    """An order as JSON writes it: a whole number as an int, a half order as a float."""
+    """An order as JSON writes it: a whole number as an int, a half order as a float.
+
+    Parameters
+    ----------
+    order : float
+        The order.
+
+    Returns
+    -------
+    int or float
+    """
     return int(order) if float(order).is_integer() else float(order)
 
 
@@ -61,7 +81,20 @@ def zero_below_rounding(values: ArrayLike, scale: float, n_terms: int) -> NDArra
 
 
 def format_number(value: float, digits: int = 4) -> str:
-    """Compact engineering formatting: 0 stays 0, NaN shows as a dash."""
+    """Compact engineering formatting: 0 stays 0, NaN shows as a dash.
+
+    Parameters
+    ----------
+    value : float
+        The number, in the unit of its column.
+    digits : int
+        Significant digits.
+
+    Returns
+    -------
+    str
+        ``"0"``, ``"-"`` (not finite), or the number to ``digits`` significant digits.
+    """
     if not math.isfinite(value):
         return "-"
     if value == 0.0:

@@ -8,10 +8,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["ProgressBar", "file_size", "sweep_summary"]
+__all__ = ["ProgressBar", "sweep_summary"]
 
 
-def file_size(path: str | Path) -> int:
+def _file_size(path: str | Path) -> int:
     """Bytes of a file, or of every file under a directory (a Zarr store)."""
     target = Path(path)
     if target.is_dir():
@@ -30,13 +30,28 @@ def _bytes(size: int) -> str:
 
 
 def sweep_summary(path: str | Path, dims: Sequence[tuple[str, int]], seconds: float) -> str:
-    """The one line ``balance sweep`` ends with: what was written, how big, how many
-    points and how long it took, e.g. ``balance: wrote s.nc (61.2 kB): 155 points
-    (speed 5 × conrod_length 31) in 0.41 s``."""
+    """The one line ``balance sweep`` ends with: what was written, how big, how many points and
+    how long it took, e.g. ``balance: wrote s.nc (61.2 kB): 155 points (speed 5 ×
+    conrod_length 31) in 0.41 s``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file or store written.
+    dims : sequence of (str, int)
+        Each varied field's dimension and its number of values.
+    seconds : float
+        How long the sweep took [s].
+
+    Returns
+    -------
+    str
+        The line, without its newline.
+    """
     points = math.prod(n for _, n in dims)
     grid = " × ".join(f"{name} {n}" for name, n in dims)
     return (
-        f"balance: wrote {path} ({_bytes(file_size(path))}): {points} point"
+        f"balance: wrote {path} ({_bytes(_file_size(path))}): {points} point"
         f"{'s' if points != 1 else ''} ({grid}) in {seconds:.2f} s"
     )
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from balance.core.errors import InputError
 from balance.core.phasors import phase_deg, safe_ratio
-from balance.views import signals as synthesis
+from balance.views import signals
 from balance.views.figures import (
     BEFORE_COLOUR,
     AxesArg,
@@ -44,9 +44,7 @@ __all__ = [
     "REPORT_TITLE",
     "json_block",
     "plot_balance",
-    "proposal_entries",
     "proposal_summary",
-    "render_proposal",
     "report_section",
     "tables",
 ]
@@ -57,7 +55,7 @@ def _part(result: Result) -> ProposalResult:
     return part
 
 
-def proposal_entries(proposal: Proposal) -> dict[str, Any]:
+def _proposal_entries(proposal: Proposal) -> dict[str, Any]:
     """The proposal's settings, notes, counterweights and balance shafts as JSON data."""
     counterweights = [
         {
@@ -116,10 +114,22 @@ def _residual_peaks(result: Result, quantity: Any, reference: float) -> list[dic
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``proposal`` with its ``residual``."""
+    """The section's part of the analysis JSON: ``proposal`` with its ``residual``.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``proposal`` section.
+
+    Returns
+    -------
+    dict
+        The counterweights, balance shafts and notes, and the residual force and moment peaks
+        and roll per order.
+    """
     part = _part(result)
     return {
-        "proposal": proposal_entries(part.proposal)
+        "proposal": _proposal_entries(part.proposal)
         | {
             "residual": {
                 "force": _residual_peaks(result, "force", result.reference_force),
@@ -130,7 +140,7 @@ def json_block(result: Result) -> dict[str, Any]:
     }
 
 
-def render_proposal(result: Result) -> list[RenderableType]:
+def _render_proposal(result: Result) -> list[RenderableType]:
     """Rich renderables of the balancing proposal and its residual: a line of the choices,
     the proposal's notes (one line each), the counterweights, the balance shafts and the
     residual."""
@@ -245,8 +255,19 @@ def render_proposal(result: Result) -> list[RenderableType]:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's tables: :func:`render_proposal`."""
-    return render_proposal(result)
+    """The section's tables: a line of the choices, the proposal's notes, the counterweights,
+    the balance shafts and the residual.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``proposal`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
+    return _render_proposal(result)
 
 
 #: The heading of the section in the HTML report.
@@ -450,23 +471,23 @@ def plot_balance(
     InputError
         If the result holds no proposal.
     """
-    if not synthesis.has_proposal(result):
+    if not signals.has_proposal(result):
         raise InputError(
             "plot_balance: this result has no balancing proposal; analyse with the proposal "
             "enabled (Request(proposal=True), the default, with moments and roll)"
         )
-    theta = synthesis.crank_angle_grid(samples)
+    theta = signals.crank_angle_grid(samples)
     with styled():
         fig, axes_list, owned = new_figure(ax, 6, (13.0, 7.6), nrows=2, kind="balance")
-        for col, quantity in enumerate(synthesis.QUANTITIES):
+        for col, quantity in enumerate(signals.QUANTITIES):
             divisor, unit, _ = scale_of(result, quantity, normalised)
-            ks, bf, bb = synthesis.phasors_of(result, quantity, "free")
-            _, af, ab = synthesis.phasors_of(result, quantity, "residual")
-            before_peak = synthesis.peak_of(result, quantity, "free")
-            after_peak = synthesis.peak_of(result, quantity, "residual")
+            ks, bf, bb = signals.phasors_of(result, quantity, "free")
+            _, af, ab = signals.phasors_of(result, quantity, "residual")
+            before_peak = signals.peak_of(result, quantity, "free")
+            after_peak = signals.peak_of(result, quantity, "residual")
             reference = float(np.nansum(before_peak)) / divisor
-            before = denoise(synthesis.phasor_signal(bf, bb, ks, theta) / divisor, reference)
-            after = denoise(synthesis.phasor_signal(af, ab, ks, theta) / divisor, reference)
+            before = denoise(signals.phasor_signal(bf, bb, ks, theta) / divisor, reference)
+            after = denoise(signals.phasor_signal(af, ab, ks, theta) / divisor, reference)
             name = "force |F|" if quantity == "force" else "moment |Σ Δz·F|"
             top = axes_list[col]
             degree_axis(top)
@@ -495,17 +516,17 @@ def plot_balance(
             )
             bottom.set_ylabel(axis_label("peak", unit))
             bottom.legend(loc="upper right")
-        rk, roll = synthesis.roll_of(result)
-        _, residual_roll = synthesis.roll_of(result, residual=True)
+        rk, roll = signals.roll_of(result)
+        _, residual_roll = signals.roll_of(result, residual=True)
         ra, qa = np.abs(roll), np.abs(residual_roll)
-        span = synthesis.roll_span_deg(rk)
-        roll_theta = synthesis.crank_angle_grid(samples, span)
+        span = signals.roll_span_deg(rk)
+        roll_theta = signals.crank_angle_grid(samples, span)
         top = axes_list[2]
         degree_axis(top, span)
         roll_reference = float(np.nansum(ra))
         top.plot(
             roll_theta,
-            denoise(synthesis.roll_signal(roll, rk, roll_theta), roll_reference),
+            denoise(signals.roll_signal(roll, rk, roll_theta), roll_reference),
             color=BEFORE_COLOUR,
             ls="--",
             lw=1.8,
@@ -514,7 +535,7 @@ def plot_balance(
         )
         top.plot(
             roll_theta,
-            denoise(synthesis.roll_signal(residual_roll, rk, roll_theta), roll_reference),
+            denoise(signals.roll_signal(residual_roll, rk, roll_theta), roll_reference),
             color="C4",
             lw=2.2,
             label="after (with shafts)",
@@ -529,7 +550,19 @@ def plot_balance(
 
 
 def proposal_summary(result: Result) -> str:
-    """One line describing the proposal of a result (strategy, orders, masses)."""
+    """One line describing the proposal of a result (strategy, orders, masses), as the
+    ``balance`` figure's title and the docs' gallery give it.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    str
+        ``"no balancing proposal"`` when the result has none.
+    """
     part = result.part("proposal")
     if part is None:
         return "no balancing proposal"

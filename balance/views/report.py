@@ -27,7 +27,7 @@ from balance.core.accuracy import series_parameters
 from balance.core.catalogue import CONVENTIONS, SCHEMA, speed_rpm
 from balance.core.phasors import phase_deg, safe_ratio
 from balance.core.sections import names
-from balance.views import signals as synthesis
+from balance.views import signals
 from balance.views.polar import format_number
 from balance.views.sections import VIEWS, view, views_of
 from balance.views.signals import Quantity
@@ -44,7 +44,6 @@ __all__ = [
     "html_figure",
     "html_table",
     "render_report",
-    "svg_fragment",
     "write_report",
 ]
 
@@ -90,6 +89,17 @@ footer { margin-top: 3em; color: #666; font-size: 0.85em; }
 
 
 def escape(text: object) -> str:
+    """Text for HTML: ``&``, ``<``, ``>`` and quotes escaped.
+
+    Parameters
+    ----------
+    text : object
+        Anything; its ``str()`` is escaped.
+
+    Returns
+    -------
+    str
+    """
     return html.escape(str(text), quote=True)
 
 
@@ -111,8 +121,23 @@ def html_table(
 ) -> str:
     """An HTML table; headers and cells are plain text (escaped here).
 
-    ``groups``: an optional first header row of (label, number of columns) spans, labelling
-    groups of columns (an empty label leaves its columns unlabelled)."""
+    Parameters
+    ----------
+    headers : sequence of str
+        The column headers.
+    rows : iterable of sequence of str
+        The cells, row by row.
+    caption : str
+        The table's caption (none when empty).
+    groups : sequence of (str, int)
+        An optional first header row of (label, number of columns) spans, labelling groups of
+        columns (an empty label leaves its columns unlabelled).
+
+    Returns
+    -------
+    str
+        The ``<table>`` element.
+    """
     out = ["<table>"]
     if caption:
         out.append(f"<caption>{escape(caption)}</caption>")
@@ -161,7 +186,7 @@ _METADATA = re.compile(r"<metadata>.*?</metadata>\s*", re.S)
 _ID = re.compile(r'\bid="([^"]+)"')
 
 
-def svg_fragment(svg: str, prefix: str) -> str:
+def _svg_fragment(svg: str, prefix: str) -> str:
     """Make a matplotlib SVG file fit to be inlined in an HTML page.
 
     Removes the XML prolog, the DOCTYPE (which names an external DTD), comments and
@@ -197,11 +222,30 @@ def svg_fragment(svg: str, prefix: str) -> str:
 
 
 def html_figure(result: Result, kind: str, caption: str, number: int) -> str:
+    """A figure of the result as inline SVG in a ``<figure>`` with its caption.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    kind : str
+        The figure kind (:func:`balance.views.plots.plot_kind`).
+    caption : str
+        The caption, also the SVG's accessible label.
+    number : int
+        A number unique in the report, prefixed to the SVG's ids so that figures do not
+        share them.
+
+    Returns
+    -------
+    str
+        The ``<figure>`` element.
+    """
     from balance.views.plots import figure_bytes, plot_kind
 
     fig = plot_kind(kind)(result)
     svg = figure_bytes(fig, "svg").decode("utf-8")
-    fragment = svg_fragment(svg, f"f{number}-")
+    fragment = _svg_fragment(svg, f"f{number}-")
     label = f'role="img" aria-label="{escape(caption)}" '
     fragment = fragment.replace("<svg ", f"<svg {label}", 1)
     caption_html = f"<figcaption>{escape(caption)}</figcaption>"
@@ -258,7 +302,7 @@ def accuracy_statement(result: Result) -> str:
     else:
         text = f"Model {model!r}."
     if engine.has_links:
-        text += " Link rods hang on master rods (CONTRACT §5): " + (
+        text += " Link rods hang on master rods (docs/layout-format.md, 'Articulated rods'): " + (
             "their pistons and link pins follow the exact link kinematics."
             if model in ("exact", "time")
             else "this model treats each link piston as a plain slider on the crank pin "
@@ -433,7 +477,7 @@ NOT_COMPUTED = (
 
 
 def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
-    if quantity == "moment" and not synthesis.has_moments(result):
+    if quantity == "moment" and not signals.has_moments(result):
         return NOT_COMPUTED.format(what="Moments were", option="moments=False")
     unit = "N" if quantity == "force" else "N m"
     per = "F1" if quantity == "force" else "F1 a"
@@ -512,7 +556,7 @@ def _phasor_section(result: Result, quantity: Quantity, figures: bool) -> str:
             )
         )
     # the phasor and crank-angle figures go with the moments, or with the forces without them
-    if figures and (quantity == "moment" or not synthesis.has_moments(result)):
+    if figures and (quantity == "moment" or not signals.has_moments(result)):
         out.append(
             html_figure(
                 result,
@@ -545,7 +589,7 @@ def _rotating_section(result: Result) -> str:
             _num(safe_ratio(abs(p.rotating_force), result.reference_force)),
         ],
     ]
-    if synthesis.has_moments(result):
+    if signals.has_moments(result):
         rows.append(
             [
                 "moment [N m]",
@@ -570,17 +614,17 @@ def _rotating_section(result: Result) -> str:
 
 
 def _roll_section(result: Result, figures: bool) -> str:
-    if not synthesis.has_roll(result):
+    if not signals.has_roll(result):
         return NOT_COMPUTED.format(what="The roll torque was", option="roll=False")
-    proposal = synthesis.has_proposal(result)
+    proposal = signals.has_proposal(result)
     headers = ["order", "amplitude [N m]", "phase [deg]", "per m_rec r² ω²"]
     if proposal:
         headers += ["with shafts [N m]", "phase [deg]"]
-    orders, roll = synthesis.roll_of(result)
+    orders, roll = signals.roll_of(result)
     amplitude, phase = np.abs(roll), phase_deg(roll)
     normalised = safe_ratio(amplitude, result.reference_roll)
     if proposal:
-        _, residual = synthesis.roll_of(result, residual=True)
+        _, residual = signals.roll_of(result, residual=True)
         residual_amplitude, residual_phase = np.abs(residual), phase_deg(residual)
     rows = []
     for i, k in enumerate(orders):

@@ -42,13 +42,39 @@ VIEWS: dict[str, str] = {
 
 
 def view(name: str) -> ModuleType:
-    """The views module of section ``name``."""
+    """The views module of a section.
+
+    Parameters
+    ----------
+    name : str
+        The section's name (a key of :data:`VIEWS`).
+
+    Returns
+    -------
+    module
+        Its views module, imported on first use.
+    """
     return import_module(VIEWS[name])
 
 
 def views_of(result: Any, only: tuple[str, ...] | None = None) -> Iterator[tuple[str, Any]]:
-    """``(name, module)`` of each section the result holds (or of ``only`` those), in
-    section order (:func:`balance.core.sections.names`)."""
+    """The views of each section a result holds, in section order
+    (:func:`balance.core.sections.names`).
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    only : tuple of str, optional
+        Only these sections.
+
+    Yields
+    ------
+    name : str
+        The section's name.
+    module : module
+        Its views module.
+    """
     for name in names():
         if name in result.parts and (only is None or name in only):
             yield name, view(name)

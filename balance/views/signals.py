@@ -1,9 +1,10 @@
 r"""From phasors back to the crank-angle domain: what the plots draw, without drawing.
 
 numpy only (no matplotlib, no xarray): the functions take the complex phasors of a
-:class:`~balance.core.result.Result` as they are.  Every function here follows the
-CONTRACT: a transverse vector :math:`(x, y)` is the complex number :math:`y + i x`, angles
-are measured from +y in the direction of rotation, and order :math:`k` of a quantity is
+:class:`~balance.core.result.Result` as they are.  Every function here follows the conventions
+(docs/conventions.md, "Frame and angles" and "Phasors"): a transverse vector :math:`(x, y)` is the
+complex number :math:`y + i x`, angles are measured from +y in the direction of rotation, and order
+:math:`k` of a quantity is
 
 .. math::
 
@@ -44,6 +45,8 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "QUANTITIES",
     "SOURCES",
+    "Quantity",
+    "Source",
     "bundle_of",
     "couple_components",
     "crank_angle_grid",
@@ -199,17 +202,47 @@ def couple_components(moment_signal: ArrayLike) -> tuple[FloatArray, FloatArray]
 
 
 def has_proposal(result: Result) -> bool:
-    """Whether the result holds a balancing proposal and its residual."""
+    """Whether the result holds a balancing proposal and its residual.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    bool
+    """
     return result.part("proposal") is not None
 
 
 def has_moments(result: Result) -> bool:
-    """Whether the analysis computed the moments (not ``moments=False``)."""
+    """Whether the analysis computed the moments (not ``moments=False``).
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    bool
+    """
     return bool(result.has_moments)
 
 
 def has_roll(result: Result) -> bool:
-    """Whether the analysis computed the roll torque (not ``roll=False``)."""
+    """Whether the analysis computed the roll torque (not ``roll=False``).
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    bool
+    """
     return bool(result.has_roll)
 
 
@@ -434,14 +467,38 @@ def roll_signal_per_order(roll: ArrayLike, orders: ArrayLike, theta_deg: ArrayLi
 
 
 def roll_signal(roll: ArrayLike, orders: ArrayLike, theta_deg: ArrayLike) -> FloatArray:
-    r"""Roll torque :math:`\sum_k \operatorname{Re}(R_k e^{ik\theta})` at each crank angle [N m].
+    r"""Roll torque :math:`\sum_k \operatorname{Re}(R_k e^{ik\theta})` at each crank angle.
 
-    Parameters are those of :func:`roll_signal_per_order`.
+    Parameters
+    ----------
+    roll : array_like of complex
+        :math:`R_k = a_k e^{i\varphi_k}` per order [N m].
+    orders : array_like
+        Orders :math:`k`, possibly halves [1].
+    theta_deg : array_like
+        Crank angles [deg].
+
+    Returns
+    -------
+    ndarray
+        Torque on the block about the crank axis, positive with the rotation [N m], one value
+        per crank angle.
     """
     return np.asarray(roll_signal_per_order(roll, orders, theta_deg).sum(axis=0), dtype=np.float64)
 
 
 def roll_span_deg(orders: ArrayLike) -> float:
-    """Crank angle over which the roll repeats: 360 deg, or 720 deg with half orders."""
+    """Crank angle over which the roll repeats: 360 deg, or 720 deg with half orders.
+
+    Parameters
+    ----------
+    orders : array_like
+        The roll orders.
+
+    Returns
+    -------
+    float
+        The span [deg].
+    """
     ks = np.asarray(orders, dtype=np.float64)
     return 720.0 if np.any(np.abs(ks - np.round(ks)) > 1e-9) else 360.0

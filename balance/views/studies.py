@@ -19,10 +19,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "figure_metadata",
-    "scatter_text",
     "search_tables",
     "tolerance_histogram",
-    "tolerance_setup",
     "tolerance_tables",
 ]
 
@@ -33,8 +31,16 @@ _UNITS = {"mass": "kg", "length": "m", "angle": "deg", "speed": "rad/s"}
 def search_tables(result: Any) -> list[RenderableType]:
     """What ``balance search`` prints: a summary, then the best arrangements ranked.
 
-    ``result`` is a :class:`balance.studies.search.SearchResult`.  Peaks are normalised
-    (per :math:`F_1` and :math:`F_1 a`), after counterweights.
+    Peaks are normalised (per :math:`F_1` and :math:`F_1 a`), after counterweights.
+
+    Parameters
+    ----------
+    result : SearchResult
+        The search (:func:`balance.studies.search.search`).
+
+    Returns
+    -------
+    list of rich.console.RenderableType
     """
     from rich.text import Text
 
@@ -70,7 +76,7 @@ def search_tables(result: Any) -> list[RenderableType]:
     ]
 
 
-def scatter_text(result: Any) -> list[str]:
+def _scatter_text(result: Any) -> list[str]:
     """Each scattered field as the study drew it: ``reciprocating ±0.003 kg (every
     cylinder, independently)``.
 
@@ -88,10 +94,10 @@ def scatter_text(result: Any) -> list[str]:
     return out
 
 
-def tolerance_setup(result: Any) -> str:
+def _tolerance_setup(result: Any) -> str:
     """What a tolerance study drew, in one line: the sample count, the distribution, the
-    seed and the scatter of each field (:func:`scatter_text`)."""
-    return f"{_drawn(result)}; scatter {'; '.join(scatter_text(result))}"
+    seed and the scatter of each field (:func:`_scatter_text`)."""
+    return f"{_drawn(result)}; scatter {'; '.join(_scatter_text(result))}"
 
 
 def _drawn(result: Any) -> str:
@@ -108,14 +114,23 @@ def tolerance_tables(result: Any, percentiles: Sequence[float]) -> list[Renderab
     """What ``balance tolerance`` prints: what was drawn, then the percentiles of the free
     force and moment peaks per order, without and with the nominal engine's balancing.
 
-    ``result`` is a :class:`balance.studies.tolerance.ToleranceResult`.
+    Parameters
+    ----------
+    result : ToleranceResult
+        The study (:func:`balance.studies.tolerance.tolerance`).
+    percentiles : sequence of float
+        The percentiles to show [%].
+
+    Returns
+    -------
+    list of rich.console.RenderableType
     """
     from rich.text import Text
 
     table = result.percentiles(percentiles)
     out: list[RenderableType] = [
         Text(f"Tolerance study: {_drawn(result)}; {result.seconds:.2f} s"),
-        *(Text(f"Scatter: {text}") for text in scatter_text(result)),
+        *(Text(f"Scatter: {text}") for text in _scatter_text(result)),
     ]
     for what, unit in (("force", "N"), ("moment", "N m")):
         rows = []
@@ -143,8 +158,15 @@ def tolerance_tables(result: Any, percentiles: Sequence[float]) -> list[Renderab
 def tolerance_histogram(result: Any, *, bins: int = 60) -> Figure:
     """Histograms of the residual peaks with balancing, one panel per quantity and order.
 
-    ``result`` is a :class:`balance.studies.tolerance.ToleranceResult`; the title states
-    the sample count, the distribution and the scatter (:func:`tolerance_setup`).
+    The title states the sample count, the distribution and the scatter
+    (:func:`_tolerance_setup`).
+
+    Parameters
+    ----------
+    result : ToleranceResult
+        The study (:func:`balance.studies.tolerance.tolerance`).
+    bins : int
+        Bins of each histogram.
 
     Returns
     -------
@@ -169,13 +191,26 @@ def tolerance_histogram(result: Any, *, bins: int = 60) -> Figure:
             ax.set_xlabel(f"peak {what} [{unit}]")
             ax.set_ylabel("samples")
     width = max(40, int(fig.get_figwidth() * 100.0 / 9.0))
-    fig.suptitle(textwrap.fill(f"Tolerance study: {tolerance_setup(result)}", width), fontsize=10)
+    fig.suptitle(textwrap.fill(f"Tolerance study: {_tolerance_setup(result)}", width), fontsize=10)
     return fig
 
 
 def figure_metadata(result: Any, fmt: str) -> dict[str, str]:
-    """File metadata of a tolerance figure: what was drawn (:func:`tolerance_setup`) as the
+    """File metadata of a tolerance figure: what was drawn (:func:`_tolerance_setup`) as the
     PNG or SVG ``Description`` or the PDF ``Subject``, so the file says it without being
-    opened."""
+    opened.
+
+    Parameters
+    ----------
+    result : ToleranceResult
+        The study.
+    fmt : {'png', 'svg', 'pdf'}
+        The file format.
+
+    Returns
+    -------
+    dict of str
+        The metadata for ``Figure.savefig(metadata=...)``.
+    """
     key = "Subject" if fmt == "pdf" else "Description"
-    return {key: f"balance tolerance study: {tolerance_setup(result)}"}
+    return {key: f"balance tolerance study: {_tolerance_setup(result)}"}

@@ -30,11 +30,9 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "NO_PITCH",
     "format_ratio",
-    "heading",
     "pitch_note",
     "pitch_text",
     "render",
-    "render_warnings",
 ]
 
 #: Why a moment has no normalised value: the pitch is undefined.
@@ -42,25 +40,58 @@ NO_PITCH = "n/a (all cylinders in one plane)"
 
 
 def format_ratio(value: float, reference: float) -> str:
-    """A normalised value, or ``n/a`` where its reference is undefined (NaN or zero)."""
+    """A normalised value, or ``n/a`` where its reference is undefined (NaN or zero).
+
+    Parameters
+    ----------
+    value : float
+        The normalised value [1].
+    reference : float
+        The reference it was divided by (:math:`F_1` [N], or :math:`F_1 a` [N m]).
+
+    Returns
+    -------
+    str
+    """
     if not (math.isfinite(reference) and reference != 0.0):
         return "n/a"
     return format_number(value)
 
 
 def pitch_text(pitch: float) -> str:
-    """The cylinder pitch as printed: ``90 mm``, or ``n/a`` and why."""
+    """The cylinder pitch as printed: ``90 mm``, or ``n/a`` and why.
+
+    Parameters
+    ----------
+    pitch : float
+        The pitch [m]; NaN when the layout has none.
+
+    Returns
+    -------
+    str
+    """
     return f"{format_number(pitch * 1e3)} mm" if math.isfinite(pitch) else NO_PITCH
 
 
 def pitch_note(result: Result) -> tuple[str, ...]:
-    """The note under a table with moments per F1 a, when there is no pitch."""
+    """The note under a table with moments per F1 a, when there is no pitch.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+
+    Returns
+    -------
+    tuple of str
+        The note, or nothing when the layout has a pitch.
+    """
     if math.isfinite(float(result.reference_moment)) and float(result.reference_moment) != 0:
         return ()
     return ("n/a: no pitch a (all cylinders in one plane), so no moment per F1 a",)
 
 
-def heading(result: Result) -> list[RenderableType]:
+def _heading(result: Result) -> list[RenderableType]:
     """The first lines of an analysis: the layout, its speed and model, the references."""
     from rich.text import Text
 
@@ -84,8 +115,18 @@ def render(result: Result, only: tuple[str, ...] | None = None) -> RenderableTyp
     rotating masses and roll, then the tables of every section it holds (the proposal,
     torque, mounts, bearing loads…, :mod:`balance.views.sections`), and the warnings.
 
-    With ``only`` (section names): a short heading (the layout and its speed) and the
-    tables of those sections alone (``balance propose``).
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    only : tuple of str, optional
+        Section names: a short heading (the layout and its speed) and the tables of those
+        sections alone (``balance propose``).
+
+    Returns
+    -------
+    rich.console.RenderableType
+        A group of tables and notes.
     """
     from rich.console import Group
     from rich.text import Text
@@ -93,7 +134,7 @@ def render(result: Result, only: tuple[str, ...] | None = None) -> RenderableTyp
     from balance.views.sections import views_of
 
     if only is None:
-        parts = heading(result) + _free_tables(result)
+        parts = _heading(result) + _free_tables(result)
     else:
         engine = result.engine
         parts = [
@@ -107,7 +148,7 @@ def render(result: Result, only: tuple[str, ...] | None = None) -> RenderableTyp
         tables = getattr(views, "tables", None)
         if tables is not None:
             parts.extend(tables(result))
-    parts.extend(render_warnings(result))
+    parts.extend(_render_warnings(result))
     return Group(*parts)
 
 
@@ -172,7 +213,7 @@ def _free_tables(result: Result) -> list[RenderableType]:
     return parts
 
 
-def render_warnings(result: Result) -> list[RenderableType]:
+def _render_warnings(result: Result) -> list[RenderableType]:
     """The plausibility warnings as the table's footer, one line each (none: nothing)."""
     from rich.text import Text
 

@@ -35,7 +35,6 @@ __all__ = [
     "json_block",
     "plot_forces",
     "plot_torque",
-    "render_torque",
     "tables",
 ]
 
@@ -46,7 +45,20 @@ def _part(result: Result) -> TorqueResult:
 
 
 def json_block(result: Result) -> dict[str, Any]:
-    """The section's part of the analysis JSON: ``torque`` and ``gas``."""
+    """The section's part of the analysis JSON: ``torque`` and ``gas``.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torque`` section.
+
+    Returns
+    -------
+    dict
+        The mean, largest and smallest torque [N m], the speed fluctuation and the flywheel
+        inertia [kg m^2]; the indicated and excess work [J], the non-uniformity and the firing
+        TDCs [deg].
+    """
     t = _part(result)
     return {
         "torque": {
@@ -65,7 +77,7 @@ def json_block(result: Result) -> dict[str, Any]:
     }
 
 
-def render_torque(result: Result) -> RenderableType:
+def _render_torque(result: Result) -> RenderableType:
     """Rich renderable of the torque summary of an analysis with gas forces.
 
     Parameters
@@ -102,8 +114,19 @@ def render_torque(result: Result) -> RenderableType:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's table: :func:`render_torque`."""
-    return [render_torque(result)]
+    """The section's table: the torque summary over the cycle (torque, non-uniformity, work,
+    speed fluctuation, flywheel inertia).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torque`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
+    return [_render_torque(result)]
 
 
 # --------------------------------------------------------------------------- figures
