@@ -478,12 +478,21 @@ def report_command(
     sys.stderr.write(f"balance: wrote {output}\n")
 
 
-class MountsFormat(StrEnum):
-    """Output formats of ``balance mounts``."""
+class SweepFormat(StrEnum):
+    """Output formats of the speed sweeps, ``balance mounts`` and ``balance torsion``."""
 
     table = "table"
     json = "json"
     csv = "csv"
+
+
+def _write_figure(fig: Any, path: Path, force: bool) -> None:
+    """Write a figure whole to ``path`` (its suffix the format) and say so on stderr."""
+    from balance.io.atomic import write_atomic
+    from balance.views.plots import figure_bytes
+
+    write_atomic(path, figure_bytes(fig, path.suffix.lower().lstrip(".")), force)
+    sys.stderr.write(f"balance: wrote {path}\n")
 
 
 @guarded
@@ -508,8 +517,8 @@ def mounts_command(
         bool, typer.Option("--with-proposal", help="Load the mounts with the proposal added.")
     ] = False,
     format: Annotated[
-        MountsFormat, typer.Option("--format", "-f", help="Output format.")
-    ] = MountsFormat.table,
+        SweepFormat, typer.Option("--format", "-f", help="Output format.")
+    ] = SweepFormat.table,
     plot: Annotated[
         Path | None,
         typer.Option("--plot", "-o", help="Also draw mount force against speed (png, svg, pdf)."),
@@ -542,13 +551,13 @@ def mounts_command(
     top = float(request.options("mounts")["speeds"].max())
     warn(check_engine(engine.with_speed(top)), quiet, layout)  # at the top speed
     sweep = compute(engine, request).part("mounts").sweep
-    if format is MountsFormat.json:
+    if format is SweepFormat.json:
         import json
 
         from balance.views.mounts import sweep_json
 
         sys.stdout.write(json.dumps(sweep_json(sweep, engine.name), indent=2) + "\n")
-    elif format is MountsFormat.csv:
+    elif format is SweepFormat.csv:
         from balance.views.mounts import sweep_csv
 
         sys.stdout.write(sweep_csv(sweep))
@@ -559,21 +568,9 @@ def mounts_command(
 
         console().print(Group(*sweep_tables(sweep, engine.name)))
     if plot is not None:
-        from balance.io.atomic import write_atomic
         from balance.views.mounts import plot_mount_sweep
-        from balance.views.plots import figure_bytes
 
-        fig = plot_mount_sweep(sweep, layout=engine.name)
-        write_atomic(plot, figure_bytes(fig, plot.suffix.lower().lstrip(".")), force)
-        sys.stderr.write(f"balance: wrote {plot}\n")
-
-
-class TorsionFormat(StrEnum):
-    """Output formats of ``balance torsion``."""
-
-    table = "table"
-    json = "json"
-    csv = "csv"
+        _write_figure(plot_mount_sweep(sweep, layout=engine.name), plot, force)
 
 
 @guarded
@@ -598,8 +595,8 @@ def torsion_command(
         ),
     ] = None,
     format: Annotated[
-        TorsionFormat, typer.Option("--format", "-f", help="Output format.")
-    ] = TorsionFormat.table,
+        SweepFormat, typer.Option("--format", "-f", help="Output format.")
+    ] = SweepFormat.table,
     plot: Annotated[
         Path | None,
         typer.Option("--plot", "-o", help="Also draw the Campbell diagram (png, svg, pdf)."),
@@ -635,11 +632,11 @@ def torsion_command(
     )
     result = compute(engine, request.only("torque", "torsion"))
     warn(result.warnings, quiet, layout)
-    if format is TorsionFormat.json:
+    if format is SweepFormat.json:
         from balance.views.torsion import torsion_text
 
         sys.stdout.write(torsion_text(result))
-    elif format is TorsionFormat.csv:
+    elif format is SweepFormat.csv:
         from balance.views.torsion import torsion_csv
 
         sys.stdout.write(torsion_csv(result))
@@ -650,12 +647,9 @@ def torsion_command(
 
         console().print(Group(*tables(result)))
     if plot is not None:
-        from balance.io.atomic import write_atomic
-        from balance.views.plots import figure_bytes, plot_kind
+        from balance.views.plots import plot_kind
 
-        fig = plot_kind("torsion_campbell")(result)
-        write_atomic(plot, figure_bytes(fig, plot.suffix.lower().lstrip(".")), force)
-        sys.stderr.write(f"balance: wrote {plot}\n")
+        _write_figure(plot_kind("torsion_campbell")(result), plot, force)
 
 
 #: The commands of this module, by name (:mod:`balance.cli` puts them in order).

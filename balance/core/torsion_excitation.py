@@ -29,8 +29,8 @@ Two things come from the cylinders (docs/torsion.md):
 The orders (halves for a four-stroke) and speeds of a torsional analysis are checked here
 too (:func:`order_problem`, :func:`speed_problem`).
 
-References
-----------
+.. rubric:: References
+
 W. K. Wilson, *Practical Solution of Torsional Vibration Problems*, vol. 1, 3rd ed., Chapman
 & Hall 1956, ch. on the equivalent inertia of the reciprocating parts and the harmonic
 analysis of the turning moment; N. Nestorides, *A Handbook on Torsional Vibration*,
