@@ -10,7 +10,8 @@ gear, four throws of two cylinders, flywheel, gearbox, propshaft, differential, 
 vehicle (illustrative values).  Timed, best of several interleaved rounds:
 
 - ``balance analyse`` of the layout in process: :func:`balance.core.analysis.compute` of
-  the default request (free forces, gas torque, proposal);
+  the default request (free forces, gas torque, proposal) with the torsion section turned
+  off (the layout's section would add it, at the analysis speed alone);
 - the ``torsion`` section's part, :func:`balance.core.torsion.torsion_part`, on that
   result: 200 speeds from 20 % to 120 % of the layout's speed, every half order from 0.5
   to 12 (24 orders), the modes, the resonances and the synthesis;
@@ -74,16 +75,20 @@ def best(func: Callable[[], object]) -> float:
 
 def main() -> None:
     engine = load_layout("v8-crossplane-gas").with_section("torsion", v8_train())
-    request = build_request(engine, None)
+    # the analysis without the torsion section (which the layout's section would turn on,
+    # at the analysis speed): free forces, gas torque, proposal
+    request = build_request(engine, None, torsion=False)
     result = compute(engine, request)
-    part = torsion_part(engine, request, result).part("torsion")
+    part = torsion_part(engine, request, result, speeds="sweep").part("torsion")
     assert part.section_torque is not None
     assert part.section_torque.shape == (11, 24, 200)  # sections, orders, speeds
     analyse, torsion, both = [], [], []
     for _ in range(ROUNDS):  # interleaved, so that a busy machine slows all alike
         analyse.append(best(lambda: compute(engine, request)))
-        torsion.append(best(lambda: torsion_part(engine, request, result)))
-        both.append(best(lambda: torsion_part(engine, request, compute(engine, request))))
+        torsion.append(best(lambda: torsion_part(engine, request, result, speeds="sweep")))
+        both.append(
+            best(lambda: torsion_part(engine, request, compute(engine, request), speeds="sweep"))
+        )
     a, t, b = min(analyse), min(torsion), min(both)
     ratios = np.array(torsion) / np.array(analyse)
     print(f"{platform.python_version()}, {platform.machine()}")
