@@ -33,15 +33,10 @@ __all__ = [
     "REPORT_TITLE",
     "SCHEMA",
     "json_block",
-    "plot_campbell",
-    "plot_modes",
-    "plot_response",
     "report_section",
     "tables",
     "torsion_csv",
     "torsion_document",
-    "torsion_json",
-    "torsion_tables",
     "torsion_text",
 ]
 
@@ -105,7 +100,7 @@ def _loaded_section(t: TorsionResult) -> tuple[int, bool]:
 # --------------------------------------------------------------------------- JSON
 
 
-def torsion_json(t: TorsionResult, warnings: Sequence[Any] | None = None) -> dict[str, Any]:
+def _torsion_json(t: TorsionResult, warnings: Sequence[Any] | None = None) -> dict[str, Any]:
     """The torsion object of docs/torsion.md without ``schema`` and ``layout``: speeds,
     orders, masses, sections, dampers, excitation, modes, vector sums, resonances, response
     (``None`` undamped) and warnings (the part's own unless given)."""
@@ -269,18 +264,18 @@ def _response_json(t: TorsionResult) -> dict[str, Any]:
 
 def json_block(result: Result) -> dict[str, Any]:
     """The section's part of the analysis JSON: ``torsion``, the ``balance.torsion/1``
-    object without ``schema`` (``layout``, then :func:`torsion_json`) at the speeds
+    object without ``schema`` (``layout``, then :func:`_torsion_json`) at the speeds
     analysed, with the part's own warnings."""
-    return {"torsion": {"layout": result.engine.name, **torsion_json(_part(result))}}
+    return {"torsion": {"layout": result.engine.name, **_torsion_json(_part(result))}}
 
 
 def torsion_document(result: Result) -> dict[str, Any]:
     """The ``balance.torsion/1`` document of ``balance torsion --format json``: ``schema``,
-    ``layout``, then :func:`torsion_json` with every warning of the result."""
+    ``layout``, then :func:`_torsion_json` with every warning of the result."""
     return {
         "schema": SCHEMA,
         "layout": result.engine.name,
-        **torsion_json(_part(result), result.warnings),
+        **_torsion_json(_part(result), result.warnings),
     }
 
 
@@ -324,8 +319,8 @@ def _largest_sums(t: TorsionResult, j: int, count: int = 3) -> str:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's tables (:func:`torsion_tables`)."""
-    return torsion_tables(_part(result), str(result.engine.name))
+    """The section's tables (:func:`_torsion_tables`)."""
+    return _torsion_tables(_part(result), str(result.engine.name))
 
 
 def _shown_speeds(size: int) -> tuple[list[int], int]:
@@ -336,7 +331,7 @@ def _shown_speeds(size: int) -> tuple[list[int], int]:
     return shown, step
 
 
-def torsion_tables(t: TorsionResult, layout: str = "") -> list[RenderableType]:
+def _torsion_tables(t: TorsionResult, layout: str = "") -> list[RenderableType]:
     """The masses and sections; the modes with their largest vector sums; the resonances;
     the free-end and largest-stress synthesis over (a thinned list of) the speeds."""
     from rich.text import Text
@@ -569,7 +564,7 @@ def _labels(t: TorsionResult, width: float, height: float) -> list[tuple[float, 
     return placed
 
 
-def plot_campbell(result: Result, *, title: str | None = None) -> Figure:
+def _plot_campbell(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``torsion_campbell``: the Campbell (interference) diagram, natural
     frequencies against crank speed with the order lines :math:`f = k n / 60` (major orders
     heavier) and each resonance in the speed range marked with its vector sum."""
@@ -636,7 +631,7 @@ def plot_campbell(result: Result, *, title: str | None = None) -> Figure:
         return fig
 
 
-def plot_modes(result: Result, *, title: str | None = None) -> Figure:
+def _plot_modes(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``torsion_modes``: the shapes of the lowest modes (undamped, +1 at mass 1)
     at the masses and the tuned rings."""
     t = result.part("torsion")
@@ -676,7 +671,7 @@ def plot_modes(result: Result, *, title: str | None = None) -> Figure:
         return fig
 
 
-def plot_response(result: Result, *, title: str | None = None) -> Figure:
+def _plot_response(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``torsion_response``: against crank speed, the free end's angle and the
     most loaded section's stress (its torque when no section has a diameter), per order
     (thin) and synthesised (heavy: half range over the cycle)."""
@@ -750,9 +745,9 @@ def plot_response(result: Result, *, title: str | None = None) -> Figure:
 
 #: The figure kinds of the section.
 PLOTS: dict[str, Callable[..., Figure]] = {
-    "torsion_campbell": plot_campbell,
-    "torsion_modes": plot_modes,
-    "torsion_response": plot_response,
+    "torsion_campbell": _plot_campbell,
+    "torsion_modes": _plot_modes,
+    "torsion_response": _plot_response,
 }
 
 
