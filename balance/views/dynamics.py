@@ -173,7 +173,20 @@ def _dynamics_json(p: DynamicsResult) -> dict[str, Any]:
 def json_block(result: Result) -> dict[str, Any]:
     """The section's part of the analysis JSON: the speed model and the constant rung's
     error bound in ``accuracy`` (docs/dynamics.md, "The ladder"), and with the dynamic
-    model the ``dynamics`` block (:func:`_dynamics_json`)."""
+    model the ``dynamics`` block (:func:`_dynamics_json`).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``dynamics`` section.
+
+    Returns
+    -------
+    dict
+        ``{"accuracy": {"speed_model": ..., "speed_bound": ...}}`` (the bound per
+        sum(m r w^2) [1], null without gas forces), with ``"dynamics"`` (docs/dynamics.md,
+        "JSON") when the result holds the dynamic model's solution.
+    """
     part = result.part("dynamics")
     out: dict[str, Any] = {
         "accuracy": {"speed_model": part.speed_model, "speed_bound": _num(_bound_ratio(result))}
@@ -252,7 +265,21 @@ def _order_rows(p: DynamicsResult, quantity: str) -> list[list[str]]:
 
 def tables(result: Result) -> list[RenderableType]:
     """The section's tables: the motion, and per order the force, moment and roll under
-    both speed models."""
+    both speed models.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``dynamics`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+        With the dynamic model's solution: the crank speed over the cycle, a table per
+        quantity the result has (force, moment, roll) and the largest differences [%].
+        With the constant speed model: one line, the bound on what the speed's fluctuation
+        may change [% of sum(m r w^2)].
+    """
     from rich.text import Text
 
     from balance.views.fitted import Column, NumberTable
@@ -497,7 +524,22 @@ def _report_tables(p: DynamicsResult, table: Callable[..., str]) -> Sequence[str
 
 
 def report_section(result: Result, figures: bool) -> str:
-    """HTML of the report's variable-speed section, with its three figures."""
+    """HTML of the report's variable-speed section, with its three figures.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``dynamics`` section.
+    figures : bool
+        Include the three figures (inline SVG) when the result holds the dynamic model's
+        solution.
+
+    Returns
+    -------
+    str
+        HTML of the section's body: with the constant speed model one paragraph giving the
+        bound [% of sum(m r w^2)]; otherwise the model in words and the tables.
+    """
     from balance.views.report import escape, html_figure, html_table
 
     p = _part(result)

@@ -265,13 +265,36 @@ def _response_json(t: TorsionResult) -> dict[str, Any]:
 def json_block(result: Result) -> dict[str, Any]:
     """The section's part of the analysis JSON: ``torsion``, the ``balance.torsion/1``
     object without ``schema`` (``layout``, then :func:`_torsion_json`) at the speeds
-    analysed, with the part's own warnings."""
+    analysed, with the part's own warnings.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+
+    Returns
+    -------
+    dict
+        ``{"torsion": {"layout": ..., ...}}`` (docs/torsion.md).
+    """
     return {"torsion": {"layout": result.engine.name, **_torsion_json(_part(result))}}
 
 
 def torsion_document(result: Result) -> dict[str, Any]:
     """The ``balance.torsion/1`` document of ``balance torsion --format json``: ``schema``,
-    ``layout``, then :func:`_torsion_json` with every warning of the result."""
+    ``layout``, then :func:`_torsion_json` with every warning of the result.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+
+    Returns
+    -------
+    dict
+        The document as plain data (speeds in rpm, angles in degrees; null where a
+        number is not finite, and the response null for a train without damping).
+    """
     return {
         "schema": SCHEMA,
         "layout": result.engine.name,
@@ -280,13 +303,39 @@ def torsion_document(result: Result) -> dict[str, Any]:
 
 
 def torsion_text(result: Result, indent: int | None = 2) -> str:
-    """The ``balance.torsion/1`` document as JSON text."""
+    """The ``balance.torsion/1`` document as JSON text.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+    indent : int or None
+        Indentation of the JSON text [spaces]; None: one line.
+
+    Returns
+    -------
+    str
+        :func:`torsion_document` as JSON, ending in a newline.
+    """
     return json.dumps(torsion_document(result), indent=indent, allow_nan=False) + "\n"
 
 
 def torsion_csv(result: Result) -> str:
     """One row per speed: the free-end synthesis [deg], each section's torque synthesis
-    [N m] and each damper's total power [W] (empty cells undamped)."""
+    [N m] and each damper's total power [W] (empty cells undamped).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+
+    Returns
+    -------
+    str
+        CSV text: a header (``speed_rpm``, ``free_end_deg``, ``section_j_torque_Nm``,
+        ``damper_r_power_W``), then one line per speed [rpm], each line ending in a
+        newline.
+    """
     t = _part(result)
     n_sec, n_damp = t.stress_factor.size, len(t.train.dampers)
     head = ["speed_rpm", "free_end_deg"]
@@ -319,7 +368,20 @@ def _largest_sums(t: TorsionResult, j: int, count: int = 3) -> str:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's tables (:func:`_torsion_tables`)."""
+    """The section's tables (:func:`_torsion_tables`).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+        The layout's name; the masses and sections; the modes with their largest vector
+        sums; the resonances; the synthesis against (a thinned list of) the speeds, or
+        without damping a line saying the response is not given; then the warnings.
+    """
     return _torsion_tables(_part(result), str(result.engine.name))
 
 
@@ -760,7 +822,20 @@ REPORT_TITLE = "Torsional vibration of the crank train"
 
 def report_section(result: Result, figures: bool) -> str:
     """HTML of the report's torsion section: the masses, the modes, the resonances and the
-    synthesis against speed, with the three figures."""
+    synthesis against speed, with the three figures.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+    figures : bool
+        Include the three figures (inline SVG).
+
+    Returns
+    -------
+    str
+        HTML of the section's body (the synthesis table only for a damped train).
+    """
     from balance.views.report import escape, html_figure, html_table
 
     t = _part(result)
