@@ -486,6 +486,9 @@ class SweepFormat(StrEnum):
     csv = "csv"
 
 
+SweepFormatOption = Annotated[SweepFormat, typer.Option("--format", "-f", help="Output format.")]
+
+
 def _write_figure(fig: Any, path: Path, force: bool) -> None:
     """Write a figure whole to ``path`` (its suffix the format) and say so on stderr."""
     from balance.io.atomic import write_atomic
@@ -516,16 +519,12 @@ def mounts_command(
     with_proposal: Annotated[
         bool, typer.Option("--with-proposal", help="Load the mounts with the proposal added.")
     ] = False,
-    format: Annotated[
-        SweepFormat, typer.Option("--format", "-f", help="Output format.")
-    ] = SweepFormat.table,
+    format: SweepFormatOption = SweepFormat.table,
     plot: Annotated[
         Path | None,
         typer.Option("--plot", "-o", help="Also draw mount force against speed (png, svg, pdf)."),
     ] = None,
-    force: Annotated[
-        bool, typer.Option("--force", help="Replace an existing output file.")
-    ] = False,
+    force: ReplaceOutput = False,
     quiet: Quiet = False,
 ) -> None:
     """Mount forces per order against speed, the modes, and which order crosses which mode
@@ -594,16 +593,12 @@ def torsion_command(
             "(default 0.5-12, a two-stroke 1-12).",
         ),
     ] = None,
-    format: Annotated[
-        SweepFormat, typer.Option("--format", "-f", help="Output format.")
-    ] = SweepFormat.table,
+    format: SweepFormatOption = SweepFormat.table,
     plot: Annotated[
         Path | None,
         typer.Option("--plot", "-o", help="Also draw the Campbell diagram (png, svg, pdf)."),
     ] = None,
-    force: Annotated[
-        bool, typer.Option("--force", help="Replace an existing output file.")
-    ] = False,
+    force: ReplaceOutput = False,
     quiet: Quiet = False,
 ) -> None:
     """Torsional vibration of the crank train over a speed range: modes, vector sums,
