@@ -19,7 +19,6 @@ The number of random layouts follows the hypothesis profile (tests/conftest.py):
 from __future__ import annotations
 
 import copy
-import math
 from pathlib import Path
 from typing import Any
 
@@ -34,7 +33,9 @@ import balance
 from balance.core.errors import LayoutError
 from balance.io.layout_file import builtin_layout_names, expand_layout
 
-SETTINGS = settings(suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+SETTINGS = settings(
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow]
+)
 
 
 def _analysis(path: Path | str) -> xr.Dataset:
@@ -85,10 +86,7 @@ def _crank(draw: Any, by_part: bool) -> dict[str, Any]:
     and stagger; link rods where every bank's rod is on one pin."""
     n_throws = draw(st.integers(1, 4))
     spacing = draw(st.floats(60, 140))
-    if draw(st.booleans()):
-        banks = [0.0]
-    else:
-        banks = draw(st.lists(_angle, min_size=2, max_size=3))
+    banks = [0.0] if draw(st.booleans()) else draw(st.lists(_angle, min_size=2, max_size=3))
     n_banks = len(banks)
     link = by_part and n_banks > 1 and draw(st.booleans())
     split = None
@@ -106,7 +104,9 @@ def _crank(draw: Any, by_part: bool) -> dict[str, Any]:
         "stagger": stagger,
         "link": link,
         "master": draw(st.integers(1, n_banks)),
-        "pin_angles": draw(st.one_of(st.none(), st.lists(_angle, min_size=n_banks - 1, max_size=n_banks - 1)))
+        "pin_angles": draw(
+            st.one_of(st.none(), st.lists(_angle, min_size=n_banks - 1, max_size=n_banks - 1))
+        )
         if link
         else None,
     }
@@ -186,7 +186,11 @@ def random_layouts(draw: Any) -> dict[str, Any]:
 
 
 def _explicit(
-    draw: Any, crank: dict[str, Any], masses: dict[str, str], link_rod: dict[str, Any], radius: float
+    draw: Any,
+    crank: dict[str, Any],
+    masses: dict[str, str],
+    link_rod: dict[str, Any],
+    radius: float,
 ) -> tuple[list[dict[str, Any]], bool]:
     """The crank's cylinders written one by one, with labels or without, throws or TDCs,
     and overrides."""
@@ -199,9 +203,7 @@ def _explicit(
     for t, throw in enumerate(crank["throws"]):
         for j, bank in enumerate(crank["banks"]):
             angle = throw + split[j]
-            entry: dict[str, Any] = (
-                {"tdc": _deg(bank - angle)} if tdc else {"throw": _deg(angle)}
-            )
+            entry: dict[str, Any] = {"tdc": _deg(bank - angle)} if tdc else {"throw": _deg(angle)}
             entry["bank"] = _deg(bank)
             entry["z"] = _mm(t * crank["spacing"] + j * crank["stagger"])
             if labelled:
@@ -209,8 +211,12 @@ def _explicit(
             master = crank["master"] - 1
             if crank["link"] and j != master:
                 k = j if j < master else j - 1
-                pin_angle = crank["pin_angles"][k] if crank["pin_angles"] else bank - crank["banks"][master]
-                entry.update({key: v for key, v in link_rod.items() if key not in ("pin_radius", "length")})
+                pin_angle = (
+                    crank["pin_angles"][k] if crank["pin_angles"] else bank - crank["banks"][master]
+                )
+                entry.update(
+                    {key: v for key, v in link_rod.items() if key not in ("pin_radius", "length")}
+                )
                 entry["link"] = {
                     "master": t * n_banks + master + 1,
                     "pin_radius": link_rod["pin_radius"],
@@ -219,7 +225,11 @@ def _explicit(
                 }
             elif draw(st.integers(0, 3)) == 0:  # an override
                 choices = ["offset"]
-                choices += ["piston_group", "crank_unbalance"] if by_part else ["reciprocating", "rotating"]
+                choices += (
+                    ["piston_group", "crank_unbalance"]
+                    if by_part
+                    else ["reciprocating", "rotating"]
+                )
                 if not crank["link"]:
                     choices += ["conrod_length", "stroke"]
                 key = draw(st.sampled_from(choices))

@@ -199,6 +199,7 @@ def _expand_crank(crank: CrankSpec) -> list[CylinderSpec]:
     """The compact form's cylinders, throw-major, each with its throw's ``throw_id`` and
     with a compact ``link:``, every link bank's link entry and link-rod parts."""
     split = crank.split if crank.split is not None else [0.0] * len(crank.banks)
+    rotation = crank.row_rotation or [0.0] * len(crank.throws)
     spacing = crank.spacing or 0.0
     link = crank.link
     n_banks = len(crank.banks)
@@ -210,7 +211,7 @@ def _expand_crank(crank: CrankSpec) -> list[CylinderSpec]:
             # values already read and checked (SI): constructed, not read again
             values: dict[str, Any] = {
                 "throw": throw + split[j],
-                "bank": bank,
+                "bank": bank + rotation[t] if rotation[t] else bank,
                 "z": t * spacing + j * crank.bank_stagger,
                 "throw_id": t + 1,
             }
@@ -641,8 +642,7 @@ def _link_error(
 
 
 _SHARED = (
-    "a link cylinder shares its master's throw (throw_id), throw angle and z "
-    "(docs/layout-format.md, 'Articulated rods')"
+    "a link cylinder shares its master's throw and z (docs/layout-format.md, 'Articulated rods')"
 )
 
 
@@ -652,8 +652,9 @@ def _link_masters(
     entry: Callable[..., tuple[str | int, ...]],
 ) -> list[int]:
     """Index of each cylinder's master (-1 for none), with every check that needs the
-    other cylinders: the master exists, is not itself a link cylinder, and shares throw,
-    throw angle and z; a link cylinder gives no crank radius or conrod length of its own."""
+    other cylinders: the master exists, is not itself a link cylinder, and shares throw
+    and z (and so its crank throw, :mod:`balance.io.layout_throws`); a link cylinder gives
+    no crank radius or conrod length of its own."""
     n = len(cylinders)
     out = [-1] * n
     for i, cyl in enumerate(cylinders):
@@ -682,14 +683,6 @@ def _link_masters(
                 f"cylinder {k} is itself a link cylinder (its rod hangs on cylinder "
                 f"{master.link.master}'s); cylinder {i + 1} cannot hang on it",
                 "a master's rod runs on the crank pin: name a cylinder without a link entry",
-            )
-        if cyl.throw_id != master.throw_id:
-            raise _link_error(
-                doc,
-                entry(i, "throw_id"),
-                f"cylinder {i + 1} hangs on cylinder {k}'s rod but is on throw "
-                f"{cyl.throw_id}, the master on throw {master.throw_id}",
-                _SHARED,
             )
         throw_here = cyl.throw_angle % 360.0
         throw_master = master.throw_angle % 360.0

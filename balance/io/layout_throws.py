@@ -79,7 +79,7 @@ def throw_index(
             field=dotted_path(path),
             valid=_NONE_OR_ALL,
         )
-    index = first_appearance(labels)
+    index = first_appearance([int(label or 0) for label in labels])
     _check_pins(doc, cylinders, prefix, index, pin_keys(throw, z))
     _check_stretches(doc, cylinders, prefix, index, np.round(z, 12))
     return index
@@ -126,7 +126,10 @@ def _check_pins(
                 f"throws {a.throw_id} and {b.throw_id} put rods at one pin ({where}): "
                 f"cylinders {first + 1} and {i + 1}"
             )
-            valid = "throws lie one after another along the crank: give them different planes (spacing) or angles"
+            valid = (
+                "throws lie one after another along the crank: give them different planes "
+                "(spacing) or angles"
+            )
         raise LayoutError(message, doc.location(path), field=dotted_path(path), valid=valid)
 
 
@@ -163,5 +166,8 @@ def _check_stretches(
                 f"the rods of throw {label} ({span}) reach past throw "
                 f"{cylinders[i].throw_id}'s (z {z[i] * 1e3:.6g} mm)"
             )
-            valid = "the rods of a throw stay on its stretch: |bank_stagger| x (banks - 1) below |spacing|"
+            valid = (
+                "the rods of a throw stay on its stretch: |bank_stagger| x (banks - 1) below "
+                "|spacing|"
+            )
         raise LayoutError(message, doc.location(path), field=dotted_path(path), valid=valid)

@@ -519,7 +519,9 @@ class CrankLinkSpec(
 
 class CrankSpec(Strict):
     """Compact form: throws, spacing and banks, expanded to the explicit cylinder list; with
-    ``link``, every bank's rod but the master bank's hangs on the master rod of its throw."""
+    ``row_rotation``, each throw's banks turned by its own angle (the rows of a two-row
+    radial); with ``link``, every bank's rod but the master bank's hangs on the master rod of
+    its throw."""
 
     throws: list[Angle] = Field(min_length=1, max_length=256)
     spacing: OptLength = None
@@ -527,6 +529,7 @@ class CrankSpec(Strict):
     bank_count: int | None = Field(default=None, ge=1, le=64)
     split: list[Angle] | None = None
     bank_stagger: Length = 0.0
+    row_rotation: list[Angle] | None = None
     link: CrankLinkSpec | None = None
 
     @model_validator(mode="after")
@@ -549,6 +552,13 @@ class CrankSpec(Strict):
                 f"split has {len(self.split)} entries for {len(self.banks)} banks",
                 "give one split angle per bank",
                 ("split",),
+            )
+        if self.row_rotation is not None and len(self.row_rotation) != len(self.throws):
+            raise FieldProblem(
+                f"row_rotation has {len(self.row_rotation)} entries for {len(self.throws)} throws",
+                "give one angle per throw, added to every bank angle of that throw's rods "
+                "(a two-row radial: [0 deg, 25.714 deg])",
+                ("row_rotation",),
             )
         if self.link is not None:
             self._check_link(self.link)
