@@ -98,7 +98,11 @@ def _crank(draw: Any, by_part: bool) -> dict[str, Any]:
         if draw(st.booleans()):
             split = draw(st.lists(_angle, min_size=n_banks, max_size=n_banks))
         if draw(st.booleans()):
-            stagger = draw(st.floats(-1, 1)) * spacing / (2 * n_banks)
+            # at least 0.1 mm: rods closer than 1 um in an unlabelled file are throws of
+            # their own, with a default main between them that a bearings section giving it
+            # would be refused for (a main within 1 um of a crank pin)
+            size = draw(st.floats(0.01, 1)) * draw(st.sampled_from([-1, 1]))
+            stagger = size * spacing / (2 * n_banks)
     return {
         "throws": draw(st.lists(_angle, min_size=n_throws, max_size=n_throws)),
         "spacing": spacing,

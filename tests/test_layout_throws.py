@@ -359,3 +359,39 @@ def test_compact_link_rods_take_their_own_masses(tmp_path):
     np.testing.assert_array_equal(parts.conrod[[0, 7]], 3.6)
     np.testing.assert_array_equal(np.delete(parts.conrod, [0, 7]), 1.0)
     assert expand_layout(write(tmp_path, RADIAL_14)).count("link: {master: 8,") == 6
+
+
+@pytest.mark.parametrize(
+    ("crank", "where", "message"),
+    [
+        (
+            "{throws: [0, 90], spacing: 20 mm, banks: [0, 90], bank_stagger: 30 mm}",
+            ":5:72: crank.bank_stagger: the rods of throw 1 (z 0 to 30 mm) reach past throw 2's "
+            "(z 20 mm)",
+            "|bank_stagger| x (banks - 1) below |spacing|",
+        ),
+        (
+            "{throws: [0, 0], spacing: 0 mm}",
+            ":5:21: crank.throws[2]: throws 1 and 2 put rods at one pin (throw angle 0 deg, "
+            "z 0 mm): cylinders 1 and 2",
+            "give them different planes (spacing) or angles",
+        ),
+    ],
+)
+def test_compact_throws_that_overlap_are_refused(tmp_path, crank, where, message):
+    """The compact form's throws follow the explicit form's rules: what its expansion's
+    throw_id labels would be refused for is refused in the compact file, at its key."""
+    path = write(
+        tmp_path,
+        f"""\
+name: s
+speed: 2000 rpm
+geometry: {{stroke: 120 mm, conrod_length: 230 mm}}
+masses: {{reciprocating: 1 kg, rotating: 1 kg}}
+crank: {crank}
+""",
+    )
+    result = run("analyse", str(path))
+    assert result.exit_code == 2, result.output
+    (line,) = result.output.strip().splitlines()
+    assert line.startswith(f"balance: {path}{where}") and line.endswith(message), line
