@@ -41,6 +41,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "ANY_CASE",
+    "ARITHMETIC_KINDS",
     "CASE_MATTERS",
     "DIMENSIONAL",
     "KINDS",
@@ -385,18 +386,84 @@ def check_thousands(text: str) -> None:
         )
 
 
+#: Kinds whose number may be written as arithmetic (``360/7 deg``; :mod:`balance.io.arithmetic`).
+ARITHMETIC_KINDS = frozenset({"angle"})
+_ARITHMETIC_VALID = (
+    "write numbers with + - * / and parentheses, then the unit, e.g. '360/7 deg' or '2*360/5 deg'"
+)
+_OPERATOR_CHARS = frozenset("*/+-^(\u2212\u00d7")
+# a mixed number as inch sizes are written (5-1/8 in): arithmetic would read 5 - 1/8
+_MIXED = re.compile(r"^\s*(\d+)\s*-\s*(\d+)\s*/\s*(\d+)\s*$")
+
+
+def _arithmetic(text: str, kind: str, valid: str) -> tuple[float, str] | None:
+    """The number and unit text of a quantity whose number is arithmetic (``360/7 deg``),
+    or None for one number (read by the caller as before).
+
+    Arithmetic is read in the kinds of :data:`ARITHMETIC_KINDS` only: elsewhere it is
+    refused with the number to write instead (a length ``5-1/8 in`` is an inch size that
+    arithmetic would read as 4.875 in).
+    """
+    from balance.io.arithmetic import ArithmeticProblem, read_arithmetic
+
+    allowed = kind in ARITHMETIC_KINDS
+    try:
+        read = read_arithmetic(text)
+    except ArithmeticProblem as exc:
+        raise UnitProblem(
+            f"cannot read {text.strip()!r}: {exc}", _ARITHMETIC_VALID if allowed else valid
+        ) from None
+    shown = text.strip()
+    if read is not None and allowed and read.rest[:1] in _OPERATOR_CHARS:
+        raise UnitProblem(
+            f"cannot read {shown!r}: arithmetic has numbers, + - * / and parentheses only "
+            "(no powers, no names)",
+            _ARITHMETIC_VALID,
+        )
+    if read is None or read.plain:
+        return None
+    try:
+        number = float(read.value)
+    except OverflowError:
+        raise UnitProblem(f"{shown!r} is out of range for {kind}", valid) from None
+    unit = read.rest
+    if not allowed:
+        mixed = _MIXED.match(read.text)
+        if mixed:
+            whole, top, bottom = (int(g) for g in mixed.groups())
+            if bottom == 0:
+                raise UnitProblem(f"cannot read {shown!r}: division by zero", valid)
+            plus, minus = whole + top / bottom, whole - top / bottom
+            instead = (
+                f"write one number: '{plus:.10g} {unit}'".rstrip()
+                + f" for {whole} {top}/{bottom}, '{minus:.10g} {unit}'".rstrip()
+                + f" for {whole} - {top}/{bottom}"
+            )
+        else:
+            instead = f"write one number, e.g. '{number:.10g} {unit}'".rstrip("' ") + "'"
+        raise UnitProblem(
+            f"{shown!r}: arithmetic is read in angles only, not in {_KIND_ARTICLE[kind]}",
+            instead,
+        )
+    return number, unit
+
+
 def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
     """The value of a quantity's text in the kind's SI unit, and whether it was bare."""
     if len(text) > 80:
         raise UnitProblem("value text is too long", valid)
     check_thousands(text)
-    match = _NUMBER.match(text)
-    if not match:
-        raise UnitProblem(f"cannot read {text!r} as {kind}", valid)
-    number = float(match.group(1))
-    if not math.isfinite(number):
-        raise UnitProblem(f"{text!r} is not a finite number", valid)
-    unit_text = match.group(2)
+    computed = _arithmetic(text, kind, valid)
+    if computed is not None:
+        number, unit_text = computed
+    else:
+        match = _NUMBER.match(text)
+        if not match:
+            raise UnitProblem(f"cannot read {text!r} as {kind}", valid)
+        number = float(match.group(1))
+        if not math.isfinite(number):
+            raise UnitProblem(f"{text!r} is not a finite number", valid)
+        unit_text = match.group(2)
     if not unit_text:
         return number, True
     if _BIG_EXPONENT.search(unit_text):
