@@ -19,7 +19,7 @@ from balance.cli import app
 from balance.core.errors import InputError
 from balance.io.arithmetic import read_arithmetic
 from balance.io.fields import parse_orders, parse_speed
-from balance.io.layout_file import load_layout
+from balance.io.layout_file import builtin_layout_path, load_layout
 from balance.io.units import UnitProblem, parse_quantity
 
 runner = CliRunner()
@@ -75,6 +75,11 @@ def test_arithmetic_is_the_float_nearest_the_exact_value():
         ("1e999*2 deg", "the number '1e999' is out of range"),
         ("(" * 17 + "1" + ")" * 17, "parentheses nested deeper than 16"),
         ("360/7 mm", "'360/7 mm' is a length, not an angle"),
+        # before: "unknown unit 'deg/7' (Unit expression cannot have a scaling factor.)"
+        ("360 deg/7", "cannot read '360 deg/7': the arithmetic goes before the unit"),
+        ("90 deg + 1 deg", "cannot read '90 deg + 1 deg': the arithmetic goes before the unit"),
+        # before: accepted as 0.01745 deg (pint's degrees squared, converted to degrees)
+        ("1 deg**2", "'1 deg**2': 'deg**2' is not a unit of angle"),
     ],
 )
 def test_arithmetic_refused(text, message):
@@ -160,8 +165,9 @@ def test_radial_with_exact_angles_cancels_where_symmetry_says(tmp_path):
     """A 7-cylinder radial (rods on one pin): the free force of order k is
     (n/2) F1 (a_k forward or backward) only where k - 1 or k + 1 is a multiple of 7
     (docs/theory.md); every other phasor cancels by symmetry.  Written with 360/7, the
-    zero-by-symmetry rule (docs/conventions.md) sets them to 0; written as the decimals of
-    radial-7.yaml, they are residues of the rounded angles, far above rounding."""
+    zero-by-symmetry rule (docs/conventions.md) sets them to 0; written as decimals (as
+    radial-7.yaml was before it was written with 360/7), they are residues of the rounded
+    angles, far above rounding."""
     decimals = ["0 deg", "51.42857143 deg", "102.8571429 deg", "154.2857143 deg"]
     decimals += ["205.7142857 deg", "257.1428571 deg", "308.5714286 deg"]
     exact = ["0 deg", "360/7 deg"] + [f"{k}*360/7 deg" for k in range(2, 7)]
@@ -184,6 +190,51 @@ def test_radial_with_exact_angles_cancels_where_symmetry_says(tmp_path):
     # and the phase of order 6 backward reads 0, not 3e-08
     assert before[5]["backward"]["phase_deg"] == pytest.approx(3e-8, abs=2e-8)
     assert after[5]["backward"]["phase_deg"] == 0.0
+
+
+def _proposal(path: Path | str) -> dict:
+    result = run("propose", str(path), "-f", "json")
+    assert result.exit_code == 0, result.stderr
+    return json.loads(result.stdout)["proposal"]
+
+
+def test_radial_with_exact_angles_has_an_exact_residual_with_the_proposal(tmp_path):
+    """The issue's symptom: the decimals' residues make the proposal add three balance
+    shafts of 1.6e-07 kg mm and less, and leave a residual force of order 4 of 2.5e-11 F1
+    and a roll of 1e-06 N m.  Written with 360/7 the proposal is the counterweight alone,
+    and every residual first-, second- (and other) order value that symmetry cancels is 0."""
+    decimals = ["0 deg", "51.42857143 deg", "102.8571429 deg", "154.2857143 deg"]
+    decimals += ["205.7142857 deg", "257.1428571 deg", "308.5714286 deg"]
+    exact = ["0 deg", "360/7 deg"] + [f"{k}*360/7 deg" for k in range(2, 7)]
+    before = _proposal(_radial(tmp_path, "decimal", decimals))
+    after = _proposal(_radial(tmp_path, "exact", exact))
+    assert len(before["balance_shafts"]) == 3
+    unbalance = [p["unbalance_kgm"] for s in before["balance_shafts"] for p in s["planes"]]
+    assert max(unbalance) < 2e-10  # kg m: 1.6e-07 kg mm
+    assert before["residual"]["force"][3]["peak_normalised"] == pytest.approx(2.47e-11, rel=0.01)
+    assert after["balance_shafts"] == []
+    force, roll = after["residual"]["force"], after["residual"]["roll"]
+    for k in (1, 2, 3, 4, 5, 7):
+        assert force[k - 1]["peak"] == 0.0 and force[k - 1]["peak_normalised"] == 0.0
+    assert [r["amplitude"] for r in roll if r["order"] != 7] == [0.0] * 7
+    assert force[5]["peak"] == pytest.approx(1.8906, rel=1e-4)  # order 6: 6 = 7 - 1
+
+
+def test_builtin_radial_7_is_written_exactly():
+    """radial-7.yaml (link rods) writes its banks and link pins as 360/7: its phases print
+    0, not 360 or 7e-09, and the proposal's second-order shaft angle 0, not 4e-09."""
+    assert "360/7 deg" in builtin_layout_path("radial-7").read_text(encoding="utf-8")
+    table = run("analyse", "radial-7")
+    assert table.exit_code == 0
+    assert "7e-09" not in table.stdout and " 360 " not in table.stdout
+    forces = _forces(builtin_layout_path("radial-7"))
+    assert forces[5]["backward"]["phase_deg"] == 0.0
+    # order 1 and 2 backward, order 4 forward: 0, where the decimals printed 360
+    assert forces[0]["backward"]["phase_deg"] == forces[1]["backward"]["phase_deg"] == 0.0
+    assert forces[3]["forward"]["phase_deg"] == 0.0
+    shafts = _proposal("radial-7")["balance_shafts"]
+    assert [s["speed_ratio"] for s in shafts] == [-1, 2, -2]
+    assert shafts[1]["planes"][0]["angle_deg"] == 0.0
 
 
 def test_arithmetic_wherever_an_angle_is_read(tmp_path):
@@ -228,6 +279,37 @@ def test_arithmetic_error_in_a_file_is_one_line_with_its_place(tmp_path):
         "numbers with + - * / and parentheses, then the unit, e.g. '360/7 deg' or "
         "'2*360/5 deg'\n"
     )
+
+
+MALICIOUS = [
+    "__import__('os')",
+    "__import__('os').system('true') deg",
+    "eval('1') deg",
+    "(lambda: 0)() deg",
+    "2**8 deg",
+    "360/7 deg; import os",
+    "[].__class__ deg",
+]
+
+
+@pytest.mark.parametrize("text", MALICIOUS)
+def test_malicious_angles_are_refused_in_one_line(tmp_path, text):
+    """Nothing but numbers and + - * / ( ) is read: code in an angle's place is refused
+    with file:line:column, the field and what to write, and nothing runs."""
+    path = tmp_path / "m.yaml"
+    quoted = text.replace("'", "''")
+    path.write_text(
+        "name: m\nspeed: 6000 rpm\ngeometry: {stroke: 86 mm, conrod_length: 143 mm}\n"
+        "masses: {reciprocating: 0.5 kg, rotating: 0.4 kg}\n"
+        f"cylinders:\n  - {{throw: 0, bank: '{quoted}', z: 0}}\n"
+    )
+    result = run("analyse", str(path))
+    assert result.exit_code == 2
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1 and not result.stdout
+    assert lines[0].startswith(f"balance: {path}:6:22: cylinders[1].bank: ")
+    assert any(w in lines[0] for w in ("cannot read", "unknown unit 'deg; import os'"))
+    assert "e.g. '90 deg'" in lines[0] or "e.g. '360/7 deg'" in lines[0]
 
 
 def test_arithmetic_on_the_command_line():

@@ -124,6 +124,17 @@ def _dimension_name(unit: Any) -> str:
     return _DIMENSION_NAMES.get(text, text)
 
 
+# an operator and a number or parenthesis after the unit's start: arithmetic after the unit
+_AFTER_UNIT = re.compile(r"[-+*/\u2212\u00d7]\s*[\d.(]")
+
+
+def _one_angle_unit(unit: Any) -> bool:
+    """Whether a unit is one unit of angle to the first power (``deg``, ``grad``; not
+    ``deg**2`` or ``percent``, which pint would also convert to degrees)."""
+    powers = list(unit._units.values())
+    return len(powers) == 1 and powers[0] == 1 and _has_angle(unit)
+
+
 def _has_angle(unit: Any) -> bool:
     ureg = registry()
     for name in unit._units:
@@ -489,10 +500,24 @@ def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
     try:
         unit = ureg.parse_units(unit_text)
     except Exception as exc:  # pint raises many types for bad units
+        if _AFTER_UNIT.search(unit_text):  # 360 deg/7, 90 deg + 1 deg: not pint's to read
+            allowed = kind in ARITHMETIC_KINDS
+            raise UnitProblem(
+                f"cannot read {text.strip()!r}: "
+                + ("the arithmetic goes before the unit" if allowed else "a number after the unit"),
+                _ARITHMETIC_VALID if allowed else valid,
+            ) from None
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise UnitProblem(f"unknown unit {unit_text!r} ({detail})", valid) from None
     if kind == "speed":
         return _speed(number, unit, text, valid), False
+    if kind == "angle" and not _one_angle_unit(unit):  # deg**2, percent: no angles
+        raise UnitProblem(
+            f"{text.strip()!r} is {_dimension_name(unit)}, not an angle"
+            if str(unit.dimensionality) != "dimensionless"
+            else f"{text.strip()!r}: {unit_text!r} is not a unit of angle",
+            valid,
+        )
     try:
         return float(ureg.Quantity(number, unit).to(KINDS[kind][0]).magnitude), False
     except Exception:
