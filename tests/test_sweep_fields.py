@@ -241,3 +241,56 @@ def test_sweep_command_writes_a_crank_sweep(tmp_path):
         assert ds.sizes["crank_v_angle"] == 4 and ds.sizes["balance_factor"] == 2
         assert ds.crank_v_angle.attrs["units"] == "deg"
         assert "residual_force_peak" in ds
+
+
+@pytest.mark.parametrize(
+    ("name", "vary", "at", "edit"),
+    [
+        # throw spacing: the cross-plane V8's throws from 100 mm to 125 mm apart
+        ("v8-crossplane", "crank.spacing=100mm:125mm:6", 3, {"crank": {"spacing": "115 mm"}}),
+        # the stagger of the second bank's rods along the crank
+        (
+            "v8-crossplane",
+            "crank.bank_stagger=0mm:30mm:4",
+            2,
+            {"crank": {"bank_stagger": "20 mm"}},
+        ),
+        # the bank angle of one bank: the V-twin's second bank from 45 deg to 75 deg
+        (
+            "v-twin-90",
+            "crank.banks[2]=45deg:75deg:3",
+            2,
+            {"crank": {"banks": ["-45 deg", "75 deg"]}},
+        ),
+        # the V angle, with exact arithmetic: 360/7 opens the V-twin to 51.43 deg
+        (
+            "v-twin-90",
+            "crank.v_angle=360/7,90",
+            0,
+            {"crank": {"banks": ["-180/7 deg", "180/7 deg"]}},
+        ),
+        # the balance factor (the issue's example): 30 %, 35 %, ... 100 %
+        (
+            "single",
+            "balance.balance_factor=30%:100%:15",
+            4,
+            {"balance": {"balance_factor": "50 %"}},
+        ),
+    ],
+)
+def test_each_field_through_the_command_line(tmp_path, name, vary, at, edit):
+    """``balance sweep LAYOUT --vary FIELD=...``: the point ``at`` of the written file equals
+    the analysis of the built-in file with that value written in, every variable, bit for
+    bit (the residual with the proposal too, for the balance factor)."""
+    import xarray as xr
+
+    out = tmp_path / "s.nc"
+    result = runner.invoke(app, ["sweep", name, "--vary", vary, "-o", str(out)])
+    assert result.exit_code == 0, result.stderr
+    path = _edited(tmp_path, name, edit, "cli")
+    with xr.open_dataset(out) as ds:
+        dim = ds.reciprocating_force_magnitude.dims[0]
+        point = ds.isel({dim: at}).load()
+    proposal = vary.startswith("balance.")
+    assert ("residual_force_peak" in point) == proposal
+    _assert_point_is_the_edited_layout(point, path, proposal=proposal)
