@@ -8,7 +8,7 @@ point: each grid point's engine is the variant :func:`balance.studies.changes.ap
 gives, analysed by :func:`balance.core.analysis.compute` with the proposal as its one section,
 exactly as ``balance analyse`` analyses the layout file with those values written in (without
 its other sections: a sweep's values are the inertia forces').  That costs an analysis per
-grid point (about 200 a second), where the rest of a sweep costs microseconds; see
+grid point (about 250 a second), where the rest of a sweep costs microseconds; see
 docs/sweeps.md.
 """
 
