@@ -98,7 +98,7 @@ def _prepare(
     from balance.io.layout_file import load_layout
     from balance.io.request import build_request
 
-    order_list = parse_orders(orders)
+    order_list = parse_orders(orders, "--orders")
     speed_value = parse_speed(speed)
     check_output(output, force, binary)
     engine = load_layout(layout)
@@ -337,7 +337,7 @@ def propose_command(
     from balance.core.analysis import compute
     from balance.io.fields import parse_orders
 
-    cancel_orders = tuple(parse_orders(cancel).tolist()) if cancel is not None else None
+    cancel_orders = tuple(parse_orders(cancel, "--cancel").tolist()) if cancel is not None else None
     factor = _parse_fraction(balance_factor, "--balance-factor") if balance_factor else None
     radius = (
         _parse_length(counterweight_radius, "--counterweight-radius")

@@ -24,6 +24,7 @@ modules (:mod:`balance.io.layout_sections`); a model of one is built from the bl
 from __future__ import annotations
 
 import dataclasses
+import math
 import typing
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
@@ -44,6 +45,7 @@ from balance.io.layout_fields import (
     entry_fields,
     placed,
 )
+from balance.io.limits import MAX_ORDER
 from balance.io.located import Hints
 from balance.io.problems import FieldProblem
 from balance.io.units import UnitProblem, parse_quantity, registry
@@ -150,9 +152,10 @@ OptFraction = Annotated[float | None, quantity("fraction")]
 
 
 class Strict(BaseModel):
-    """A model of a part of an input file: unknown keys refused, values frozen."""
+    """A model of a part of an input file: unknown keys refused, values frozen, no value
+    converted to another type (``true`` is no number, ``2.0`` no whole number)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True, strict=True)
 
 
 def positive(value: float | None, name: str, allow_zero: bool = False) -> None:
@@ -172,7 +175,9 @@ def positive(value: float | None, name: str, allow_zero: bool = False) -> None:
         return
     if value < 0 or (value == 0 and not allow_zero):
         need = "zero or more" if allow_zero else "more than zero"
-        raise FieldProblem(f"{name} is {value:g}", f"{name} must be {need}", (name,))
+        raise FieldProblem(
+            f"{name} is {value:g}", f"{name} must be {need}", (name,), written=f"{name} is {{}}"
+        )
 
 
 def _exactly_one(
@@ -485,7 +490,7 @@ def _speed_ratio(value: Any) -> int:
     valid = "a whole number from -64 to 64 other than 0, e.g. 2 or -2 (negative: against the crank)"
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise FieldProblem(f"speed_ratio is {value!r}", valid)
-    if value != int(value) or value == 0 or abs(value) > 64:
+    if not math.isfinite(value) or value != int(value) or value == 0 or abs(value) > 64:
         raise FieldProblem(f"speed_ratio is {value:g}", valid)
     return int(value)
 
@@ -534,9 +539,12 @@ class BalanceSpec(
                 f"balance_factor is {self.balance_factor:.4g}",
                 "a share between 0 % and 200 % of the reciprocating mass",
                 ("balance_factor",),
+                written="balance_factor is {}",
             )
-        if self.orders is not None and any(k < 1 for k in self.orders):
-            raise FieldProblem("orders must be 1 or more", "for example [1, 2]", ("orders",))
+        if self.orders is not None and any(not 1 <= k <= MAX_ORDER for k in self.orders):
+            raise FieldProblem(
+                f"orders must be 1 to {MAX_ORDER}", "for example [1, 2]", ("orders",)
+            )
         return self
 
 
@@ -693,7 +701,10 @@ class LayoutSpec(Strict):
         )
         if self.speed <= 0:
             raise FieldProblem(
-                f"speed is {self.speed:g} rad/s", "speed must be more than zero", ("speed",)
+                f"speed is {self.speed:g} rad/s",
+                "speed must be more than zero",
+                ("speed",),
+                written="speed is {}",
             )
         positive(self.pitch, "pitch")
         if self.flywheel is not None and self.gas is None and self.flywheel.inertia is None:
@@ -739,5 +750,11 @@ LAYOUT_HINTS = Hints(
         "master": "the number (1-based, in file order) of the cylinder whose rod carries this "
         "link rod, e.g. 'master: 1'",
         "link": "a mapping {master: 1, pin_radius: 46 mm, pin_angle: 72 deg, length: 230 mm}",
+    },
+    nouns={
+        "cylinders": ("cylinder", "cylinders"),
+        "throws": ("throw", "throws"),
+        "banks": ("bank", "banks"),
+        "shafts": ("shaft", "shafts"),
     },
 )
