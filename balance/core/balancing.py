@@ -367,7 +367,10 @@ def propose(
                 counterweights.append(Counterweight(plane_z, value, radius))
         else:
             groups = throw_groups(layout)
-            for g, plane_z in enumerate(group_least(z, groups)):
+            planes = group_least(z, groups)
+            # listed along the crank (z), throws in one plane by their angle
+            for g in np.lexsort((np.arange(planes.size), planes)):
+                plane_z = planes[g]
                 members = groups == g
                 value = complex(targets[members].sum())
                 value = _zero_below(value, float(np.abs(targets[members]).sum()), 2)

@@ -24,6 +24,7 @@ modules (:mod:`balance.io.layout_sections`); a model of one is built from the bl
 from __future__ import annotations
 
 import dataclasses
+import math
 import typing
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
@@ -485,6 +486,16 @@ def _speed_ratio(value: Any) -> int:
     valid = "a whole number from -64 to 64 other than 0, e.g. 2 or -2 (negative: against the crank)"
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise FieldProblem(f"speed_ratio is {value!r}", valid)
+    if not math.isfinite(value):
+        raise FieldProblem(f"speed_ratio is {value!r}", valid)
+    if value != int(value):
+        # docs/layout-format.md, "Balancing settings": why only whole numbers
+        raise FieldProblem(
+            f"speed_ratio is {value:g}: a shaft at a ratio that is not a whole number turns at "
+            f"order {abs(value):g}, which the engine's inertia forces do not have (their orders "
+            "are whole numbers), so it cancels nothing and adds a shaking force of its own",
+            valid,
+        )
     if value != int(value) or value == 0 or abs(value) > 64:
         raise FieldProblem(f"speed_ratio is {value:g}", valid)
     return int(value)
