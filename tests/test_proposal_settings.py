@@ -510,8 +510,8 @@ def test_default_shaft_axes_of_a_marine_six_sit_within_the_crank_trains_reach(tm
     )
     assert data["shaft_default_axes"] == (
         "default axes: 3720 mm (2 r) from the crank axis, below it, a pair 30° either side "
-        "of straight down (x = ∓1860 mm): within the crank train's reach; the layout's "
-        "balance: shafts: places them"
+        "of straight down (x = ∓1860 mm): within the crank train's reach; to place them "
+        "elsewhere, give their axes in the layout's balance: shafts:"
     )
     table = run("propose", str(path), "--orders", "1-2")
     assert "default axes: 3720 mm (2 r) from the crank axis" in " ".join(table.stdout.split())

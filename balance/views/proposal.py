@@ -156,9 +156,9 @@ def _default_rule(result: Result) -> str | None:
     r = float(np.mean(result.engine.crank_radius))
     c = SHAFT_CLEARANCE * r
     return (
-        f"default axes: {c * 1e3:.4g} mm (2 r) from the crank axis, below it, a pair 30° either "
-        f"side of straight down (x = ∓{r * 1e3:.4g} mm): within the crank train's reach; the "
-        "layout's balance: shafts: places them"
+        f"default axes: {c * 1e3:.4g} mm ({SHAFT_CLEARANCE:g} r) from the crank axis, below it, "
+        f"a pair 30° either side of straight down (x = ∓{r * 1e3:.4g} mm): within the crank "
+        "train's reach; to place them elsewhere, give their axes in the layout's balance: shafts:"
     )
 
 
