@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import textwrap
 
 import numpy as np
@@ -532,3 +533,53 @@ def test_default_axes_of_every_builtin_keep_the_rule(name):
         assert math.hypot(s.x, s.y) <= reach and s.y < 0 and abs(s.x) <= r * (1 + 1e-12)
         pair = sum(abs(o.speed_ratio) == abs(s.speed_ratio) for o in shafts) == 2
         assert s.x == (pytest.approx(-r if s.speed_ratio > 0 else r, rel=1e-12) if pair else 0.0)
+
+
+RAISED = re.compile(r"^order (\d+): the balance shafts raise the roll from (\S+) to (\S+) N m")
+KEPT = re.compile(r"the roll of this order with them is (\S+) N m")
+
+
+@pytest.mark.parametrize("cancel_roll", [False, True], ids=["default", "cancel-roll"])
+@pytest.mark.parametrize("name", builtin_layout_names())
+def test_roll_notes_state_the_residual_roll(name, cancel_roll):
+    """Issue 22: the notes that give a roll give the residual's.  "raise the roll from A to
+    B N m": A is the engine's own (inertia) roll of that order and B the residual's with the
+    shafts, both to four digits, and B > A; "the roll of this order with them is X N m" is the
+    residual's; "already 0 N m" only where the residual's roll is 0.  Every built-in layout,
+    with and without cancel_roll."""
+    layout = load_layout(name)
+    result = compute(layout, build_request(layout, [1, 2], cancel_roll=cancel_roll))
+    part = result.part("proposal")
+    engine = result.phasors.roll
+    after = part.residual.roll
+    assert engine is not None and after is not None
+    orders = list(np.asarray(part.residual.orders))
+    seen = 0
+    for note in part.proposal.notes:
+        raised = RAISED.match(note)
+        if raised:
+            at = orders.index(int(raised.group(1)))
+            assert raised.group(2) == f"{abs(engine[at]):.4g}", note
+            assert raised.group(3) == f"{abs(after[at]):.4g}", note
+            assert abs(after[at]) > abs(engine[at])
+            seen += 1
+        kept = KEPT.search(note)
+        if kept:
+            at = orders.index(int(note.split(":", 1)[0].split()[1]))
+            assert kept.group(1) == f"{abs(after[at]):.4g}", note
+            seen += 1
+        if "already 0 N m" in note:
+            at = orders.index(int(note.split(":", 1)[0].split()[1]))
+            assert after[at] == 0
+            seen += 1
+    # every order whose residual roll the shafts make larger than the engine's has its note
+    # when the shafts stay where they are by default
+    if not cancel_roll:
+        for k in {abs(s.speed_ratio) for s in part.proposal.shafts}:
+            at = orders.index(k)
+            grows = abs(after[at]) > abs(engine[at]) * (1 + 1e-9) + 1e-9 * max(abs(engine[at]), 1.0)
+            noted = any(
+                note.startswith(f"order {k}: the balance shafts raise")
+                for note in part.proposal.notes
+            )
+            assert noted == grows, (k, abs(engine[at]), abs(after[at]), part.proposal.notes)
