@@ -424,7 +424,7 @@ def _layout(tmp_path: Path, **changes: str) -> Path:
         (  # before: "balance_factor is -0.5"
             {"extra": "balance: {balance_factor: -50 %}\n"},
             "6:27: balance.balance_factor: balance_factor is -50 %; a share between 0 % and "
-            "200 % of the reciprocating mass",
+            "200 % of each cylinder's reciprocating mass",
         ),
         (  # before: "crank.throws: 300 entries; at most 256 entries"
             {"crank": "{throws: [" + ", ".join(["0"] * 300) + "], spacing: 90 mm}"},

@@ -127,6 +127,26 @@ def test_balance_factor_gives_the_residual_with_the_proposal(tmp_path):
         _assert_point_is_the_edited_layout(ds.isel(balance_factor=i), path, proposal=True)
 
 
+def test_balance_factor_sweep_keeps_the_files_convention(tmp_path):
+    """A layout giving its factor as a share of one cylinder's first order
+    (balance: {balance_factor: {of: one-cylinder, value: ...}}) is swept in that convention:
+    each point is the file with that value written in the same convention, and on the 90 deg
+    V-twin 100 % of one cylinder is 50 % of each (docs/theory.md), so the point at 100 %
+    leaves no forward first order of the whole free force."""
+    one = {"balance": {"balance_factor": {"of": "one-cylinder", "value": "60 %"}}}
+    layout = load_layout(_edited(tmp_path, "v-twin-90", one, "base"))
+    ds = sweep(layout, {"balance.balance_factor": "60%:100%:5"}, "1-8")
+    for i in (0, 4):
+        value = {"of": "one-cylinder", "value": f"{float(ds.balance_factor[i]) * 100!r} %"}
+        path = _edited(tmp_path, "v-twin-90", {"balance": {"balance_factor": value}}, str(i))
+        _assert_point_is_the_edited_layout(ds.isel(balance_factor=i), path, proposal=True)
+    full = ds.isel(balance_factor=4).residual_force_magnitude.sel(order=1, rotation="forward")
+    scale = float(ds.isel(balance_factor=0).residual_force_magnitude.sel(order=1).max())
+    assert float(full) < 1e-12 * scale < float(
+        ds.isel(balance_factor=0).residual_force_magnitude.sel(order=1, rotation="forward")
+    )
+
+
 def test_balance_factor_with_speed_and_a_crank_field(tmp_path):
     layout = balance.load_layout("v-twin-90")
     ds = sweep(

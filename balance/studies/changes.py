@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core.balance_factor import BalanceFactor
 from balance.core.engine import BalanceSettings, Engine
 from balance.core.errors import InputError
 from balance.io.crank_form import crank_geometry
@@ -105,7 +106,10 @@ def apply_changes(
             settings = engine.balance if engine.balance is not None else BalanceSettings()
             key = attribute.removeprefix("balance.")
             base = getattr(settings, key)
-            given = base + value if add and base is not None else value
+            if isinstance(base, BalanceFactor):  # keeps the convention the file gave
+                given = BalanceFactor(base.value + value if add else value, base.of)
+            else:
+                given = base + value if add and base is not None else value
             new["balance"] = replace(current("balance") or settings, **{key: given})
         elif attribute in {"speed", "reference_z"}:
             new[attribute] = current(attribute) + value if add else value
