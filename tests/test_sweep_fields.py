@@ -142,8 +142,10 @@ def test_balance_factor_sweep_keeps_the_files_convention(tmp_path):
         _assert_point_is_the_edited_layout(ds.isel(balance_factor=i), path, proposal=True)
     full = ds.isel(balance_factor=4).residual_force_magnitude.sel(order=1, rotation="forward")
     scale = float(ds.isel(balance_factor=0).residual_force_magnitude.sel(order=1).max())
-    assert float(full) < 1e-12 * scale < float(
-        ds.isel(balance_factor=0).residual_force_magnitude.sel(order=1, rotation="forward")
+    assert (
+        float(full)
+        < 1e-12 * scale
+        < float(ds.isel(balance_factor=0).residual_force_magnitude.sel(order=1, rotation="forward"))
     )
 
 
