@@ -248,7 +248,7 @@ crank:
   throws: [0 deg, 180 deg]
   spacing: 170 mm
   bank_count: 7
-  row_rotation: [0 deg, 25.714285714285715 deg]
+  row_rotation: [0 deg, 360/14 deg]
   link: {master: 1, pin_radius: 60 mm, length: 200 mm, conrod: 1.0 kg,
          conrod_cg_to_big_end: 80 mm, conrod_inertia: 0.006 kg m^2}
 firing_order: [1, 10, 5, 14, 2, 11, 6, 8, 3, 12, 7, 9, 4, 13]
@@ -395,3 +395,30 @@ crank: {crank}
     assert result.exit_code == 2, result.output
     (line,) = result.output.strip().splitlines()
     assert line.startswith(f"balance: {path}{where}") and line.endswith(message), line
+
+
+def test_a_sweep_of_crank_fields_keeps_the_rows_turned(tmp_path):
+    """crank.spacing and crank.banks[N] varied on a compact form with row_rotation: the
+    variant is the edited file, bit for bit (each row keeps its turn)."""
+    from balance.studies.sweep import variant
+
+    text = """\
+name: two rows
+speed: 3000 rpm
+geometry: {stroke: 120 mm, conrod_length: 260 mm}
+masses: {reciprocating: 1.5 kg, rotating: 1.2 kg}
+crank:
+  throws: [0 deg, 180 deg]
+  spacing: 170 mm
+  bank_count: 3
+  row_rotation: [0 deg, 360/6 deg]
+"""
+    layout = load_layout(write(tmp_path, text))
+    assert np.degrees(layout.bank).round(9).tolist() == [0, 120, 240, 60, 180, 300]
+    got = variant(layout, {"crank.spacing": 0.15, "crank.banks[2]": 100})
+    edited = text.replace("spacing: 170 mm", "spacing: 0.15 m").replace(
+        "bank_count: 3", "banks: [0 deg, 100 deg, 240 deg]"
+    )
+    want = load_layout(write(tmp_path, edited, "edited.yaml"))
+    for attribute in ("throw", "bank", "z"):
+        assert np.array_equal(getattr(got, attribute), getattr(want, attribute)), attribute
