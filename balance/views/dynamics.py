@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.catalogue import speed_rpm
+from balance.views.figures import layout_heading, speed_text, title_text
 from balance.views.polar import format_number, json_number, order_value
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -44,7 +45,8 @@ __all__ = [
 ]
 
 #: The quantities per order, their unit and how a table names them.
-QUANTITIES = (("force", "N", "whole free force"), ("moment", "N m", "free moment"),
+QUANTITIES = (("force", "N", "free force (reciprocating + rotating)"),
+              ("moment", "N m", "free moment (reciprocating + rotating)"),
               ("roll", "N m", "roll torque"))  # fmt: skip
 
 _num = json_number
@@ -289,8 +291,7 @@ def tables(result: Result) -> list[RenderableType]:
         peak = "amplitude" if quantity == "roll" else "peak"
         out.append(
             NumberTable(
-                f"{name[0].upper()}{name[1:]} per order (in time, against the mean crank "
-                "angle): varying and constant speed",
+                f"{name[0].upper()}{name[1:]} per order: varying and constant speed",
                 [
                     Column("order", key=True),
                     Column(f"{peak} dynamic", unit),
@@ -299,6 +300,7 @@ def tables(result: Result) -> list[RenderableType]:
                     Column("difference", "%"),
                 ],
                 order_rows(p, quantity),
+                notes=("per order in time, against the mean crank angle",),
             )
         )
     text = (
@@ -337,8 +339,18 @@ def _not_computed(result: Result, kind: str, title: str | None) -> Figure:
         ha="center",
         va="center",
     )
-    fig.suptitle(title or f"{result.engine.name}: {kind.replace('_', ' ')}")
+    fig.suptitle(
+        title_text(
+            fig.get_figwidth(), title or f"{layout_heading(result)}: {kind.replace('_', ' ')}"
+        )
+    )
     return fig
+
+
+def _heading(result: Result, p: DynamicsResult) -> str:
+    """The layout's name and the mean crank speed of the variable-speed analysis, as its
+    figure titles begin."""
+    return f"{result.engine.name} at {speed_text(p.mean_speed)} mean"
 
 
 def _cycle_axis(ax: Axes, span: float) -> None:
@@ -382,7 +394,12 @@ def plot_crank_speed(result: Result, *, title: str | None = None) -> Figure:
     bottom.axhline(0.0, color="0.6", lw=0.6)
     bottom.set_ylabel("angular acceleration [rad/s²]")
     _cycle_axis(bottom, p.cycle_deg)
-    fig.suptitle(title or f"{result.engine.name}: crank speed over the working cycle")
+    fig.suptitle(
+        title_text(
+            fig.get_figwidth(),
+            title or f"{_heading(result, p)}: crank speed over the working cycle",
+        )
+    )
     return fig
 
 
@@ -407,7 +424,12 @@ def plot_reduced_inertia(result: Result, *, title: str | None = None) -> Figure:
     )
     ax.legend(loc="best", fontsize=8)
     _cycle_axis(ax, p.cycle_deg)
-    fig.suptitle(title or f"{result.engine.name}: reduced inertia of the crank train")
+    fig.suptitle(
+        title_text(
+            fig.get_figwidth(),
+            title or f"{_heading(result, p)}: reduced inertia of the crank train",
+        )
+    )
     return fig
 
 
@@ -456,7 +478,12 @@ def plot_speed_model_orders(result: Result, *, title: str | None = None) -> Figu
     for ax, (quantity, unit, name) in zip(axes, shown, strict=True):
         _bars(ax, p, quantity, unit, name)
     fig.suptitle(
-        title or f"{result.engine.name}: free force and roll per order, constant and varying speed"
+        title_text(
+            fig.get_figwidth(),
+            title
+            or f"{_heading(result, p)}: free force (reciprocating + rotating), moment and roll per "
+            "order, constant and varying speed",
+        )
     )
     return fig
 

@@ -18,7 +18,7 @@ from balance.views.figures import (
     degree_axis,
     denoise,
     finish,
-    layout_name,
+    layout_heading,
     new_figure,
     order_bars,
     scale_of,
@@ -238,7 +238,7 @@ def _render_proposal(result: Result) -> list[RenderableType]:
         )
     out.append(
         NumberTable(
-            "Residual with the proposal (all free forces and moments, and roll)",
+            "Residual with the proposal: free (reciprocating + rotating) + proposal; roll",
             [
                 Column("order", key=True),
                 Column("force peak", "N"),
@@ -486,8 +486,9 @@ def plot_balance(
             before_peak = signals.peak_of(result, quantity, "free")
             after_peak = signals.peak_of(result, quantity, "residual")
             reference = float(np.nansum(before_peak)) / divisor
-            before = denoise(signals.phasor_signal(bf, bb, ks, theta) / divisor, reference)
-            after = denoise(signals.phasor_signal(af, ab, ks, theta) / divisor, reference)
+            n_terms = 2 * ks.size
+            before = denoise(signals.phasor_signal(bf, bb, ks, theta) / divisor, reference, n_terms)
+            after = denoise(signals.phasor_signal(af, ab, ks, theta) / divisor, reference, n_terms)
             name = "force |F|" if quantity == "force" else "moment |Σ Δz·F|"
             top = axes_list[col]
             degree_axis(top)
@@ -526,7 +527,7 @@ def plot_balance(
         roll_reference = float(np.nansum(ra))
         top.plot(
             roll_theta,
-            denoise(signals.roll_signal(roll, rk, roll_theta), roll_reference),
+            denoise(signals.roll_signal(roll, rk, roll_theta), roll_reference, rk.size),
             color=BEFORE_COLOUR,
             ls="--",
             lw=1.8,
@@ -535,7 +536,7 @@ def plot_balance(
         )
         top.plot(
             roll_theta,
-            denoise(signals.roll_signal(residual_roll, rk, roll_theta), roll_reference),
+            denoise(signals.roll_signal(residual_roll, rk, roll_theta), roll_reference, rk.size),
             color="C4",
             lw=2.2,
             label="after (with shafts)",
@@ -546,7 +547,7 @@ def plot_balance(
         order_bars(axes_list[5], rk, [(ra, BEFORE_COLOUR, "before"), (qa, "C4", "after")])
         axes_list[5].set_ylabel("roll amplitude [N m]")
         axes_list[5].legend(loc="upper right")
-        return finish(fig, owned, title, f"{layout_name(result)}: {proposal_summary(result)}")
+        return finish(fig, owned, title, f"{layout_heading(result)}: {proposal_summary(result)}")
 
 
 def proposal_summary(result: Result) -> str:

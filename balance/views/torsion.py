@@ -548,7 +548,8 @@ def _not_computed(result: Result, kind: str, title: str | None, text: str) -> Fi
         fig, (ax,) = _figure(1, (7.0, 3.0))
         ax.set_axis_off()
         ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, color="0.4")
-        fig.suptitle(_wrapped(fig, title or f"{result.engine.name}: {kind.replace('_', ' ')}"))
+        default = f"{result.engine.name} at {format_number(speed_rpm(result.engine.speed), 5)} rpm"
+        fig.suptitle(_wrapped(fig, title or f"{default}: {kind.replace('_', ' ')}"))
         return fig
 
 
@@ -671,7 +672,7 @@ def plot_modes(result: Result, *, title: str | None = None) -> Figure:
             if count < t.frequencies.size
             else "torsional mode shapes"
         )
-        default = f"{result.engine.name}: {shown} (undamped)"
+        default = f"{result.engine.name}: {shown} (undamped; the same at every speed)"
         fig.suptitle(_wrapped(fig, title or default))
         return fig
 
