@@ -108,7 +108,13 @@ def analyse(
         - ``bearings`` (on with a ``bearings:`` section): crank-pin and main-bearing loads
           (option ``strategies``: also with each counterweight strategy);
         - ``mounts`` (on with a ``mounts:`` section): the engine on its mounts (options
-          ``with_proposal``, ``speeds`` [rad/s]).
+          ``with_proposal``, ``speeds`` [rad/s]);
+        - ``dynamics`` (on with a ``dynamics:`` section, or ``speed_model='dynamic'``): the
+          crank train's own periodic motion (options ``speed_model``, ``load``,
+          ``flywheel``; docs/dynamics.md);
+        - ``torsion`` (on with a ``torsion:`` section): torsional vibration of the crank
+          train (options ``speeds`` [rad/s] or ``'sweep'`` for the default range, default
+          the analysis speed alone; ``orders``; docs/torsion.md).
 
     Returns
     -------

@@ -10,7 +10,8 @@ gear, four throws of two cylinders, flywheel, gearbox, propshaft, differential, 
 vehicle (illustrative values).  Timed, best of several interleaved rounds:
 
 - ``balance analyse`` of the layout in process: :func:`balance.core.analysis.compute` of
-  the default request (free forces, gas torque, proposal);
+  the default request (free forces, gas torque, proposal) with the torsion section turned
+  off (the layout's section would add it, at the analysis speed alone);
 - the ``torsion`` section's part, :func:`balance.core.torsion.torsion_part`, on that
   result: 200 speeds from 20 % to 120 % of the layout's speed, every half order from 0.5
   to 12 (24 orders), the modes, the resonances and the synthesis;
@@ -22,44 +23,23 @@ The issue's target: the torsion part in at most 3 x the time of the analysis.
 from __future__ import annotations
 
 import platform
+import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
 from balance.core.analysis import compute
-from balance.core.torsion import Shaft, TorsionDamper, TorsionMass, TorsionTrain, torsion_part
+from balance.core.torsion import torsion_part
 from balance.io.layout_file import load_layout
 from balance.io.request import build_request
 
+# the 12-mass V8 train is the one tests/test_torsion.py checks (tests/torsion_trains.py)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from torsion_trains import v8_train
+
 ROUNDS, REPEATS = 7, 10
-
-
-def v8_train() -> TorsionTrain:
-    """The 12-mass V8 train (illustrative values, not a published table)."""
-    masses = [
-        TorsionMass("pulley", inertia=0.006, shaft=Shaft(1.2e6, 1.0, 0.045)),
-        TorsionMass("gear", inertia=0.002, shaft=Shaft(1.5e6, 1.0, 0.055)),
-    ]
-    masses += [
-        TorsionMass(
-            f"throw {t + 1}",
-            crank_inertia=0.004,
-            cylinders=(2 * t + 1, 2 * t + 2),
-            damping=0.5,
-            shaft=Shaft(1.1e6, 1.0, 0.060, 0.02),
-        )
-        for t in range(4)
-    ]
-    masses += [
-        TorsionMass("flywheel", inertia=0.15, shaft=Shaft(2.0e4, 5.0)),
-        TorsionMass("gearbox", inertia=0.02, shaft=Shaft(1.5e4, 2.0)),
-        TorsionMass("propshaft", inertia=0.01, shaft=Shaft(2.0e4, 2.0)),
-        TorsionMass("differential", inertia=0.02, shaft=Shaft(8e3, 2.0)),
-        TorsionMass("wheels", inertia=1.0, shaft=Shaft(3e4, 5.0)),
-        TorsionMass("vehicle", inertia=30.0, damping=5.0),
-    ]
-    return TorsionTrain(tuple(masses), (TorsionDamper(1, 0.012, 9e4, 8.0),), loss_factor=0.02)
 
 
 def best(func: Callable[[], object]) -> float:
@@ -74,16 +54,20 @@ def best(func: Callable[[], object]) -> float:
 
 def main() -> None:
     engine = load_layout("v8-crossplane-gas").with_section("torsion", v8_train())
-    request = build_request(engine, None)
+    # the analysis without the torsion section (which the layout's section would turn on,
+    # at the analysis speed): free forces, gas torque, proposal
+    request = build_request(engine, None, torsion=False)
     result = compute(engine, request)
-    part = torsion_part(engine, request, result).part("torsion")
+    part = torsion_part(engine, request, result, speeds="sweep").part("torsion")
     assert part.section_torque is not None
     assert part.section_torque.shape == (11, 24, 200)  # sections, orders, speeds
     analyse, torsion, both = [], [], []
     for _ in range(ROUNDS):  # interleaved, so that a busy machine slows all alike
         analyse.append(best(lambda: compute(engine, request)))
-        torsion.append(best(lambda: torsion_part(engine, request, result)))
-        both.append(best(lambda: torsion_part(engine, request, compute(engine, request))))
+        torsion.append(best(lambda: torsion_part(engine, request, result, speeds="sweep")))
+        both.append(
+            best(lambda: torsion_part(engine, request, compute(engine, request), speeds="sweep"))
+        )
     a, t, b = min(analyse), min(torsion), min(both)
     ratios = np.array(torsion) / np.array(analyse)
     print(f"{platform.python_version()}, {platform.machine()}")

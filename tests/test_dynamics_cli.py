@@ -176,3 +176,25 @@ def test_bad_dynamics_sections(tmp_path, section, words):
     out = run("analyse", str(path))
     assert out.exit_code == 2 and words in out.stderr, out.stderr
     assert f"{path}:" in out.stderr
+
+
+def test_figures_and_report_solve_the_motion_of_a_layout_with_gas_and_flywheel(tmp_path):
+    """docs/dynamics.md: `balance plot` and `balance report` of a layout with gas: and
+    flywheel: draw the variable-speed figures (the motion solved for them, mean load), while
+    `balance analyse` stays at constant speed; a layout without gas draws none."""
+    out = run("plot", "inline-4-gas", "-o", str(tmp_path / "gas"), "-q")
+    assert out.exit_code == 0, out.output
+    names = {p.name for p in (tmp_path / "gas").iterdir()}
+    for kind in ("crank_speed", "reduced_inertia", "speed_model_orders"):
+        assert f"inline-4-gas-{kind}.png" in names
+    shown = balance.compute_result("inline-4-gas", dynamics={"figures": True}).part("dynamics")
+    exact = balance.compute_result("inline-4-gas", speed_model="dynamic").part("dynamics")
+    assert shown.speed_fluctuation == exact.speed_fluctuation
+    doc = json.loads(run("analyse", "inline-4-gas", "-f", "json").stdout)
+    assert doc["accuracy"]["speed_model"] == "constant"
+    out = run("plot", "inline-4", "-o", str(tmp_path / "plain"), "-q")
+    assert out.exit_code == 0, out.output
+    assert not any("crank_speed" in p.name for p in (tmp_path / "plain").iterdir())
+    report = tmp_path / "r.html"
+    assert run("report", "inline-4-gas", "-o", str(report), "-q").exit_code == 0
+    assert "Variable crank speed" in report.read_text()

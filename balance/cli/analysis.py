@@ -478,12 +478,24 @@ def report_command(
     sys.stderr.write(f"balance: wrote {output}\n")
 
 
-class MountsFormat(StrEnum):
-    """Output formats of ``balance mounts``."""
+class SweepFormat(StrEnum):
+    """Output formats of the speed sweeps, ``balance mounts`` and ``balance torsion``."""
 
     table = "table"
     json = "json"
     csv = "csv"
+
+
+SweepFormatOption = Annotated[SweepFormat, typer.Option("--format", "-f", help="Output format.")]
+
+
+def _write_figure(fig: Any, path: Path, force: bool) -> None:
+    """Write a figure whole to ``path`` (its suffix the format) and say so on stderr."""
+    from balance.io.atomic import write_atomic
+    from balance.views.plots import figure_bytes
+
+    write_atomic(path, figure_bytes(fig, path.suffix.lower().lstrip(".")), force)
+    sys.stderr.write(f"balance: wrote {path}\n")
 
 
 @guarded
@@ -507,16 +519,12 @@ def mounts_command(
     with_proposal: Annotated[
         bool, typer.Option("--with-proposal", help="Load the mounts with the proposal added.")
     ] = False,
-    format: Annotated[
-        MountsFormat, typer.Option("--format", "-f", help="Output format.")
-    ] = MountsFormat.table,
+    format: SweepFormatOption = SweepFormat.table,
     plot: Annotated[
         Path | None,
         typer.Option("--plot", "-o", help="Also draw mount force against speed (png, svg, pdf)."),
     ] = None,
-    force: Annotated[
-        bool, typer.Option("--force", help="Replace an existing output file.")
-    ] = False,
+    force: ReplaceOutput = False,
     quiet: Quiet = False,
 ) -> None:
     """Mount forces per order against speed, the modes, and which order crosses which mode
@@ -542,13 +550,13 @@ def mounts_command(
     top = float(request.options("mounts")["speeds"].max())
     warn(check_engine(engine.with_speed(top)), quiet, layout)  # at the top speed
     sweep = compute(engine, request).part("mounts").sweep
-    if format is MountsFormat.json:
+    if format is SweepFormat.json:
         import json
 
         from balance.views.mounts import sweep_json
 
         sys.stdout.write(json.dumps(sweep_json(sweep, engine.name), indent=2) + "\n")
-    elif format is MountsFormat.csv:
+    elif format is SweepFormat.csv:
         from balance.views.mounts import sweep_csv
 
         sys.stdout.write(sweep_csv(sweep))
@@ -559,21 +567,9 @@ def mounts_command(
 
         console().print(Group(*sweep_tables(sweep, engine.name)))
     if plot is not None:
-        from balance.io.atomic import write_atomic
         from balance.views.mounts import plot_mount_sweep
-        from balance.views.plots import figure_bytes
 
-        fig = plot_mount_sweep(sweep, layout=engine.name)
-        write_atomic(plot, figure_bytes(fig, plot.suffix.lower().lstrip(".")), force)
-        sys.stderr.write(f"balance: wrote {plot}\n")
-
-
-class TorsionFormat(StrEnum):
-    """Output formats of ``balance torsion``."""
-
-    table = "table"
-    json = "json"
-    csv = "csv"
+        _write_figure(plot_mount_sweep(sweep, layout=engine.name), plot, force)
 
 
 @guarded
@@ -597,16 +593,12 @@ def torsion_command(
             "(default 0.5-12, a two-stroke 1-12).",
         ),
     ] = None,
-    format: Annotated[
-        TorsionFormat, typer.Option("--format", "-f", help="Output format.")
-    ] = TorsionFormat.table,
+    format: SweepFormatOption = SweepFormat.table,
     plot: Annotated[
         Path | None,
         typer.Option("--plot", "-o", help="Also draw the Campbell diagram (png, svg, pdf)."),
     ] = None,
-    force: Annotated[
-        bool, typer.Option("--force", help="Replace an existing output file.")
-    ] = False,
+    force: ReplaceOutput = False,
     quiet: Quiet = False,
 ) -> None:
     """Torsional vibration of the crank train over a speed range: modes, vector sums,
@@ -635,11 +627,11 @@ def torsion_command(
     )
     result = compute(engine, request.only("torque", "torsion"))
     warn(result.warnings, quiet, layout)
-    if format is TorsionFormat.json:
+    if format is SweepFormat.json:
         from balance.views.torsion import torsion_text
 
         sys.stdout.write(torsion_text(result))
-    elif format is TorsionFormat.csv:
+    elif format is SweepFormat.csv:
         from balance.views.torsion import torsion_csv
 
         sys.stdout.write(torsion_csv(result))
@@ -650,12 +642,9 @@ def torsion_command(
 
         console().print(Group(*tables(result)))
     if plot is not None:
-        from balance.io.atomic import write_atomic
-        from balance.views.plots import figure_bytes, plot_kind
+        from balance.views.plots import plot_kind
 
-        fig = plot_kind("torsion_campbell")(result)
-        write_atomic(plot, figure_bytes(fig, plot.suffix.lower().lstrip(".")), force)
-        sys.stderr.write(f"balance: wrote {plot}\n")
+        _write_figure(plot_kind("torsion_campbell")(result), plot, force)
 
 
 #: The commands of this module, by name (:mod:`balance.cli` puts them in order).

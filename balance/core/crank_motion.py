@@ -40,8 +40,8 @@ does on the bodies: :math:`m s''(s' + e)\omega^2` for a piston at constant speed
 add nothing).  :func:`orders_in_time` takes their orders at multiples of the mean speed in
 time, against the mean crank angle :math:`\bar\theta(t)`.
 
-References
-----------
+.. rubric:: References
+
 Lagrange's equation for a machine of one degree of freedom with a variable reduced moment
 of inertia, and its energy integral: Biezeno and Grammel, *Engineering Dynamics*, vol. IV
 (internal-combustion engines), Blackie 1954, ch. I; Norton, *Design of Machinery*, 5th ed.,

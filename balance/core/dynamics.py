@@ -553,6 +553,7 @@ def dynamics_part(
     speed_model: str | None = None,
     load: Load | None = None,
     flywheel: Flywheel | None = None,
+    figures: bool = False,
 ) -> Result:
     r"""The ``dynamics`` section: the speed model, the second axis of the speed/accuracy
     ladder (docs/dynamics.md).
@@ -580,6 +581,10 @@ def dynamics_part(
         The load (default: the layout's ``dynamics:`` section's, else the mean load).
     flywheel : Flywheel, optional
         The flywheel (default: the engine's ``flywheel:`` section).
+    figures : bool
+        What the figures and the report ask for: without a speed model given, the dynamic
+        one wherever it can run (gas forces and a flywheel), so that a design review shows
+        what the constant-speed assumption costs.
 
     Returns
     -------
@@ -587,8 +592,11 @@ def dynamics_part(
         With the part ``dynamics`` (:class:`DynamicsResult` or :class:`ConstantSpeed`).
     """
     given = engine.section("dynamics")
+    able = result.part("torque") is not None and (
+        flywheel is not None or Flywheel.of(engine) is not None
+    )
     if speed_model is None:
-        speed_model = "dynamic" if given is not None else "constant"
+        speed_model = "dynamic" if given is not None or (figures and able) else "constant"
     if load is None and given is not None:
         load = given
     torque = result.part("torque")

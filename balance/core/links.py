@@ -57,8 +57,8 @@ model adds :math:`\Delta I\,\omega^2\gamma_l''(1 + \gamma_l')` with :math:`\gamm
 angle from its bore.  The derivation is on the theory page; :mod:`balance.core.sampled`
 checks all of it against a Newton–Euler solution of the rigid bodies.
 
-References
-----------
+.. rubric:: References
+
 Fearn, "The articulated connecting rod", Journal of the Royal Aeronautical Society, 1927
 (the link piston's displacement as a Fourier series; the forces at the crank pin and on the
 master rod).  C. F. Taylor, *The Internal-Combustion Engine in Theory and Practice*, vol. 2,

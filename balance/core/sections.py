@@ -96,7 +96,8 @@ SECTIONS: tuple[Section, ...] = (
         outputs="balance.core.dynamics:OUTPUTS",
         layout_key="dynamics",
         default=True,
-        options=("speed_model", "load", "flywheel"),
+        options=("speed_model", "load", "flywheel", "figures"),
+        figure_options=(("figures", True),),
     ),
     Section(
         "proposal",

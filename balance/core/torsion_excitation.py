@@ -29,8 +29,8 @@ Two things come from the cylinders (docs/torsion.md):
 The orders (halves for a four-stroke) and speeds of a torsional analysis are checked here
 too (:func:`order_problem`, :func:`speed_problem`).
 
-References
-----------
+.. rubric:: References
+
 W. K. Wilson, *Practical Solution of Torsional Vibration Problems*, vol. 1, 3rd ed., Chapman
 & Hall 1956, ch. on the equivalent inertia of the reciprocating parts and the harmonic
 analysis of the turning moment; N. Nestorides, *A Handbook on Torsional Vibration*,
@@ -87,13 +87,35 @@ DEFAULT_SPEEDS = (0.2, 1.2, 200)
 
 def default_orders(cycle: str) -> FloatArray:
     """The default orders: every half order from 0.5 to 12 for a four-stroke, 1 to 12 for a
-    two-stroke."""
+    two-stroke.
+
+    Parameters
+    ----------
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle (anything but ``"four-stroke"`` has whole orders only).
+
+    Returns
+    -------
+    ndarray, shape (K,)
+        The orders [multiples of the crank speed], rising, up to :data:`MAX_ORDER`.
+    """
     step = 0.5 if cycle == "four-stroke" else 1.0
     return np.asarray(np.arange(1, round(MAX_ORDER / step) + 1) * step, dtype=np.float64)
 
 
 def default_speeds(speed: float) -> FloatArray:
-    """The default speeds [rad/s]: 200 from 20 % to 120 % of ``speed`` [rad/s]."""
+    """The default speeds [rad/s]: 200 from 20 % to 120 % of ``speed`` [rad/s].
+
+    Parameters
+    ----------
+    speed : float
+        The engine's speed [rad/s].
+
+    Returns
+    -------
+    ndarray, shape (200,)
+        Crank speeds [rad/s], evenly spaced, both ends included (:data:`DEFAULT_SPEEDS`).
+    """
     low, high, count = DEFAULT_SPEEDS
     return np.linspace(low * speed, high * speed, count)
 
@@ -103,6 +125,20 @@ def order_problem(orders: ArrayLike, cycle: str) -> str | None:
 
     Orders must be positive multiples of 0.5, given once each; a two-stroke (whose cycle is
     one revolution) has whole orders only.
+
+    Parameters
+    ----------
+    orders : array_like
+        The orders [multiples of the crank speed] (flattened).
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+
+    Returns
+    -------
+    str or None
+        The first problem found, one line (none given; one not finite or not above zero;
+        one not a multiple of 0.5; a half order on a two-stroke; one given twice), or None
+        when the orders can be analysed.
     """
     k = np.asarray(orders, dtype=np.float64).reshape(-1)
     if k.size == 0:
@@ -123,7 +159,19 @@ def order_problem(orders: ArrayLike, cycle: str) -> str | None:
 
 def speed_problem(speeds: ArrayLike) -> str | None:
     """What is wrong with the speeds [rad/s] of a torsional analysis (None when nothing is):
-    at least one, each finite and above zero."""
+    at least one, each finite and above zero.
+
+    Parameters
+    ----------
+    speeds : array_like
+        Crank speeds [rad/s] (flattened).
+
+    Returns
+    -------
+    str or None
+        The problem, one line (none given, or one not finite or not above zero), or None
+        when the speeds can be analysed.
+    """
     w = np.asarray(speeds, dtype=np.float64).reshape(-1)
     if w.size == 0:
         return "no speeds: give at least one"
@@ -134,7 +182,22 @@ def speed_problem(speeds: ArrayLike) -> str | None:
 
 def harmonic_numbers(orders: ArrayLike, cycle: str) -> NDArray[np.intp]:
     """Each order as the number of its periods in one working cycle (2k for a four-stroke,
-    k for a two-stroke)."""
+    k for a two-stroke).
+
+    Parameters
+    ----------
+    orders : array_like
+        The orders [multiples of the crank speed] (multiples of 0.5; whole for a
+        two-stroke: :func:`order_problem`).
+    cycle : {'four-stroke', 'two-stroke'}
+        The working cycle.
+
+    Returns
+    -------
+    ndarray of int, shape of ``orders``
+        The harmonic numbers [periods per cycle], rounded to the nearest whole number: the
+        index of each order in a spectrum over one working cycle.
+    """
     per_cycle = cycle_degrees(cycle) / 360.0
     return np.asarray(np.round(np.asarray(orders, dtype=np.float64) * per_cycle), dtype=np.intp)
 
@@ -142,7 +205,22 @@ def harmonic_numbers(orders: ArrayLike, cycle: str) -> NDArray[np.intp]:
 def major_orders(firing: ArrayLike, orders: ArrayLike) -> NDArray[np.bool_]:
     r"""Which orders are *major*: every cylinder's order-k excitation in phase,
     :math:`k\theta_c` equal modulo 360 deg for all cylinders (for an even-firing engine of z
-    firings a cycle, the multiples of :math:`z \cdot 360/\text{cycle}`)."""
+    firings a cycle, the multiples of :math:`z \cdot 360/\text{cycle}`).
+
+    Parameters
+    ----------
+    firing : array_like, shape (c,)
+        Crank angle :math:`\theta_c` of each cylinder's firing TDC [deg]
+        (:func:`place_firing_tdc`).
+    orders : array_like, shape (K,)
+        The orders [multiples of the crank speed].
+
+    Returns
+    -------
+    ndarray of bool, shape (K,)
+        True where :math:`|\sum_c e^{-ik\theta_c}|` reaches the number of cylinders (to a
+        relative 1e-9); all False without cylinders.
+    """
     theta = np.radians(np.asarray(firing, dtype=np.float64))
     k = np.asarray(orders, dtype=np.float64)
     if theta.size == 0:
@@ -243,7 +321,19 @@ def instantaneous_inertia(engine: Engine, theta: ArrayLike) -> FloatArray:
 def moving_parts_inertia(engine: Engine) -> FloatArray:
     r"""Mean inertia of each cylinder's moving parts about the crank axis [kg m^2]:
     the mean over a revolution of :func:`instantaneous_inertia` (the kinetic energy at
-    constant speed per :math:`\omega^2/2`), on :data:`INERTIA_SAMPLES` crank angles."""
+    constant speed per :math:`\omega^2/2`), on :data:`INERTIA_SAMPLES` crank angles.
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine (masses by part for a meaningful value: lumped ``rotating`` masses hold
+        the crank's own unbalance too, see :func:`instantaneous_inertia`).
+
+    Returns
+    -------
+    ndarray, shape (cylinders,)
+        Each cylinder's mean moving-parts inertia [kg m^2].
+    """
     theta = 2.0 * math.pi * np.arange(INERTIA_SAMPLES) / INERTIA_SAMPLES
     return np.asarray(np.mean(instantaneous_inertia(engine, theta), axis=1), dtype=np.float64)
 

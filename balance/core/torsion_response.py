@@ -20,8 +20,8 @@ is reported from it: the half range of a periodic sum of harmonics (:func:`half_
 relative amplitude sums (:func:`vector_sums`) and the power a damper dissipates
 (:func:`coupling_power`).
 
-References
-----------
+.. rubric:: References
+
 J. P. Den Hartog, *Mechanical Vibrations*, 4th ed., McGraw-Hill 1956, §3.3-3.4 (the damped
 vibration absorber, the untuned damper) and chs. 4-5 (many-mass torsional systems);
 W. K. Wilson, *Practical Solution of Torsional Vibration Problems*, vol. 1, 3rd ed.,

@@ -251,7 +251,22 @@ class TorsionTrain:
 
 def resolve_mass(train_masses: Sequence[TorsionMass], at: int | str) -> int | None:
     """The number (1-based) of the mass a damper's ``at`` names: a number in range, or a
-    mass's name; None when it names no mass."""
+    mass's name; None when it names no mass.
+
+    Parameters
+    ----------
+    train_masses : sequence of TorsionMass
+        The masses of the table, free end first.
+    at : int or str
+        A mass's number (1-based) or its name, as the damper's ``at`` gives it (a bool
+        names no mass).
+
+    Returns
+    -------
+    int or None
+        The mass's number (1-based; the first of that name), or None when ``at`` is out
+        of range, names no mass or is a bool.
+    """
     if isinstance(at, bool):
         return None
     if isinstance(at, int):
@@ -314,7 +329,20 @@ def _not_negative(value: float) -> bool:
 def by_part_cylinders(engine: Engine) -> NDArray[np.bool_]:
     """Which cylinders have their masses by part, with no lumped override (their moving
     parts' inertia is defined: a lumped ``rotating`` mass holds the crank's own unbalance
-    too)."""
+    too).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine.
+
+    Returns
+    -------
+    ndarray of bool, shape (cylinders,)
+        True for a cylinder with masses by part and neither a lumped ``reciprocating`` nor
+        a lumped ``rotating`` mass given over them; all False for an engine with lumped
+        masses only.
+    """
     parts = engine.mass_parts
     if parts is None:
         return np.zeros(engine.n_cylinders, dtype=bool)
@@ -591,7 +619,26 @@ def train_problems(
 
 def check_train(train: TorsionTrain, engine: Engine) -> None:
     """Raise an :class:`~balance.core.errors.InputError` naming the first problem of
-    :func:`train_problems` (and how many more there are); nothing for a good train."""
+    :func:`train_problems` (and how many more there are); nothing for a good train.
+
+    Parameters
+    ----------
+    train : TorsionTrain
+        The table, in SI.
+    engine : Engine
+        The engine it belongs to (checked against it as :func:`train_problems` does; its
+        name starts the message).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    InputError
+        When :func:`train_problems` finds a problem: the engine's name, then the first
+        problem in one line (:meth:`TrainProblem.one_line`) and how many more there are.
+    """
     problems = train_problems(train, engine)
     if problems:
         more = len(problems) - 1
@@ -607,7 +654,23 @@ def mass_inertias(
 ) -> FloatArray:
     """Each mass's inertia as used [kg m^2]: ``inertia``, or ``crank_inertia`` plus the mean
     inertia of the moving parts of its cylinders (``moving``, per cylinder; computed by
-    :func:`balance.core.torsion_excitation.moving_parts_inertia` when not given)."""
+    :func:`balance.core.torsion_excitation.moving_parts_inertia` when not given).
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine (read only to compute ``moving`` when a mass has ``crank_inertia`` and
+        ``moving`` is not given).
+    train : TorsionTrain
+        The table (checked: :func:`train_problems` finds nothing).
+    moving : ndarray, shape (cylinders,), optional
+        Each cylinder's mean moving-parts inertia [kg m^2].
+
+    Returns
+    -------
+    ndarray, shape (masses,)
+        The inertia of each mass as used [kg m^2], free end first.
+    """
     out = np.zeros(train.n_masses)
     for i, mass in enumerate(train.masses):
         if mass.inertia is not None:
@@ -624,7 +687,24 @@ def train_matrices(
     train: TorsionTrain, inertias: ArrayLike, dampers: Sequence[int] | None = None
 ) -> TrainMatrices:
     """The matrices of the train (:func:`balance.core.torsion_response.assemble`) with the
-    masses' inertias as used, and the dampers ``dampers`` (0-based; default all)."""
+    masses' inertias as used, and the dampers ``dampers`` (0-based; default all).
+
+    Parameters
+    ----------
+    train : TorsionTrain
+        The table: its shaft sections, the masses' damping, its dampers and loss factor.
+    inertias : array_like, shape (masses,)
+        Each mass's inertia as used [kg m^2] (:func:`mass_inertias`).
+    dampers : sequence of int, optional
+        The dampers to include (0-based, in :attr:`TorsionTrain.dampers`); default all.
+        The others are left out.
+
+    Returns
+    -------
+    TrainMatrices
+        Coordinates: the masses in order, then the ring of each included damper in the
+        order given.
+    """
     chosen = [train.dampers[r] for r in (range(len(train.dampers)) if dampers is None else dampers)]
     sections = train.sections
     return assemble(

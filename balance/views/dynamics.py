@@ -33,13 +33,7 @@ __all__ = [
     "PLOTS",
     "REPORT_TITLE",
     "drawn",
-    "dynamics_json",
     "json_block",
-    "load_text",
-    "order_rows",
-    "plot_crank_speed",
-    "plot_reduced_inertia",
-    "plot_speed_model_orders",
     "report_section",
     "tables",
 ]
@@ -142,7 +136,7 @@ def _roll_entries(p: DynamicsResult) -> list[dict[str, Any]]:
     ]
 
 
-def dynamics_json(p: DynamicsResult) -> dict[str, Any]:
+def _dynamics_json(p: DynamicsResult) -> dict[str, Any]:
     """The ``"dynamics"`` block of the analysis JSON (docs/dynamics.md, "JSON")."""
     samples = p.samples()
     out: dict[str, Any] = {
@@ -181,21 +175,34 @@ def dynamics_json(p: DynamicsResult) -> dict[str, Any]:
 def json_block(result: Result) -> dict[str, Any]:
     """The section's part of the analysis JSON: the speed model and the constant rung's
     error bound in ``accuracy`` (docs/dynamics.md, "The ladder"), and with the dynamic
-    model the ``dynamics`` block (:func:`dynamics_json`)."""
+    model the ``dynamics`` block (:func:`_dynamics_json`).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``dynamics`` section.
+
+    Returns
+    -------
+    dict
+        ``{"accuracy": {"speed_model": ..., "speed_bound": ...}}`` (the bound per
+        sum(m r w^2) [1], null without gas forces), with ``"dynamics"`` (docs/dynamics.md,
+        "JSON") when the result holds the dynamic model's solution.
+    """
     part = result.part("dynamics")
     out: dict[str, Any] = {
         "accuracy": {"speed_model": part.speed_model, "speed_bound": _num(_bound_ratio(result))}
     }
     solution = _part(result)
     if solution is not None:
-        out["dynamics"] = dynamics_json(solution)
+        out["dynamics"] = _dynamics_json(solution)
     return out
 
 
 # --------------------------------------------------------------------------- tables
 
 
-def load_text(p: DynamicsResult) -> str:
+def _load_text(p: DynamicsResult) -> str:
     """The load in words, with its numbers."""
     load = p.load
     if load.kind == "propeller":
@@ -213,7 +220,7 @@ def load_text(p: DynamicsResult) -> str:
 def _summary_rows(p: DynamicsResult) -> list[tuple[str, str, str]]:
     sized = " (sized)" if p.flywheel_sized else ""
     return [
-        ("load", load_text(p), ""),
+        ("load", _load_text(p), ""),
         ("mean speed (cycle angle / cycle time)", format_number(speed_rpm(p.mean_speed), 6), "rpm"),
         (
             "lowest / highest speed",
@@ -236,7 +243,7 @@ def _summary_rows(p: DynamicsResult) -> list[tuple[str, str, str]]:
     ]
 
 
-def order_rows(p: DynamicsResult, quantity: str) -> list[list[str]]:
+def _order_rows(p: DynamicsResult, quantity: str) -> list[list[str]]:
     """One row of text per order: the order, the peak (amplitude) under the varying and the
     constant speed, their difference and the difference per the constant-speed value
     [%]."""
@@ -260,7 +267,21 @@ def order_rows(p: DynamicsResult, quantity: str) -> list[list[str]]:
 
 def tables(result: Result) -> list[RenderableType]:
     """The section's tables: the motion, and per order the force, moment and roll under
-    both speed models."""
+    both speed models.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``dynamics`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+        With the dynamic model's solution: the crank speed over the cycle, a table per
+        quantity the result has (force, moment, roll) and the largest differences [%].
+        With the constant speed model: one line, the bound on what the speed's fluctuation
+        may change [% of sum(m r w^2)].
+    """
     from rich.text import Text
 
     from balance.views.fitted import Column, NumberTable
@@ -299,7 +320,7 @@ def tables(result: Result) -> list[RenderableType]:
                     Column("difference", unit),
                     Column("difference", "%"),
                 ],
-                order_rows(p, quantity),
+                _order_rows(p, quantity),
                 notes=("per order in time, against the mean crank angle",),
             )
         )
@@ -363,7 +384,7 @@ def _closed(p: DynamicsResult, values: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return np.append(p.crank_angle, p.cycle_deg), np.append(values, values[0])
 
 
-def plot_crank_speed(result: Result, *, title: str | None = None) -> Figure:
+def _plot_crank_speed(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``crank_speed``: the crank speed over the working cycle with the
     constant-speed line (the mean speed) and the fluctuation, and the crank's angular
     acceleration."""
@@ -384,7 +405,7 @@ def plot_crank_speed(result: Result, *, title: str | None = None) -> Figure:
     top.set_title(
         f"δ = {format_number(100.0 * p.speed_fluctuation, 3)} % (constant-speed estimate "
         f"{format_number(100.0 * p.speed_fluctuation_constant_speed, 3)} %); "
-        f"load: {load_text(p)}",
+        f"load: {_load_text(p)}",
         fontsize=9,
     )
     top.legend(loc="best", fontsize=8)
@@ -403,7 +424,7 @@ def plot_crank_speed(result: Result, *, title: str | None = None) -> Figure:
     return fig
 
 
-def plot_reduced_inertia(result: Result, *, title: str | None = None) -> Figure:
+def _plot_reduced_inertia(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``reduced_inertia``: :math:`J(\\theta)` of the crank train, the flywheel
     included, with its mean and the flywheel's share."""
     p = _part(result)
@@ -467,7 +488,7 @@ def _bars(ax: Axes, p: DynamicsResult, quantity: str, unit: str, name: str) -> N
     ax.legend(loc="best", fontsize=8)
 
 
-def plot_speed_model_orders(result: Result, *, title: str | None = None) -> Figure:
+def _plot_speed_model_orders(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``speed_model_orders``: per order, the whole free force and the roll (and
     the moment) under the constant and the varying crank speed, side by side."""
     p = _part(result)
@@ -490,9 +511,9 @@ def plot_speed_model_orders(result: Result, *, title: str | None = None) -> Figu
 
 #: The figure kinds of the section.
 PLOTS: dict[str, Callable[..., Figure]] = {
-    "crank_speed": plot_crank_speed,
-    "reduced_inertia": plot_reduced_inertia,
-    "speed_model_orders": plot_speed_model_orders,
+    "crank_speed": _plot_crank_speed,
+    "reduced_inertia": _plot_reduced_inertia,
+    "speed_model_orders": _plot_speed_model_orders,
 }
 
 
@@ -522,7 +543,7 @@ def _report_tables(p: DynamicsResult, table: Callable[..., str]) -> Sequence[str
                     f"difference [{unit}]",
                     "difference [%]",
                 ],
-                order_rows(p, quantity),
+                _order_rows(p, quantity),
                 f"{name[0].upper()}{name[1:]} per order, varying and constant speed",
             )
         )
@@ -530,7 +551,22 @@ def _report_tables(p: DynamicsResult, table: Callable[..., str]) -> Sequence[str
 
 
 def report_section(result: Result, figures: bool) -> str:
-    """HTML of the report's variable-speed section, with its three figures."""
+    """HTML of the report's variable-speed section, with its three figures.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``dynamics`` section.
+    figures : bool
+        Include the three figures (inline SVG) when the result holds the dynamic model's
+        solution.
+
+    Returns
+    -------
+    str
+        HTML of the section's body: with the constant speed model one paragraph giving the
+        bound [% of sum(m r w^2)]; otherwise the model in words and the tables.
+    """
     from balance.views.report import escape, html_figure, html_table
 
     p = _part(result)

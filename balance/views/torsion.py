@@ -33,15 +33,10 @@ __all__ = [
     "REPORT_TITLE",
     "SCHEMA",
     "json_block",
-    "plot_campbell",
-    "plot_modes",
-    "plot_response",
     "report_section",
     "tables",
     "torsion_csv",
     "torsion_document",
-    "torsion_json",
-    "torsion_tables",
     "torsion_text",
 ]
 
@@ -105,7 +100,7 @@ def _loaded_section(t: TorsionResult) -> tuple[int, bool]:
 # --------------------------------------------------------------------------- JSON
 
 
-def torsion_json(t: TorsionResult, warnings: Sequence[Any] | None = None) -> dict[str, Any]:
+def _torsion_json(t: TorsionResult, warnings: Sequence[Any] | None = None) -> dict[str, Any]:
     """The torsion object of docs/torsion.md without ``schema`` and ``layout``: speeds,
     orders, masses, sections, dampers, excitation, modes, vector sums, resonances, response
     (``None`` undamped) and warnings (the part's own unless given)."""
@@ -269,29 +264,78 @@ def _response_json(t: TorsionResult) -> dict[str, Any]:
 
 def json_block(result: Result) -> dict[str, Any]:
     """The section's part of the analysis JSON: ``torsion``, the ``balance.torsion/1``
-    object without ``schema`` (``layout``, then :func:`torsion_json`) at the speeds
-    analysed, with the part's own warnings."""
-    return {"torsion": {"layout": result.engine.name, **torsion_json(_part(result))}}
+    object without ``schema`` (``layout``, then :func:`_torsion_json`) at the speeds
+    analysed, with the part's own warnings.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+
+    Returns
+    -------
+    dict
+        ``{"torsion": {"layout": ..., ...}}`` (docs/torsion.md).
+    """
+    return {"torsion": {"layout": result.engine.name, **_torsion_json(_part(result))}}
 
 
 def torsion_document(result: Result) -> dict[str, Any]:
     """The ``balance.torsion/1`` document of ``balance torsion --format json``: ``schema``,
-    ``layout``, then :func:`torsion_json` with every warning of the result."""
+    ``layout``, then :func:`_torsion_json` with every warning of the result.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+
+    Returns
+    -------
+    dict
+        The document as plain data (speeds in rpm, angles in degrees; null where a
+        number is not finite, and the response null for a train without damping).
+    """
     return {
         "schema": SCHEMA,
         "layout": result.engine.name,
-        **torsion_json(_part(result), result.warnings),
+        **_torsion_json(_part(result), result.warnings),
     }
 
 
 def torsion_text(result: Result, indent: int | None = 2) -> str:
-    """The ``balance.torsion/1`` document as JSON text."""
+    """The ``balance.torsion/1`` document as JSON text.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+    indent : int or None
+        Indentation of the JSON text [spaces]; None: one line.
+
+    Returns
+    -------
+    str
+        :func:`torsion_document` as JSON, ending in a newline.
+    """
     return json.dumps(torsion_document(result), indent=indent, allow_nan=False) + "\n"
 
 
 def torsion_csv(result: Result) -> str:
     """One row per speed: the free-end synthesis [deg], each section's torque synthesis
-    [N m] and each damper's total power [W] (empty cells undamped)."""
+    [N m] and each damper's total power [W] (empty cells undamped).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+
+    Returns
+    -------
+    str
+        CSV text: a header (``speed_rpm``, ``free_end_deg``, ``section_j_torque_Nm``,
+        ``damper_r_power_W``), then one line per speed [rpm], each line ending in a
+        newline.
+    """
     t = _part(result)
     n_sec, n_damp = t.stress_factor.size, len(t.train.dampers)
     head = ["speed_rpm", "free_end_deg"]
@@ -324,8 +368,21 @@ def _largest_sums(t: TorsionResult, j: int, count: int = 3) -> str:
 
 
 def tables(result: Result) -> list[RenderableType]:
-    """The section's tables (:func:`torsion_tables`)."""
-    return torsion_tables(_part(result), str(result.engine.name))
+    """The section's tables (:func:`_torsion_tables`).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+        The layout's name; the masses and sections; the modes with their largest vector
+        sums; the resonances; the synthesis against (a thinned list of) the speeds, or
+        without damping a line saying the response is not given; then the warnings.
+    """
+    return _torsion_tables(_part(result), str(result.engine.name))
 
 
 def _shown_speeds(size: int) -> tuple[list[int], int]:
@@ -336,7 +393,7 @@ def _shown_speeds(size: int) -> tuple[list[int], int]:
     return shown, step
 
 
-def torsion_tables(t: TorsionResult, layout: str = "") -> list[RenderableType]:
+def _torsion_tables(t: TorsionResult, layout: str = "") -> list[RenderableType]:
     """The masses and sections; the modes with their largest vector sums; the resonances;
     the free-end and largest-stress synthesis over (a thinned list of) the speeds."""
     from rich.text import Text
@@ -570,7 +627,7 @@ def _labels(t: TorsionResult, width: float, height: float) -> list[tuple[float, 
     return placed
 
 
-def plot_campbell(result: Result, *, title: str | None = None) -> Figure:
+def _plot_campbell(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``torsion_campbell``: the Campbell (interference) diagram, natural
     frequencies against crank speed with the order lines :math:`f = k n / 60` (major orders
     heavier) and each resonance in the speed range marked with its vector sum."""
@@ -637,7 +694,7 @@ def plot_campbell(result: Result, *, title: str | None = None) -> Figure:
         return fig
 
 
-def plot_modes(result: Result, *, title: str | None = None) -> Figure:
+def _plot_modes(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``torsion_modes``: the shapes of the lowest modes (undamped, +1 at mass 1)
     at the masses and the tuned rings."""
     t = result.part("torsion")
@@ -677,7 +734,7 @@ def plot_modes(result: Result, *, title: str | None = None) -> Figure:
         return fig
 
 
-def plot_response(result: Result, *, title: str | None = None) -> Figure:
+def _plot_response(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``torsion_response``: against crank speed, the free end's angle and the
     most loaded section's stress (its torque when no section has a diameter), per order
     (thin) and synthesised (heavy: half range over the cycle)."""
@@ -751,9 +808,9 @@ def plot_response(result: Result, *, title: str | None = None) -> Figure:
 
 #: The figure kinds of the section.
 PLOTS: dict[str, Callable[..., Figure]] = {
-    "torsion_campbell": plot_campbell,
-    "torsion_modes": plot_modes,
-    "torsion_response": plot_response,
+    "torsion_campbell": _plot_campbell,
+    "torsion_modes": _plot_modes,
+    "torsion_response": _plot_response,
 }
 
 
@@ -766,7 +823,20 @@ REPORT_TITLE = "Torsional vibration of the crank train"
 
 def report_section(result: Result, figures: bool) -> str:
     """HTML of the report's torsion section: the masses, the modes, the resonances and the
-    synthesis against speed, with the three figures."""
+    synthesis against speed, with the three figures.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``torsion`` section.
+    figures : bool
+        Include the three figures (inline SVG).
+
+    Returns
+    -------
+    str
+        HTML of the section's body (the synthesis table only for a damped train).
+    """
     from balance.views.report import escape, html_figure, html_table
 
     t = _part(result)

@@ -34,6 +34,8 @@ LAYOUTS: tuple[tuple[str, dict[str, bool], tuple[str, ...] | None], ...] = (
     ("v8-crossplane", {"bearings": True}, None),
     ("inline-4-gas", {}, ("torque", "forces")),
     ("inline-4-mounts", {"mounts": True}, ("mounts",)),
+    ("single-idle", {}, ("crank_speed", "reduced_inertia", "speed_model_orders")),
+    ("inline-6-diesel-torsion", {}, ("torsion_campbell", "torsion_modes", "torsion_response")),
 )
 
 #: Where the gallery goes, relative to the documentation source directory.
@@ -66,6 +68,17 @@ CAPTIONS = {
     "counterweights.",
     "internal_moment": "The crankshaft's largest internal bending moment at each main, "
     "without and with the proposed counterweights.",
+    "crank_speed": "Variable speed: the crank speed over the cycle under the layout's load, "
+    "with the constant-speed line.",
+    "reduced_inertia": "Variable speed: the reduced inertia J(theta) of the crank train and "
+    "its slope.",
+    "speed_model_orders": "Variable speed: per order, the free force and roll under the "
+    "constant and the dynamic speed model.",
+    "torsion_campbell": "Torsion: natural frequencies against speed with the order lines "
+    "(major orders heavier) and the resonances with their vector sums.",
+    "torsion_modes": "Torsion: the shapes of the lowest modes, +1 at the free end.",
+    "torsion_response": "Torsion: free-end angle and the most loaded section against speed, "
+    "per order and synthesised (half range over the cycle).",
 }
 
 
