@@ -213,9 +213,9 @@ def test_tests_of_optional_packages_skip_only_when_they_are_absent(tmp_path):
     blocker.write_text("import sys\n" + "".join(f"sys.modules[{m!r}] = None\n" for m in modules))
     root = README.parent
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(root)])}
+    options = ["-q", "-n", "0", "-p", "absent_dev_packages", "-p", "no:cacheprovider", "-rs"]
     done = subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-n", "0", "-p", "absent_dev_packages"]
-        + ["-p", "no:cacheprovider", "-rs", *OPTIONAL_TESTS],
+        [sys.executable, "-m", "pytest", *options, *OPTIONAL_TESTS],
         cwd=root,
         env=env,
         capture_output=True,
