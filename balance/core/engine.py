@@ -64,14 +64,17 @@ def bore_pitch(z: NDArray[np.float64], bank: NDArray[np.float64]) -> float:
     z = np.asarray(z, dtype=np.float64)
     key = np.round(np.mod(np.degrees(np.asarray(bank, dtype=np.float64)), 360.0), 6) % 360.0
     gaps = []
-    for b in np.unique(key):
+    for b in dict.fromkeys(key.tolist()):  # the banks in the order of their first cylinder
         planes = np.unique(np.round(z[key == b], 12))
         if planes.size > 1:
             gaps.append((float(planes[-1] - planes[0]), planes.size - 1))
     if not gaps:
         return math.nan
-    if all(span / n == gaps[0][0] / gaps[0][1] for span, n in gaps):
-        return gaps[0][0] / gaps[0][1]
+    first = gaps[0][0] / gaps[0][1]
+    # banks with the same bore pitch to rounding (a boxer's second bank at z + 56.5 mm):
+    # that of the first cylinder's bank, as written (113 mm, not 113.00000000000001 mm)
+    if all(math.isclose(span / n, first, rel_tol=1e-12) for span, n in gaps):
+        return first
     return sum(span for span, _ in gaps) / sum(n for _, n in gaps)
 
 
