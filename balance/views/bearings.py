@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.bearing_loads import Bearings
-from balance.views.figures import layout_heading, title_text
+from balance.views.figures import grid_figure, layout_heading, placeholder, title_text
 from balance.views.polar import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -315,29 +315,8 @@ def _strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType
 
 
 def _not_computed(result: Result, kind: str, title: str | None) -> Figure:
-    """A figure that says the bearing loads were not asked for (like the other kinds do for
-    what was not computed)."""
-    fig, (ax,) = _figure(1, (6.0, 3.0), 1)
-    ax.set_axis_off()
-    ax.text(0.5, 0.5, f"no bearing loads in this result:\n{ASK}", ha="center", va="center")
-    fig.suptitle(
-        title_text(
-            fig.get_figwidth(), title or f"{layout_heading(result)}: {kind.replace('_', ' ')}"
-        )
-    )
-    return fig
-
-
-def _figure(n_axes: int, size: tuple[float, float], ncols: int) -> tuple[Figure, list[Axes]]:
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=size, layout="constrained")
-    nrows = math.ceil(n_axes / ncols)
-    grid = fig.subplots(nrows, ncols, squeeze=False)
-    axes = list(np.ravel(grid))
-    for extra in axes[n_axes:]:
-        extra.set_visible(False)
-    return fig, axes[:n_axes]
+    """A figure that says the bearing loads were not asked for."""
+    return placeholder(result, kind, title, f"no bearing loads in this result:\n{ASK}")
 
 
 def _polar_diagram(
@@ -380,7 +359,8 @@ def _plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
         if not any(np.max(np.abs(crank[j] - crank[i])) <= 1e-9 * scale for i in shown):
             shown.append(j)
     ncols = min(3, len(shown))
-    fig, axes = _figure(len(shown), (4.2 * ncols, 4.2 * math.ceil(len(shown) / ncols) + 0.4), ncols)
+    size = (4.2 * ncols, 4.2 * math.ceil(len(shown) / ncols) + 0.4)
+    fig, axes = grid_figure(len(shown), size, ncols)
     for ax, j in zip(axes, shown, strict=True):
         same = [
             i + 1
@@ -428,7 +408,7 @@ def _plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
         return _not_computed(result, "main_loads", title)
     n = b.main_z.size
     ncols = min(4, n)
-    fig, axes = _figure(n, (3.6 * ncols, 3.6 * math.ceil(n / ncols)), ncols)
+    fig, axes = grid_figure(n, (3.6 * ncols, 3.6 * math.ceil(n / ncols)), ncols)
     with_cw = bool(b.counterweights)
     v = _printed(b)
     for m, ax in enumerate(axes):
@@ -461,7 +441,7 @@ def _plot_internal_moment(result: Result, *, title: str | None = None) -> Figure
     b = _loads(result)
     if b is None:
         return _not_computed(result, "internal_moment", title)
-    fig, (ax,) = _figure(1, (7.0, 4.2), 1)
+    fig, (ax,) = grid_figure(1, (7.0, 4.2), 1)
     z = b.main_z * 1e3
     v = _printed(b)
     ax.plot(z, v["moment_max"], "C0o-", label="without counterweights")

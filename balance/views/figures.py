@@ -38,6 +38,7 @@ __all__ = [
     "empty_note",
     "finish",
     "format_value",
+    "grid_figure",
     "h_align",
     "layout_heading",
     "layout_name",
@@ -46,6 +47,7 @@ __all__ = [
     "order_colour",
     "order_signals",
     "pick_orders",
+    "placeholder",
     "scale_of",
     "shared_legend",
     "significant_mask",
@@ -180,6 +182,70 @@ def new_figure(
         raise ValueError(f"plot_{kind}: the axes given belong to no figure")
     root: Figure = getattr(parent, "figure", parent)  # a SubFigure's figure is the root
     return root, axes, False
+
+
+def grid_figure(
+    n_axes: int, size: tuple[float, float], ncols: int = 1
+) -> tuple[Figure, list[Axes]]:
+    """A figure (constrained layout) of ``n_axes`` axes in rows of ``ncols``, the cells of
+    the grid after the last hidden: the figures of the bearing loads, the variable speed
+    and the torsion.
+
+    Parameters
+    ----------
+    n_axes : int
+        Number of axes [1].
+    size : (float, float)
+        Width and height of the figure [in].
+    ncols : int
+        Axes per row [1].
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    axes : list of matplotlib.axes.Axes
+        The ``n_axes`` axes, row by row.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size, layout="constrained")
+    grid = fig.subplots(math.ceil(n_axes / ncols), ncols, squeeze=False)
+    axes = list(np.ravel(grid))
+    for extra in axes[n_axes:]:
+        extra.set_visible(False)
+    return fig, axes[:n_axes]
+
+
+def placeholder(
+    result: Result, kind: str, title: str | None, text: str, size: tuple[float, float] = (7.0, 3.0)
+) -> Figure:
+    """The figure of a kind whose section is not in the result: a note saying so (and how
+    to ask for it), under the title the figure would have.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    kind : str
+        The figure kind (``pin_load``).
+    title : str or None
+        The caller's title; by default the layout, its speed and the kind.
+    text : str
+        The note.
+    size : (float, float)
+        Width and height of the figure [in].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    with styled():
+        fig, (ax,) = grid_figure(1, size)
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, color="0.4")
+        default = f"{layout_heading(result)}: {kind.replace('_', ' ')}"
+        fig.suptitle(title_text(fig.get_figwidth(), title or default))
+        return fig
 
 
 def title_text(figure_width: float, text: str) -> str:
