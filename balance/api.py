@@ -97,9 +97,10 @@ def analyse(
 
         - ``proposal`` (on unless False; needs moments and roll): counterweights and
           balance shafts and the residual; options ``cancel`` (orders), ``strategy``
-          (``'two-plane'``, ``'per-throw'``), ``balance_factor`` (a fraction),
-          ``counterweight_radius`` [m], ``cancel_roll``; by default from the layout's
-          ``balance:`` section;
+          (``'two-plane'``, ``'per-throw'``), ``balance_factor`` (a fraction of each
+          cylinder's reciprocating mass, or with ``balance_factor_of='one-cylinder'`` of
+          one cylinder's on each throw), ``counterweight_radius`` [m], ``cancel_roll``; by
+          default from the layout's ``balance:`` section;
         - ``torque`` (on with a ``gas:`` section): forces and torque over the cycle, the
           roll with gas forces;
         - ``cylinders`` (on): each cylinder's stroke and TDC, its link rod;

@@ -325,7 +325,12 @@ def test_propose_options():
     table = run("propose", "inline-4", "--strategy", "per-throw", "--cancel-roll")
     assert table.exit_code == 0, table.stderr
     assert "per-throw" in table.stdout and "Balance shafts" in table.stdout
-    assert "Note: order 2: shafts placed to cancel the roll" in table.stdout
+    # from the default axes (x = -/+r) the nearest placement would crowd the crank, so the
+    # pair goes either side of the crank axis, across its force (theory docs, "Balance shafts")
+    assert (
+        "Note: order 2: shafts placed on either side of the crank axis, across their force, to "
+        "cancel the roll" in " ".join(table.stdout.split())
+    )
 
 
 def test_propose_bad_options():

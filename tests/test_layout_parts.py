@@ -130,7 +130,7 @@ def test_a_list_of_the_wrong_length_reads_the_same_in_every_section():
         "cg: [-40 mm, 60 mm, 230 mm]", "cg: [-40 mm, 60 mm]"
     )
     assert _problems(text) == [
-        f"f.yaml:{_at(text, '[]')}: crank.throws: 0 entries; at least 1 entry",
+        f"f.yaml:{_at(text, '[]')}: crank.throws: 0 throws; at least 1 throw",
         f"f.yaml:{_at(text, '[-40 mm, 60 mm]')}: mounts.cg: 2 entries; three values [x, y, z]",
     ]
 

@@ -62,7 +62,8 @@ def test_cli_search_prints_best():
     [
         (["--cylinders", "5", "--banks", "-45,45"], "cannot be shared"),
         (["--cylinders", "4", "--step", "7deg"], "does not divide"),
-        (["--cylinders", "4", "--step", "7mm"], "--step/--banks"),
+        (["--cylinders", "4", "--step", "7mm"], "--step: '7mm' is a length, not an angle"),
+        (["--cylinders", "4", "--banks", "0,9kg"], "--banks: '9kg' is a mass, not an angle"),
         (["--cylinders", "4", "--objective", "best"], "--objective"),
     ],
 )

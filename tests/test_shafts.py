@@ -76,8 +76,10 @@ def run(*args: str):
 def test_default_pair_adds_second_order_roll_the_engine_does_not_have(name):
     """Issue 13: a 90 deg V-twin (Ducati 916) and a 90 deg V4 with a 180 deg crank (Honda
     VFR750F) have no second-order roll of their own; the Lanchester pair at its default
-    place adds 2 sqrt(2) r F2 (theory docs: the pair's midpoint 2r below the crank, its
-    shafts 4r apart along their horizontal line force of peak F2), and the notes say so."""
+    place adds 2 r F2 (theory docs: the shafts at (-r, -sqrt(3) r) and (r, -sqrt(3) r), each
+    carrying half of the horizontal line force of peak F2, so the roll's amplitude is
+    F2/2 |(y+ + y-) + i(x- - x+)| = F2/2 |2 sqrt(3) r + 2i r| = 2 r F2; it was 2 sqrt(2) r F2
+    with the former axes (-2r, -2r) and (2r, -2r)), and the notes say so."""
     layout = load_layout(name)
     result = compute_phasors(layout, ORDERS)
     balanced = balance_engine(layout, result)
@@ -86,7 +88,7 @@ def test_default_pair_adds_second_order_roll_the_engine_does_not_have(name):
     assert result.phasors.roll[K2] == 0.0
     f2 = abs(result.phasors.force_forward[K2]) + abs(result.phasors.force_backward[K2])
     r = float(np.mean(layout.crank_radius))
-    expected = 2 * math.sqrt(2) * r * f2
+    expected = 2 * r * f2
     assert abs(balanced.residual.roll[K2]) == pytest.approx(expected, rel=1e-12)
     assert abs(sampled[K2] - balanced.residual.roll[K2]) <= 1e-9 * unit
     assert (
@@ -139,7 +141,7 @@ def test_inline4_heights_differ_by_the_conrod_length():
     forward, backward = proposal.shafts
     height = abs(forward.y - backward.y)
     assert abs(height / 0.4 * (1 + lam**2 / 4) - 1) <= lam**4
-    assert (forward.x, backward.x) == (-0.02, 0.02)  # lateral positions kept (defaults)
+    assert (forward.x, backward.x) == (-0.01, 0.01)  # lateral positions kept (defaults, -/+r)
     assert (forward.x_from, forward.y_from) == ("default", "cancel-roll")
     assert abs(_sampled_roll(layout, proposal)[K2]) <= 1e-9 * _roll_unit(layout)
 
@@ -166,7 +168,8 @@ def test_placement_does_not_depend_on_the_crank_angle_origin(name, shift):
 def test_one_shaft_cannot_cancel_roll_near_the_crank_axis():
     """A single's -1 shaft would have to sit 2.8 mm from the crank axis to cancel the first
     order roll: it stays, the notes say why, and that it raises the roll; the second-order
-    pair is placed and its roll is zero."""
+    pair is placed and its roll is zero (across its vertical force: the placement nearest to
+    the default axes, 2r from the crank axis at x = -/+r, would crowd the crank)."""
     layout = load_layout("single")
     balanced = _balanced(layout, cancel_roll=True)
     notes = balanced.proposal.notes
@@ -175,7 +178,7 @@ def test_one_shaft_cannot_cancel_roll_near_the_crank_axis():
     assert notes[0].startswith("order 1: one shaft (at -1) would cancel the roll only with")
     assert "within the 84.5 mm kept free for the crank" in notes[0]
     assert notes[1].startswith("order 1: the balance shafts raise the roll from 24.71 to")
-    assert notes[2].startswith("order 2: shafts placed to cancel the roll")
+    assert notes[2].startswith("order 2: shafts placed on either side of the crank axis")
     sampled = _sampled_roll(layout, balanced.proposal)
     assert abs(sampled[K2]) <= 1e-9 * _roll_unit(layout)
     assert abs(sampled[0] - balanced.residual.roll[0]) <= 1e-9 * _roll_unit(layout)
@@ -184,7 +187,8 @@ def test_one_shaft_cannot_cancel_roll_near_the_crank_axis():
 def test_a_shaft_placed_beyond_the_crank_trains_reach_is_noted():
     """radial-9's first-order roll (200.7 N m) needs its -1 shaft 804.6 mm above the crank
     axis, more than twice crank radius + conrod length (65 + 250 mm): cancelled on paper, so
-    the note says so; the inline-4's pair (heights -15.8 and -156.2 mm) gets no such note."""
+    the note says so; the inline-4's pair (at -/+121.6 mm, heights 70.2 and -70.2 mm) gets no
+    such note."""
     layout = load_layout("radial-9")
     balanced = _balanced(layout, cancel_roll=True)
     first = next(s for s in balanced.proposal.shafts if s.speed_ratio == -1)
@@ -409,24 +413,26 @@ def test_expand_keeps_the_shafts(tmp_path):
 
 def test_cli_notes_in_table_json_and_report():
     """Issue 13: the V-twin's default proposal says that its shafts raise the second-order
-    roll, in the table, the JSON (proposal.notes) and the report; with --cancel-roll the
-    JSON has the placed axes, where they come from, and a zero second-order residual roll."""
+    roll (2 r F2 = 406.6 N m with the default axes; 574.9 N m, 2 sqrt(2) r F2, with the
+    former ones), in the table, the JSON (proposal.notes) and the report; with --cancel-roll
+    the JSON has the placed axes, where they come from, and a zero second-order residual
+    roll."""
     table = run("propose", "v-twin-90", "--orders", "1-2")
     assert table.exit_code == 0, table.stderr
-    assert "Note: order 2: the balance shafts raise the roll from 0 to 574.9 N m" in " ".join(
+    assert "Note: order 2: the balance shafts raise the roll from 0 to 406.6 N m" in " ".join(
         table.stdout.split()
     )
     data = json.loads(run("propose", "v-twin-90", "-f", "json", "--orders", "1-2").stdout)
     assert data["proposal"]["cancel_roll"] is False
     assert data["proposal"]["notes"][0].startswith(
-        "order 2: the balance shafts raise the roll from 0 to 574.9 N m"
+        "order 2: the balance shafts raise the roll from 0 to 406.6 N m"
     )
     # the report command's text without its figures (the figures take seconds to draw)
     html = render_report(
         compute(load_layout("v-twin-90"), build_request(load_layout("v-twin-90"), [1, 2])),
         figures=False,
     )
-    note = "order 2: the balance shafts raise the roll from 0 to 574.9"
+    note = "order 2: the balance shafts raise the roll from 0 to 406.6"
     assert f'<ul class="note notes"><li>{note}' in html
     placed = json.loads(
         run("propose", "v-twin-90", "-f", "json", "--orders", "1-2", "--cancel-roll").stdout

@@ -21,6 +21,7 @@ line (:func:`main`), which imports only the module of the command it runs.
 
 import functools
 import os
+import re
 import signal
 import sys
 from collections.abc import Callable
@@ -139,12 +140,86 @@ def main() -> None:
             sys.stderr.write(ctx.get_help() + "\n")
             sys.exit(2)
         message = " ".join(str(getattr(exc, "format_message", exc.__str__)()).split()).rstrip(".")
+        message = _plain_usage_error(message, sys.argv[1:])
         sys.stderr.write(f"balance: {message}; see '{where} --help'\n")
         sys.exit(2)
     except aborts:
         sys.stderr.write("balance: interrupted\n")
         sys.exit(130)
     sys.exit(code if isinstance(code, int) else 0)
+
+
+# typer's words for a value its type or bounds refuse -> ours, given the option and the value
+_USAGE_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (
+        re.compile(r"Input should be greater than or equal to (\S+)"),
+        "{value} is below {0}; give {0} or more",
+    ),
+    (
+        re.compile(r"Input should be greater than (\S+)"),
+        "{value} is not above {0}; give more than {0}",
+    ),
+    (
+        re.compile(r"Input should be less than or equal to (\S+)"),
+        "{value} is above {0}; give at most {0}",
+    ),
+    (
+        re.compile(r"Input should be less than (\S+)"),
+        "{value} is not below {0}; give less than {0}",
+    ),
+    (re.compile(r"Input should be a valid integer.*"), "{value} is not a whole number"),
+    (re.compile(r"Input should be a valid number.*"), "{value} is not a number"),
+    (re.compile(r"Value error, (.*)"), "{0}"),
+)
+_INVALID = re.compile(r"^Invalid value for '(-[^']+)'(?: / '(-[^']+)')?: (.*)$")
+
+
+def _plain_usage_error(message: str, args: list[str]) -> str:
+    """A usage error of an option's value in the command line's words.
+
+    typer words a value its type or bounds refuse as the validation library does
+    ("Invalid value for '--samples': Input should be greater than or equal to 1"); this
+    gives the option, the value as typed and the bound ("--samples: 0 is below 1; give 1
+    or more").  Any other message is returned as it is.
+
+    Parameters
+    ----------
+    message : str
+        The usage error, on one line.
+    args : list of str
+        The command line's arguments (where the value is found).
+
+    Returns
+    -------
+    str
+    """
+    match = _INVALID.match(message)
+    if match is None:
+        return message
+    names = [n for n in match.group(1, 2) if n]
+    value = _typed_value(args, names)
+    detail = match.group(3)
+    for pattern, words in _USAGE_WORDS:
+        found = pattern.fullmatch(detail)
+        if found:
+            detail = words.format(
+                *found.groups(), value=value if value is not None else "the value"
+            )
+            break
+    return f"{names[0]}: {detail}"
+
+
+def _typed_value(args: list[str], names: list[str]) -> str | None:
+    """The value typed after the last of the option's names (``--samples 0``,
+    ``--samples=0``), or None."""
+    value = None
+    for i, arg in enumerate(args):
+        for name in names:
+            if arg == name and i + 1 < len(args):
+                value = args[i + 1]
+            elif arg.startswith(name + "=") and name.startswith("--"):
+                value = arg[len(name) + 1 :]
+    return value
 
 
 def _app_for(args: list[str]) -> typer.Typer:

@@ -98,7 +98,7 @@ def _prepare(
     from balance.io.layout_file import load_layout
     from balance.io.request import build_request
 
-    order_list = parse_orders(orders)
+    order_list = parse_orders(orders, "--orders")
     speed_value = parse_speed(speed)
     check_output(output, force, binary)
     engine = load_layout(layout)
@@ -279,6 +279,13 @@ class Strategy(StrEnum):
     per_throw = "per-throw"
 
 
+class FactorOf(StrEnum):
+    """What a balance factor is a share of (docs/theory.md, "The balance factor")."""
+
+    each_cylinder = "each-cylinder"
+    one_cylinder = "one-cylinder"
+
+
 def _parse_fraction(text: str, option: str) -> float:
     from balance.io.fields import parse_option_quantity
 
@@ -310,7 +317,17 @@ def propose_command(
     balance_factor: Annotated[
         str | None,
         typer.Option(
-            "--balance-factor", help="Share of reciprocating mass on the crank, e.g. 50%."
+            "--balance-factor",
+            help="Share of each cylinder's reciprocating mass on the crank, e.g. 50% "
+            "(see --balance-factor-of).",
+        ),
+    ] = None,
+    balance_factor_of: Annotated[
+        FactorOf | None,
+        typer.Option(
+            "--balance-factor-of",
+            help="What --balance-factor is a share of: each-cylinder (default) or "
+            "one-cylinder (one cylinder's reciprocating mass on each throw).",
         ),
     ] = None,
     counterweight_radius: Annotated[
@@ -337,8 +354,13 @@ def propose_command(
     from balance.core.analysis import compute
     from balance.io.fields import parse_orders
 
-    cancel_orders = tuple(parse_orders(cancel).tolist()) if cancel is not None else None
+    cancel_orders = tuple(parse_orders(cancel, "--cancel").tolist()) if cancel is not None else None
     factor = _parse_fraction(balance_factor, "--balance-factor") if balance_factor else None
+    if balance_factor_of is not None and factor is None:
+        raise InputError(
+            "--balance-factor-of: says what --balance-factor is a share of; give the factor "
+            "too, e.g. --balance-factor 100% --balance-factor-of one-cylinder"
+        )
     radius = (
         _parse_length(counterweight_radius, "--counterweight-radius")
         if counterweight_radius
@@ -354,6 +376,7 @@ def propose_command(
         cancel=cancel_orders,
         strategy=strategy.value if strategy is not None else None,
         balance_factor=factor,
+        balance_factor_of=balance_factor_of.value if balance_factor_of is not None else None,
         counterweight_radius=radius,
         cancel_roll=cancel_roll,
         factor_study=factor_study,

@@ -36,6 +36,7 @@ __all__ = [
     "guarded",
     "main_options",
     "options_named",
+    "package_version",
     "parse_speed",
     "warn",
     "write_netcdf",
@@ -96,8 +97,42 @@ def guarded(func: F) -> F:
     return wrapper  # type: ignore[return-value]
 
 
+def package_version() -> str:
+    """The version of balance as installed (the package's metadata), or the source tree's
+    (``balance/_version.py``) when it runs without being installed.
+
+    Returns
+    -------
+    str
+        For example ``"0.1.0"``.
+    """
+    from importlib import metadata
+
+    try:
+        return metadata.version("balance")
+    except metadata.PackageNotFoundError:
+        from balance._version import __version__
+
+        return __version__
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        sys.stdout.write(f"balance {package_version()}\n")
+        raise typer.Exit(0)
+
+
 def main_options(
     debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks of errors.")] = False,
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version",
+            help="Print the version of balance and exit.",
+            callback=_print_version,
+            is_eager=True,
+        ),
+    ] = False,
 ) -> None:
     """The options of ``balance`` itself, before the command.
 
@@ -105,6 +140,9 @@ def main_options(
     ----------
     debug : bool
         Let an error's traceback through instead of one line.
+    version : bool
+        Print the installed version (:func:`package_version`) and exit (done by its
+        callback, before any command).
     """
     _STATE["debug"] = debug
 

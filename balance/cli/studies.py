@@ -115,7 +115,7 @@ def compare_command(
     )
 
     names = _expand_layout_args(layouts or [], all_builtin)
-    order_list = parse_orders(orders)
+    order_list = parse_orders(orders, "--orders")
     speed_value = parse_speed(speed)
     volume = None
     if displacement is not None:
@@ -174,8 +174,9 @@ def sweep_command(
         list[str],
         typer.Option(
             "--vary",
-            help="FIELD=start:stop:count or FIELD=a,b,c, e.g. conrod_length=130mm:160mm:31 "
-            "or cylinders[3].reciprocating=0.4kg:0.7kg:13; repeat for more dimensions.",
+            help="FIELD=start:stop:count or FIELD=a,b,c, e.g. conrod_length=130mm:160mm:31, "
+            "cylinders[3].reciprocating=0.4kg:0.7kg:13, crank.v_angle=60:90:7 or "
+            "balance.balance_factor=30%:100%:15; repeat for more dimensions.",
         ),
     ],
     output: Annotated[
@@ -218,6 +219,12 @@ def sweep_command(
         raise InputError("give --scheduler or --workers, not both")
     base = load_layout(layout)
     grid = check_varies([parse_vary(text, base, "--vary") for text in vary], "--vary")
+    balanced = [v.field.text for v in grid if v.field.attribute.startswith("balance.")]
+    if balanced and (no_moments or no_roll):
+        raise InputError(
+            f"--vary {balanced[0]}: the residual with the proposal needs the moments and the "
+            "roll; drop --no-moments and --no-roll"
+        )
     if not quiet:
         from balance.studies.checks import sweep_warnings
 
@@ -233,7 +240,7 @@ def sweep_command(
         "progress": ProgressBar() if show else None,
         "force": force,
     }
-    with options_named(vary="--vary", model="--model"):
+    with options_named(vary="--vary", model="--model", orders="--orders"):
         if scheduler is None and workers is None:
             sweep_to_file(base, grid, output, orders, **kwargs)
         else:
@@ -285,15 +292,11 @@ def search_command(
     top: Annotated[int, typer.Option("--top", min=1, help="How many to print.")] = 5,
 ) -> None:
     """Enumerate crank arrangements, drop symmetric duplicates, print the best."""
-    from balance.io.fields import parse_orders
-    from balance.io.units import UnitProblem, parse_quantity
+    from balance.io.fields import parse_option_quantity, parse_orders
     from balance.studies.search import search
 
-    try:
-        step_deg = parse_quantity(step, "angle")
-        bank_list = [parse_quantity(b, "angle") for b in banks.split(",")]
-    except UnitProblem as exc:
-        raise InputError(f"--step/--banks: {exc}; {exc.valid}") from None
+    step_deg = parse_option_quantity(step, "angle", "--step")
+    bank_list = [parse_option_quantity(b, "angle", "--banks") for b in banks.split(",")]
     with options_named(
         objective="--objective",
         cylinders="--cylinders",
@@ -308,7 +311,7 @@ def search_command(
             even_firing=even_firing,
             split=not no_split,
             objective=objective,
-            orders=[int(k) for k in parse_orders(orders)],
+            orders=[int(k) for k in parse_orders(orders, "--orders")],
             rod_ratio=rod_ratio,
             top=top,
         )
@@ -356,7 +359,9 @@ def tolerance_command(
         from balance.studies.checks import tolerance_warnings
 
         warn(tolerance_warnings(engine, items), quiet, layout)
-    with options_named(scatter="--scatter", distribution="--distribution", samples="--samples"):
+    with options_named(
+        scatter="--scatter", distribution="--distribution", samples="--samples", orders="--orders"
+    ):
         result = tolerance(
             engine,
             items,

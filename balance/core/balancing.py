@@ -35,6 +35,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from balance.core.balance_factor import BalanceFactor, FactorEquivalents, cylinder_shares
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
 from balance.core.phasors import Phasors, rounding_threshold
@@ -47,9 +48,11 @@ __all__ = [
     "BalanceShaft",
     "Counterweight",
     "Proposal",
+    "default_axes",
     "group_least",
     "proposal_phasors",
     "propose",
+    "rods_per_throw",
     "shaft_roll_phasors",
     "throw_groups",
 ]
@@ -60,7 +63,8 @@ FloatArray = NDArray[np.float64]
 DEFAULT_ORDERS = (1, 2)
 STRATEGIES = ("two-plane", "per-throw")
 #: Shaft axes that the proposal places keep this many mean crank radii from the crank axis
-#: and from each other (the default axes sit 2 r below the crank).
+#: and from each other; the default axes sit this far from the crank axis, below it
+#: (:func:`default_axes`).
 SHAFT_CLEARANCE = 2.0
 #: A roll is cancelled (or unchanged) when it differs from zero (or from the engine's own)
 #: by less than this share of the magnitudes that meet in it.
@@ -130,7 +134,32 @@ class BalanceShaft:
 
 @dataclass(frozen=True)
 class Proposal:
-    """A balancing proposal and the choices behind it."""
+    """A balancing proposal and the choices behind it.
+
+    Attributes
+    ----------
+    counterweights : tuple of Counterweight
+        On the crank, in z order.
+    shafts : tuple of BalanceShaft
+        The balance shafts.
+    strategy : {'two-plane', 'per-throw'}
+        How the counterweights are placed.
+    orders : tuple of int
+        The orders the proposal was asked to cancel.
+    balance_factor : float or None
+        The balance factor as a share of each cylinder's reciprocating mass [1]; None
+        without one, or where that share differs from throw to throw (a factor given as a
+        share of one cylinder's mass on an engine whose throws carry different numbers of
+        rods: :attr:`factor` holds it).
+    counterweight_radius : float
+        Radius of the counterweights' centres of gravity [m].
+    cancel_roll : bool
+        Whether the shafts were placed to cancel the roll.
+    notes : tuple of str
+        What the proposal leaves and why, one sentence each.
+    factor : FactorEquivalents or None
+        The balance factor as given, with its convention and its value in the other one.
+    """
 
     counterweights: tuple[Counterweight, ...]
     shafts: tuple[BalanceShaft, ...]
@@ -140,6 +169,7 @@ class Proposal:
     counterweight_radius: float
     cancel_roll: bool = False
     notes: tuple[str, ...] = field(default=())
+    factor: FactorEquivalents | None = None
 
     @property
     def is_empty(self) -> bool:
@@ -200,8 +230,25 @@ def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float
     return out
 
 
+def rods_per_throw(layout: Engine) -> NDArray[np.intp]:
+    """How many rods share each cylinder's throw (:func:`throw_groups`).
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+
+    Returns
+    -------
+    ndarray of int
+        Per cylinder, the number of rods on its throw (its own included).
+    """
+    groups = throw_groups(layout)
+    return np.asarray(np.bincount(groups)[groups], dtype=np.intp)
+
+
 def _counterweight_targets(
-    layout: Engine, first_order: ComplexArray, balance_factor: float | None = None
+    layout: Engine, first_order: ComplexArray, shares: NDArray[np.float64] | None = None
 ) -> ComplexArray:
     r"""Per-cylinder unbalance the counterweights set out to cancel [kg m].
 
@@ -210,10 +257,11 @@ def _counterweight_targets(
     layout : Engine
     first_order : ndarray of complex
         :math:`G_1` of each cylinder's :math:`-s''/r` (1 without offset).
-    balance_factor : float, optional
-        Share of each cylinder's reciprocating mass to put on the crank.  Without it, the
-        forward share of the first-order reciprocating phasor, :math:`G_1/2` (50 % of the
-        reciprocating mass for an unoffset cylinder; for rods on a common pin the vector
+    shares : ndarray, optional
+        Share of each cylinder's own reciprocating mass to put on the crank (from the
+        balance factor, :func:`balance.core.balance_factor.cylinder_shares`).  Without it,
+        the forward share of the first-order reciprocating phasor, :math:`G_1/2` (50 % of
+        the reciprocating mass for an unoffset cylinder; for rods on a common pin the vector
         sum turns this into the classical results, e.g. 100 % of one rod for a 90° V-twin).
 
     Returns
@@ -222,10 +270,10 @@ def _counterweight_targets(
         :math:`(m_{rot} r + \text{share}\cdot m_{rec} r)\, e^{i\varphi}` per cylinder.
     """
     r = layout.crank_radius
-    if balance_factor is None:
+    if shares is None:
         share = 0.5 * np.asarray(first_order, dtype=np.complex128)
     else:
-        share = np.full(layout.n_cylinders, float(balance_factor), dtype=np.complex128)
+        share = np.asarray(shares, dtype=np.complex128)
     return np.asarray(
         (layout.rotating_mass * r + share * layout.reciprocating_mass * r)
         * np.exp(1j * layout.throw),
@@ -280,7 +328,7 @@ def propose(
     *,
     cancel: Iterable[int] | None = None,
     strategy: str = "two-plane",
-    balance_factor: float | None = None,
+    balance_factor: float | BalanceFactor | None = None,
     counterweight_radius: float | None = None,
     fixed_shafts: Sequence[ShaftPosition] | None = None,
     cancel_roll: bool = False,
@@ -303,18 +351,20 @@ def propose(
         Counterweights at the two crank ends (the lightest answer for the free couple), or
         one for each throw (each throw balanced in itself, which also unloads the main
         bearings).
-    balance_factor : float, optional
-        Share of each cylinder's reciprocating mass put on the crank, instead of the
-        forward share of the first order (singles and twins).
+    balance_factor : float or BalanceFactor, optional
+        The reciprocating mass put on the crank, instead of the forward share of the first
+        order (singles and twins): a float is a share of each cylinder's reciprocating mass
+        [1], a :class:`~balance.core.balance_factor.BalanceFactor` says its convention.
     counterweight_radius : float, optional
         Radius of the counterweights' centres of gravity [m]; default the mean crank radius.
     fixed_shafts : sequence of ShaftPosition, optional
         The shafts the design has room for (the layout's ``balance: shafts:``): the proposal
         then uses these speed ratios only, finds their unbalances, phases and planes, keeps
         every coordinate given, and says in its notes what they leave.  Without them, one
-        shaft per order and sense that needs one, with its axis at the default place: below
-        the crank at ``y = -2 r``; the two of a pair of one order at ``x = -2 r`` (forward)
-        and ``x = +2 r`` (backward), a single one at ``x = 0``.
+        shaft per order and sense that needs one, with its axis at the default place
+        (:func:`default_axes`): 2 r from the crank axis, below it; a single one straight
+        below, the two of a pair of one order at ``x = -r`` (forward) and ``x = +r``
+        (backward), ``y = -sqrt(3) r``.
     cancel_roll : bool
         Place the shafts of each order (the coordinates not given) so that the roll of that
         order, the engine's and the shafts' together, is zero (:func:`place_for_roll`);
@@ -344,6 +394,13 @@ def propose(
     lever = z - z_ref
     n = layout.n_cylinders
     notes: list[str] = []
+    factor = (
+        BalanceFactor(float(balance_factor))
+        if isinstance(balance_factor, int | float)
+        else balance_factor
+    )
+    rods = rods_per_throw(layout)
+    equivalents = FactorEquivalents.of(factor, rods) if factor is not None else None
 
     ff = {k: complex(force_forward[i]) for i, k in enumerate(ks)}
     fb = {k: complex(force_backward[i]) for i, k in enumerate(ks)}
@@ -357,7 +414,8 @@ def propose(
 
     counterweights: list[Counterweight] = []
     if 1 in wanted:
-        targets = _counterweight_targets(layout, first_order, balance_factor)
+        shares = cylinder_shares(factor, rods) if factor is not None else None
+        targets = _counterweight_targets(layout, first_order, shares)
         scale_f = float(np.sum(np.abs(targets)))
         scale_m = float(np.sum(np.abs(targets * lever)))
         if strategy == "two-plane":
@@ -367,7 +425,10 @@ def propose(
                 counterweights.append(Counterweight(plane_z, value, radius))
         else:
             groups = throw_groups(layout)
-            for g, plane_z in enumerate(group_least(z, groups)):
+            throw_planes = group_least(z, groups)
+            # listed along the crank (z), throws in one plane by their angle
+            for g in np.lexsort((np.arange(throw_planes.size), throw_planes)):
+                plane_z = throw_planes[g]
                 members = groups == g
                 value = complex(targets[members].sum())
                 value = _zero_below(value, float(np.abs(targets[members]).sum()), 2)
@@ -384,11 +445,6 @@ def propose(
         )
         ff[1] = _zero_below(ff[1], f_scale + abs(cw_force), n + 2)
         mf[1] = _zero_below(mf[1], f_scale * (float(np.abs(lever).max()) + 1e-300), n + 2)
-        if balance_factor is not None:
-            notes.append(
-                f"balance factor {balance_factor:.0%}: the rest of the forward first order "
-                "is left as a residual"
-            )
 
     shafts: list[BalanceShaft] = []
     given = {f.speed_ratio: f for f in fixed_shafts} if fixed_shafts is not None else None
@@ -445,10 +501,11 @@ def propose(
         shafts=tuple(shafts),
         strategy=strategy,
         orders=wanted,
-        balance_factor=balance_factor,
+        balance_factor=equivalents.each_cylinder if equivalents is not None else None,
         counterweight_radius=radius,
         cancel_roll=cancel_roll,
         notes=tuple(notes),
+        factor=equivalents,
     )
 
 
@@ -462,8 +519,37 @@ def _default_position(
     r: float,
 ) -> tuple[float, float]:
     pair = (ff[k] != 0 or mf[k] != 0) and (fb[k] != 0 or mb[k] != 0) and k > 1
-    x = (-2.0 * r if sense > 0 else 2.0 * r) if pair else 0.0
-    return x, -2.0 * r
+    return default_axes(r, sense if pair else 0)
+
+
+def default_axes(r: float, side: int = 0) -> tuple[float, float]:
+    r"""Where a balance shaft's axis goes when neither the layout nor the roll places it.
+
+    On the circle of radius :math:`c = 2r` (:data:`SHAFT_CLEARANCE` mean crank radii) around
+    the crank axis, below the crank: a single shaft straight below, :math:`(0, -c)`; the
+    two shafts of a pair of one order 30° either side of straight down,
+    :math:`(\mp c/2, -c\sqrt3/2) = (\mp r, -\sqrt3 r)`, forward on the :math:`-x` side, so
+    that they are :math:`c` apart.  Every default axis is therefore :math:`2r` from the
+    crank axis, within the crank train's reach :math:`r + l` for any rod longer than the
+    crank radius, and within the crank's lateral sweep :math:`|x| \le r` (the theory docs,
+    "Balance shafts").
+
+    Parameters
+    ----------
+    r : float
+        Mean crank radius [m].
+    side : {0, 1, -1}
+        0 for a single shaft; for a pair, the sense of the shaft (+1 forward, -1 backward).
+
+    Returns
+    -------
+    tuple of float
+        ``(x, y)`` of the axis [m].
+    """
+    c = SHAFT_CLEARANCE * r
+    if side == 0:
+        return 0.0, -c
+    return (-0.5 * c if side > 0 else 0.5 * c), -0.5 * math.sqrt(3.0) * c
 
 
 def shaft_roll_phasors(
@@ -768,8 +854,8 @@ def _across_force(
     The pair's force :math:`P_+ e^{\mathrm{i}k\theta} + P_- e^{-\mathrm{i}k\theta}` is
     largest along :math:`u = e^{\mathrm{i}(\arg P_+ + \arg P_-)/2}`; the axes go to
     :math:`\pm\sqrt2\,c\,v` with :math:`v = \mathrm{i}u` (the forward shaft on the lower
-    side, or on the :math:`-x` side when the force is vertical), as far from the crank axis
-    as the default axes are.  For a force along a line this alone puts no roll on the block.
+    side, or on the :math:`-x` side when the force is vertical), :math:`\sqrt2\,c` from the
+    crank axis.  For a force along a line this alone puts no roll on the block.
     """
     forward = 0 if group[0].speed_ratio > 0 else 1
     backward = 1 - forward

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from balance.core.balance_factor import BalanceFactor
 from balance.core.errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover (annotations only: gas loads when used)
@@ -105,8 +106,11 @@ class BalanceSettings:
     ----------
     counterweight_radius : float or None
         Radius of the counterweights' centre of gravity [m]; None: the crank radius.
-    balance_factor : float or None
-        Share of the reciprocating mass put on the crank as counterweight [1].
+    balance_factor : float, BalanceFactor or None
+        The reciprocating mass put on the crank as counterweight: a float is a share of each
+        cylinder's reciprocating mass [1]; a
+        :class:`~balance.core.balance_factor.BalanceFactor` a share of one cylinder's on
+        each throw (``of='one-cylinder'``).
     orders : tuple of int or None
         Orders the proposal cancels; None: 1 and 2.
     strategy : {'two-plane', 'per-throw'}
@@ -116,7 +120,7 @@ class BalanceSettings:
     """
 
     counterweight_radius: float | None = None
-    balance_factor: float | None = None
+    balance_factor: float | BalanceFactor | None = None
     orders: tuple[int, ...] | None = None
     strategy: str = "two-plane"
     shafts: tuple[ShaftPosition, ...] | None = None

@@ -19,15 +19,18 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core import kinematics
 from balance.core.analysis import compute_phasors
+from balance.core.balance_factor import BalanceFactor, FactorEquivalents
 from balance.core.balancing import (
     Proposal,
     proposal_phasors,
     propose,
+    rods_per_throw,
     shaft_roll_phasors,
 )
 from balance.core.catalogue import Output
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.phasors import Phasors, cancel_to_zero, phase_deg, rounding_threshold, safe_ratio
+from balance.core.proposal_notes import cancel_roll_notes, factor_note, orders_left
 from balance.core.result import FreeForces, Result
 from balance.core.speed import speed_squared
 
@@ -64,11 +67,24 @@ class ProposalResult:
         The roll as the analysis reports it (per :attr:`Result.roll_orders`, with gas
         forces where the engine has them) with the shafts' roll added [N m]; None
         without the roll.
+    left : tuple of int
+        The orders the proposal was asked to cancel whose residual force or moment is not
+        zero (a balance factor's forward first order, a sense without a shaft of the
+        layout's ``shafts``); the notes say why.
     """
 
     proposal: Proposal
     residual: Phasors
     residual_roll: ComplexArray | None
+    left: tuple[int, ...] = ()
+
+
+def _factor(value: float | BalanceFactor | None, of: str | None) -> float | BalanceFactor | None:
+    """A balance factor with its convention: ``of`` given names the convention of a bare
+    ``value`` (each cylinder's reciprocating mass without it)."""
+    if value is None or of is None or isinstance(value, BalanceFactor):
+        return value
+    return BalanceFactor(float(value), of)
 
 
 def balance_engine(
@@ -77,10 +93,11 @@ def balance_engine(
     *,
     cancel: Iterable[int] | None = None,
     strategy: str | None = None,
-    balance_factor: float | None = None,
+    balance_factor: float | BalanceFactor | None = None,
     counterweight_radius: float | None = None,
     cancel_roll: bool = False,
     fixed_shafts: Sequence[ShaftPosition] | None = None,
+    balance_factor_of: str | None = None,
 ) -> ProposalResult:
     """Propose counterweights and shafts for an analysed layout and form the residual.
 
@@ -97,14 +114,19 @@ def balance_engine(
         then from the defaults of :func:`balance.core.balancing.propose` (orders 1 and 2,
         two-plane counterweights at the crank ends, counterweight radius = crank radius,
         shafts where they are needed at their default places).
+    balance_factor_of : {'each-cylinder', 'one-cylinder'}, optional
+        The convention of a float ``balance_factor`` (:mod:`balance.core.balance_factor`);
+        default each cylinder's reciprocating mass.
 
     Returns
     -------
     ProposalResult
-        The proposal, the residual per order of ``free`` (:func:`residual`), and its roll
-        (inertia, whole orders; :func:`proposal_part` puts the roll with gas forces in its
-        place).
+        The proposal, with the notes computed from the residual
+        (:mod:`balance.core.proposal_notes`), the residual per order of ``free``
+        (:func:`residual`), its roll (inertia, whole orders; :func:`proposal_part` puts the
+        roll with gas forces in its place) and the orders left.
     """
+    balance_factor = _factor(balance_factor, balance_factor_of)
     settings = layout.balance
     if cancel is None and settings is not None and settings.orders is not None:
         cancel = settings.orders
@@ -156,7 +178,11 @@ def balance_engine(
         roll=picked.roll,
     )
     after = residual(layout, proposal, p)
-    return ProposalResult(proposal, after, after.roll)
+    kept = residual(layout, proposal, picked)  # at the orders to cancel, which the notes speak of
+    head = factor_note(proposal, picked, kept)
+    notes = ([head] if head else []) + list(proposal.notes) + cancel_roll_notes(proposal, kept)
+    proposal = replace(proposal, notes=tuple(notes))
+    return ProposalResult(proposal, after, after.roll, orders_left(proposal, kept))
 
 
 def residual(layout: Engine, proposal: Proposal, p: Phasors) -> Phasors:
@@ -268,6 +294,7 @@ def proposal_part(
     balance_factor: float | None = None,
     counterweight_radius: float | None = None,
     cancel_roll: bool = False,
+    balance_factor_of: str | None = None,
 ) -> Result:
     """The ``proposal`` section: the proposal and the residual (:class:`ProposalResult`).
 
@@ -283,9 +310,10 @@ def proposal_part(
     result : Result
         The result so far (its free forces, and the roll with gas forces when the torque
         section has run).
-    cancel, strategy, balance_factor, counterweight_radius, cancel_roll
+    cancel, strategy, balance_factor, counterweight_radius, cancel_roll, balance_factor_of
         Proposal settings, as :func:`balance_engine` (orders to cancel; ``'two-plane'`` or
-        ``'per-throw'``; a fraction [1]; a radius [m]; place the shafts to cancel the roll).
+        ``'per-throw'``; a fraction [1]; a radius [m]; place the shafts to cancel the roll;
+        the convention of ``balance_factor``, ``'each-cylinder'`` or ``'one-cylinder'``).
 
     Returns
     -------
@@ -302,6 +330,7 @@ def proposal_part(
         balance_factor=balance_factor,
         counterweight_radius=counterweight_radius,
         cancel_roll=cancel_roll,
+        balance_factor_of=balance_factor_of,
     )
     part = replace(proposed, residual_roll=_with_shafts_roll(result, proposed.residual))
     return result.with_part("proposal", part)
@@ -327,6 +356,10 @@ class FactorStudy:
     largest_main_load, largest_internal_moment : ndarray or None
         With the crank-pin and main-bearing loads asked for: the largest main-bearing
         load [N] and internal moment [N m] with each factor's proposed counterweights.
+    rods : tuple of int
+        The different numbers of rods per throw of the engine (the factors are shares of
+        each cylinder's reciprocating mass; one cylinder's on each throw is this many times
+        them, :mod:`balance.core.balance_factor`).
     """
 
     factor: FloatArray
@@ -336,6 +369,22 @@ class FactorStudy:
     optimal: float
     largest_main_load: FloatArray | None = None
     largest_internal_moment: FloatArray | None = None
+    rods: tuple[int, ...] = ()
+
+    def equivalents(self, factor: float) -> FactorEquivalents:
+        """A factor of the study (a share of each cylinder's reciprocating mass) in both
+        conventions.
+
+        Parameters
+        ----------
+        factor : float
+            The share [1].
+
+        Returns
+        -------
+        FactorEquivalents
+        """
+        return FactorEquivalents(BalanceFactor(float(factor)), self.rods or (1,))
 
 
 def _first_order_parts(
@@ -505,6 +554,7 @@ def factor_study(layout: Engine, factors: ArrayLike | None = None) -> FactorStud
         horizontal_peak=study["horizontal_peak"],
         moment_peak=study["moment_peak"],
         optimal=optimal_balance_factor(layout, g1, pins),
+        rods=FactorEquivalents.of(BalanceFactor(0.0), rods_per_throw(layout)).rods,
     )
 
 
@@ -648,6 +698,16 @@ def _residual_outputs(quantity: str) -> tuple[Output, ...]:
     )
 
 
+def _factor_of(result: Any) -> FactorEquivalents | None:
+    return _proposal(result).proposal.factor
+
+
+def _equivalents(result: Any) -> FactorEquivalents:
+    factor = _factor_of(result)
+    assert factor is not None
+    return factor
+
+
 def _attr(name: str, get: Any, **options: Any) -> Output:
     return Output(name, (), "", name, get, kind="attr", **options)
 
@@ -747,9 +807,29 @@ OUTPUTS: tuple[Output, ...] = (
     _attr("proposal_cancel_roll", lambda r: int(_proposal(r).proposal.cancel_roll)),
     _attr("proposal_notes", lambda r: "; ".join(_proposal(r).proposal.notes)),
     _attr(
+        "proposal_orders_left",  # present only when an order to cancel is left in part
+        lambda r: np.asarray(_proposal(r).left, dtype=np.int64),
+        when=lambda r: bool(_proposal(r).left),
+    ),
+    _attr(
         "proposal_balance_factor",  # a number, present only when a balance factor was given
         lambda r: float(_proposal(r).proposal.balance_factor or 0.0),
         when=lambda r: _proposal(r).proposal.balance_factor is not None,
+    ),
+    _attr(
+        "proposal_balance_factor_one_cylinder",  # the same as a share of one cylinder's
+        lambda r: float(_equivalents(r).one_cylinder or 0.0),
+        when=lambda r: _factor_of(r) is not None and _equivalents(r).one_cylinder is not None,
+    ),
+    _attr(
+        "proposal_balance_factor_of",  # the convention the factor was given in
+        lambda r: _equivalents(r).given.of,
+        when=lambda r: _factor_of(r) is not None,
+    ),
+    _attr(
+        "proposal_balance_factor_convention",  # the factor given, in words, in both
+        lambda r: _equivalents(r).describe(),
+        when=lambda r: _factor_of(r) is not None,
     ),
 )
 
@@ -795,14 +875,16 @@ STUDY_OUTPUTS: tuple[Output, ...] = (
         "optimal_balance_factor",
         (),
         "1",
-        "balance factor minimising the larger first-order force peak",
+        "balance factor minimising the larger first-order force peak, as a share of each "
+        "cylinder's reciprocating mass",
         lambda r: _study(r).optimal,
     ),
     Output(
         "study_factor",
         ("study_factor",),
         "1",
-        "share of reciprocating mass on the crank",
+        "balance factor: share of each cylinder's reciprocating mass on the crank "
+        "(balance_factor of: each-cylinder)",
         lambda r: _study(r).factor,
         kind="coord",
     ),

@@ -105,7 +105,14 @@ SECTIONS: tuple[Section, ...] = (
         part="balance.core.proposal:proposal_part",
         outputs="balance.core.proposal:OUTPUTS",
         default=True,
-        options=("cancel", "strategy", "balance_factor", "counterweight_radius", "cancel_roll"),
+        options=(
+            "cancel",
+            "strategy",
+            "balance_factor",
+            "counterweight_radius",
+            "cancel_roll",
+            "balance_factor_of",
+        ),
     ),
     Section(
         "factor_study",

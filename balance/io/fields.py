@@ -68,14 +68,20 @@ from balance.io.layout_fields import (
     layout_field,
     placed,
 )
+from balance.io.limits import MAX_ORDER
 
 if TYPE_CHECKING:
     from balance.core.engine import Engine
     from balance.core.speed_model import Load
+    from balance.io.crank_form import CrankForm
 
 __all__ = [
+    "BALANCE_FIELDS",
+    "CRANK_FIELDS",
     "DEFAULT_ORDERS",
     "MAX_ORDER",
+    "MAX_POINTS",
+    "MAX_VALUES",
     "Field",
     "Scatter",
     "Vary",
@@ -96,17 +102,20 @@ FloatArray = NDArray[np.float64]
 
 #: Orders reported when none are asked for: 1 to this.
 DEFAULT_ORDERS = 8
-#: Highest order that can be asked for.
-MAX_ORDER = 1000
 
 
-def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -> NDArray[np.intp]:
+def parse_orders(
+    spec: int | str | Iterable[int] | NDArray[np.integer] | None, option: str = "orders"
+) -> NDArray[np.intp]:
     """Orders from an int (1..N), a spec string (``"1-8"``, ``"2"``, ``"1,2,4-6"``) or a list.
 
     Parameters
     ----------
     spec : int, str, sequence of int or None
         The orders as given; None is 1 to :data:`DEFAULT_ORDERS`.
+    option : str
+        The parameter (``orders``, ``cancel``) or option (``--orders``) they were given to,
+        for the message.
 
     Returns
     -------
@@ -116,13 +125,17 @@ def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -
     Raises
     ------
     InputError
-        For an empty, malformed or out-of-range spec (orders 1 to :data:`MAX_ORDER`).
+        For an empty, malformed or out-of-range spec (orders 1 to :data:`MAX_ORDER`; a
+        range written high to low).
     """
+    out_of_range = f"every order must be between 1 and {MAX_ORDER}"
     if spec is None:
         return np.arange(1, DEFAULT_ORDERS + 1)
     if isinstance(spec, bool):
-        raise InputError("orders: expected a number, a range such as 1-8, or a list")
+        raise InputError(f"{option}: expected a number, a range such as 1-8, or a list")
     if isinstance(spec, int | np.integer):
+        if not 1 <= spec <= MAX_ORDER:
+            raise InputError(f"{option}: {int(spec)}: {out_of_range}")
         values = list(range(1, int(spec) + 1))
     elif isinstance(spec, str):
         values = []
@@ -130,19 +143,25 @@ def parse_orders(spec: int | str | Iterable[int] | NDArray[np.integer] | None) -
             match = re.fullmatch(r"(\d+)(?:-(\d+))?", part)
             if not match:
                 raise InputError(
-                    f"orders: cannot read {spec!r}; write a range or list such as 1-8, 2 or 1,2,4-6"
+                    f"{option}: cannot read {spec!r}; write a range or list such as 1-8, 2 or "
+                    "1,2,4-6"
                 )
             lo = int(match.group(1))
             hi = int(match.group(2)) if match.group(2) else lo
-            if hi < lo or hi - lo > MAX_ORDER:
-                raise InputError(f"orders: {part!r} is not an increasing range")
+            if hi < lo:
+                raise InputError(
+                    f"{option}: {part!r} is not an increasing range; write the lower order "
+                    f"first, e.g. {hi}-{lo}"
+                )
+            if lo < 1 or hi > MAX_ORDER:
+                raise InputError(f"{option}: {part!r}: {out_of_range}")
             values.extend(range(lo, hi + 1))
     else:
         values = [int(v) for v in spec]
     if not values:
-        raise InputError("orders: no orders given; for example 1-8")
+        raise InputError(f"{option}: no orders given; for example 1-8")
     if min(values) < 1 or max(values) > MAX_ORDER:
-        raise InputError(f"orders: every order must be between 1 and {MAX_ORDER}")
+        raise InputError(f"{option}: {out_of_range}")
     return np.asarray(sorted(set(values)), dtype=np.intp)
 
 
@@ -271,7 +290,12 @@ def parse_speed(text: str | None, option: str = "speed") -> float | None:
     """
     if text is None:
         return None
-    return check_speed(parse_option_quantity(text, "speed", option))
+    speed = parse_option_quantity(text, "speed", option)
+    if not speed > 0:  # answered in the unit given
+        raise InputError(
+            f"{option}: {text.strip()}: the speed must be a finite number above zero, e.g. 6000rpm"
+        )
+    return check_speed(speed)
 
 
 # ---------------------------------------------------------------------------------------
@@ -294,8 +318,23 @@ _SECTION = {
     for place in (GEOMETRY, MASSES)
 }
 _CYLINDER = re.compile(r"^cylinders(?:\[(\d+)\]|\.(\d+))\.([a-z_]+)$")
-#: Most grid points a sweep may have.
+#: Fields of the compact ``crank:`` form a sweep may vary (:mod:`balance.io.crank_form`):
+#: name -> unit kind; ``crank.banks[N]`` is bank N's angle.
+CRANK_FIELDS: dict[str, str] = {
+    "spacing": "length",
+    "bank_stagger": "length",
+    "banks": "angle",
+    "v_angle": "angle",
+}
+_BANK = re.compile(r"^banks(?:\[(\d+)\]|\.(\d+))$")
+#: Fields of the ``balance:`` section a sweep may vary: name -> unit kind.
+BALANCE_FIELDS: dict[str, str] = {"balance_factor": "fraction"}
+#: Most grid points a sweep may have: a guard against a mistyped count (the grid is
+#: computed chunk by chunk, so memory does not bound it; time and the output's size do).
 MAX_POINTS = 10**12
+#: Most values one varied field may have: its values are held in memory and written as the
+#: grid's coordinate (10**6 values are 8 MB).
+MAX_VALUES = 10**6
 
 
 @dataclass(frozen=True)
@@ -318,6 +357,11 @@ class Field:
         The field's own name (``stroke``, ``throw``...).
     cylinder : int or None
         0-based index of the cylinder, or None for every cylinder.
+    crank : CrankForm or None
+        For a field of the compact ``crank:`` form (``attribute`` ``crank.KEY``): the
+        layout's compact form (:func:`balance.io.crank_form.crank_form`).
+    bank : int or None
+        For ``crank.banks[N]``: the 0-based index of the bank.
     """
 
     text: str
@@ -326,15 +370,21 @@ class Field:
     kind: str
     key: str
     cylinder: int | None = None
+    crank: CrankForm | None = None
+    bank: int | None = None
 
     @property
     def unit(self) -> str:
-        """SI unit of the values (degrees for angles)."""
-        return SI_UNITS[self.kind]
+        """SI unit of the values (degrees for angles, 1 for fractions)."""
+        return SI_UNITS.get(self.kind, "1")
 
     def to_layout_units(self, values: ArrayLike) -> FloatArray:
-        """Values in the unit of the Engine attribute (radians for angles, radius for stroke)."""
+        """Values in the unit of the Engine attribute (radians for angles, radius for stroke);
+        a field of the ``crank:`` or ``balance:`` section keeps the file's (SI, degrees), which
+        :func:`balance.studies.changes.apply_changes` turns into the engine's."""
         v = np.asarray(values, dtype=np.float64)
+        if self.attribute.startswith(("crank.", "balance.")):
+            return v
         if self.kind == "angle":
             return np.radians(v)
         to_attribute = layout_field(self.key).to_attribute
@@ -343,9 +393,47 @@ class Field:
 
 def _valid_fields() -> str:
     return (
-        f"valid: {', '.join(ENGINE_FIELDS)}, or cylinders[N].FIELD with FIELD one of "
-        f"{', '.join(CYLINDER_FIELDS)}"
+        f"valid: {', '.join(ENGINE_FIELDS)}, crank.spacing, crank.bank_stagger, "
+        "crank.banks[N], crank.v_angle, balance.balance_factor, or cylinders[N].FIELD with "
+        f"FIELD one of {', '.join(CYLINDER_FIELDS)}"
     )
+
+
+def _crank_field(name: str, key: str, layout: Engine, option: str) -> Field:
+    """A field of the compact ``crank:`` form (``crank.spacing``, ``crank.banks[2]``)."""
+    import difflib
+
+    from balance.io.crank_form import crank_form
+
+    match = _BANK.match(key)
+    if key not in CRANK_FIELDS and match is None:
+        keys = ["spacing", "bank_stagger", "banks[N]", "v_angle"]
+        hint = difflib.get_close_matches(key, keys, n=1)
+        more = f"did you mean 'crank.{hint[0]}'? " if hint else ""
+        raise InputError(
+            f"{option}: '{name}' is not a field of the crank: section a sweep varies; {more}"
+            f"valid: {', '.join('crank.' + k for k in keys)}"
+        )
+    form = crank_form(layout, f"{option}: {name}")
+    if match is not None:
+        number = int(match.group(1) or match.group(2))
+        if not 1 <= number <= len(form.banks):
+            raise InputError(f"{option}: '{name}': the layout has banks 1 to {len(form.banks)}")
+        return Field(
+            name,
+            f"crank_bank{number}",
+            "crank.banks",
+            "angle",
+            "banks",
+            crank=form,
+            bank=number - 1,
+        )
+    if key == "v_angle" and len(form.banks) != 2:
+        raise InputError(
+            f"{option}: '{name}': a V angle needs two banks, the layout has "
+            f"{len(form.banks)}; vary crank.banks[N]"
+        )
+    return Field(name, f"crank_{key}", f"crank.{key}", CRANK_FIELDS[key], key, crank=form)
 
 
 def parse_field(text: str, layout: Engine, option: str = "vary") -> Field:
@@ -391,6 +479,16 @@ def parse_field(text: str, layout: Engine, option: str = "vary") -> Field:
         attribute, kind = CYLINDER_FIELDS[key]
         _check_parts(layout, attribute, name, option)
         return Field(name, f"cylinder{number}_{key}", attribute, kind, key, number - 1)
+    if name.startswith("crank."):
+        return _crank_field(name, name[len("crank.") :], layout, option)
+    if name.startswith("balance."):
+        key = name[len("balance.") :]
+        if key not in BALANCE_FIELDS:
+            raise InputError(
+                f"{option}: '{name}' is not a field of the balance: section a sweep varies; "
+                f"valid: {', '.join('balance.' + k for k in BALANCE_FIELDS)}"
+            )
+        return Field(name, key, f"balance.{key}", BALANCE_FIELDS[key], key)
     key = name
     for section, keys in _SECTION.items():
         if name.startswith(section + "."):
@@ -490,13 +588,27 @@ def parse_values(text: str, field: Field, option: str = "vary") -> FloatArray:
             raise InputError(
                 f"{option}: {field.text}: count {parts[2].strip()!r} is not a whole number above 0"
             )
+        if count > MAX_VALUES:
+            raise InputError(
+                f"{option}: {field.text}: count {count} is more than the {MAX_VALUES} values a "
+                "field may have"
+            )
         if count == 1 and start != stop:
             raise InputError(f"{option}: {field.text}: one value from {start} to {stop}?")
+        for part, value in ((parts[0], start), (parts[1], stop)):
+            _check_bound(field, value, option, part.strip())
         values = np.linspace(start, stop, count)
     else:
         parts = spec.split(",")
+        if len(parts) > MAX_VALUES:
+            raise InputError(
+                f"{option}: {field.text}: {len(parts)} values; a field may have at most "
+                f"{MAX_VALUES}"
+            )
         _check_thousands(parts, field, option)
         values = np.array([_quantity(p, field, option) for p in parts])
+        for part, value in zip(parts, values, strict=True):
+            _check_bound(field, float(value), option, part.strip())
     return values
 
 
@@ -582,13 +694,28 @@ def check_varies(varies: list[Vary], option: str = "vary") -> list[Vary]:
 
 
 def _check_values(v: Vary, option: str) -> None:
-    low = float(v.values.min())
-    key = v.field.key
-    positive = {"speed", "stroke", "crank_radius", "conrod_length"}
-    if key in positive and low <= 0:
-        raise InputError(f"{option}: {v.field.text}: values must be above zero, got {low:g}")
-    if key in {"reciprocating", "rotating"} and low < 0:
-        raise InputError(f"{option}: {v.field.text}: masses cannot be negative, got {low:g}")
+    """The bounds of every value (SI numbers given from Python: the message shows the SI
+    unit)."""
+    if v.values.size:
+        for value in (float(v.values.min()), float(v.values.max())):
+            _check_bound(v.field, value, option, f"{value:g} {v.field.unit}".rstrip(" 1"))
+
+
+_POSITIVE = frozenset({"speed", "stroke", "crank_radius", "conrod_length"})
+
+
+def _check_bound(field: Field, value: float, option: str, written: str) -> None:
+    """Refuse a value outside its field's bounds, named as written (``-100rpm``)."""
+    key = field.key
+    if key in _POSITIVE and not value > 0:
+        raise InputError(f"{option}: {field.text}: values must be above zero, got {written}")
+    if key in {"reciprocating", "rotating"} and value < 0:
+        raise InputError(f"{option}: {field.text}: masses cannot be negative, got {written}")
+    if key == "balance_factor" and not 0.0 <= value <= 2.0:
+        raise InputError(
+            f"{option}: {field.text}: {written} is outside 0 % to 200 % (the share of the "
+            "reciprocating mass put on the crank)"
+        )
 
 
 @dataclass(frozen=True)
@@ -632,7 +759,9 @@ def parse_scatter(text: str, layout: Engine, option: str = "scatter") -> Scatter
         field = Field(key, key, attribute, kind, key, None)
     else:
         field = parse_field(name, layout, option)
-    if field.attribute in {"speed", "reference_z"}:
+    if field.attribute in {"speed", "reference_z"} or field.attribute.startswith(
+        ("crank.", "balance.")
+    ):
         raise InputError(
             f"{option}: '{name.strip()}' is not a part or geometry field of a cylinder; "
             "scatter masses, stroke, conrod_length, offset, z, throw or bank"

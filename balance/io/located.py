@@ -54,12 +54,17 @@ class Hints:
     size : str
         What a list of the wrong length should hold where ``sizes`` has no entry for it
         (empty: its bounds).
+    nouns : mapping of str to (str, str)
+        What the entries of a list are called, one and many (``cylinders``: ``("cylinder",
+        "cylinders")``), for a list of the wrong length: ``5000 cylinders; at most 256
+        cylinders`` (default: entries).
     """
 
     missing: Mapping[str, str] = field(default_factory=dict)
     types: Mapping[str | int, str] = field(default_factory=dict)
     sizes: Mapping[str | int, str] = field(default_factory=dict)
     size: str = ""
+    nouns: Mapping[str | int, tuple[str, str]] = field(default_factory=dict)
 
 
 _NO_HINTS = Hints()
@@ -161,12 +166,27 @@ def problem_error(problem: FieldProblem, doc: SourceDocument, prefix: Path = ())
     LayoutError
     """
     full = problem.at if problem.absolute else prefix + problem.at
+    message = str(problem)
+    if problem.written is not None:
+        value = _value_at(doc.data, full)
+        if isinstance(value, str | int | float) and not isinstance(value, bool):
+            message = problem.written.format(str(value).strip())
     return LayoutError(
-        str(problem),
+        message,
         doc.location(full),
         field=dotted_path(full) or None,
         valid=problem.valid or None,
     )
+
+
+def _value_at(data: Any, path: Path) -> Any:
+    """The plain value at ``path`` in the file's data (None where there is none)."""
+    for part in path:
+        listed = isinstance(part, int) and isinstance(data, list) and 0 <= part < len(data)
+        if not (listed or (isinstance(part, str) and isinstance(data, dict) and part in data)):
+            return None
+        data = data[part]
+    return data
 
 
 def _clean_loc(raw: Any) -> Path:
@@ -287,31 +307,51 @@ def _one_error(
             valid=hints.types.get(name, f"write {want} here"),
         )
     if kind in {"too_short", "too_long", "string_too_short", "string_too_long"}:
+        noun = hints.nouns.get(name)
         return LayoutError(
-            _length(err["input"], kind, err["msg"]),
+            _length(err["input"], kind, err["msg"], noun),
             doc.location(loc),
             field=dotted_path(loc) or None,
-            valid=hints.sizes.get(name) or hints.size or _bounds(kind, ctx),
+            valid=hints.sizes.get(name) or hints.size or _bounds(kind, ctx, noun),
+        )
+    if kind in _LIMITS:
+        words, key = _LIMITS[kind]
+        return LayoutError(
+            f"{name} is {err['input']!r}",
+            doc.location(loc),
+            field=dotted_path(loc) or None,
+            valid=f"{words} {ctx.get(key)}",
         )
     return LayoutError(err["msg"], doc.location(loc), field=dotted_path(loc) or None)
+
+
+# pydantic's bounds of a number: what the bound is called, and its key in ``ctx``
+_LIMITS = {
+    "greater_than_equal": ("at least", "ge"),
+    "greater_than": ("more than", "gt"),
+    "less_than_equal": ("at most", "le"),
+    "less_than": ("less than", "lt"),
+}
 
 
 def _count(n: int, one: str, many: str) -> str:
     return f"{n} {one if n == 1 else many}"
 
 
-def _length(given: Any, kind: str, message: str) -> str:
-    """What a list (or text) of the wrong length holds: ``2 entries``."""
+def _length(given: Any, kind: str, message: str, noun: tuple[str, str] | None = None) -> str:
+    """What a list (or text) of the wrong length holds: ``2 entries``, ``5000 cylinders``."""
     if isinstance(given, list):
-        return _count(len(given), "entry", "entries")
+        return _count(len(given), *(noun or ("entry", "entries")))
     if isinstance(given, str):
         return _count(len(given), "character", "characters")
     return message
 
 
-def _bounds(kind: str, ctx: Mapping[str, Any]) -> str:
-    """What a list (or text) should hold: ``at least 1 entry``."""
-    one, many = ("character", "characters") if kind.startswith("string") else ("entry", "entries")
+def _bounds(kind: str, ctx: Mapping[str, Any], noun: tuple[str, str] | None = None) -> str:
+    """What a list (or text) should hold: ``at least 1 entry``, ``at most 256 cylinders``."""
+    one, many = (
+        ("character", "characters") if kind.startswith("string") else (noun or ("entry", "entries"))
+    )
     if kind.endswith("short"):
         return f"at least {_count(int(ctx.get('min_length', 1)), one, many)}"
     return f"at most {_count(int(ctx.get('max_length', 0)), one, many)}"

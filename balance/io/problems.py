@@ -24,6 +24,10 @@ class FieldProblem(ValueError):
         another key, the firing order of a torsion train).
     absolute : bool
         Whether ``at`` starts at the top of the file.
+    written : str, optional
+        The message with ``{}`` where the value goes as the file writes it (``"speed is
+        {}"``: ``speed is -100 rpm``, not the SI number of ``message``); used where the file
+        holds the value at the problem's field.
     """
 
     def __init__(
@@ -32,11 +36,13 @@ class FieldProblem(ValueError):
         valid: str = "",
         at: tuple[str | int, ...] = (),
         absolute: bool = False,
+        written: str | None = None,
     ) -> None:
         super().__init__(message)
         self.valid = valid
         self.at = at
         self.absolute = absolute
+        self.written = written
 
 
 class FieldProblems(ValueError):

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from balance.core import kinematics
+from balance.core.balance_factor import CONVENTIONS
 from balance.core.engine import STRATEGIES, Engine
 from balance.core.errors import InputError
 from balance.core.result import Request
@@ -218,6 +219,16 @@ def _checked(name: str, options: dict[str, Any]) -> dict[str, Any]:
         if not 0.0 <= factor <= 2.0:
             raise InputError(f"balance_factor: {factor!r} is outside 0 to 2 (0 % to 200 %)")
         out["balance_factor"] = factor
+    if out.get("balance_factor_of") is not None:
+        if out["balance_factor_of"] not in CONVENTIONS:
+            raise InputError(
+                f"balance_factor_of: {out['balance_factor_of']!r}; use one of "
+                f"{', '.join(CONVENTIONS)}"
+            )
+        if out.get("balance_factor") is None:
+            raise InputError(
+                "balance_factor_of: the convention of a balance_factor; give the factor too"
+            )
     if "counterweight_radius" in out:
         radius = float(out["counterweight_radius"])
         if not (math.isfinite(radius) and radius > 0):

@@ -24,12 +24,14 @@ modules (:mod:`balance.io.layout_sections`); a model of one is built from the bl
 from __future__ import annotations
 
 import dataclasses
+import math
 import typing
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
+from balance.core.balance_factor import CONVENTIONS, BalanceFactor
 from balance.core.engine import STRATEGIES, BalanceSettings, ShaftPosition
 from balance.core.gas import GasModel
 from balance.io.layout_fields import (
@@ -44,12 +46,14 @@ from balance.io.layout_fields import (
     entry_fields,
     placed,
 )
+from balance.io.limits import MAX_ORDER
 from balance.io.located import Hints
 from balance.io.problems import FieldProblem
 from balance.io.units import UnitProblem, parse_quantity, registry
 
 __all__ = [
     "LAYOUT_HINTS",
+    "BalanceFactorSpec",
     "BalanceSpec",
     "CoreSpec",
     "CrankSpec",
@@ -150,9 +154,10 @@ OptFraction = Annotated[float | None, quantity("fraction")]
 
 
 class Strict(BaseModel):
-    """A model of a part of an input file: unknown keys refused, values frozen."""
+    """A model of a part of an input file: unknown keys refused, values frozen, no value
+    converted to another type (``true`` is no number, ``2.0`` no whole number)."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True, strict=True)
 
 
 def positive(value: float | None, name: str, allow_zero: bool = False) -> None:
@@ -172,7 +177,9 @@ def positive(value: float | None, name: str, allow_zero: bool = False) -> None:
         return
     if value < 0 or (value == 0 and not allow_zero):
         need = "zero or more" if allow_zero else "more than zero"
-        raise FieldProblem(f"{name} is {value:g}", f"{name} must be {need}", (name,))
+        raise FieldProblem(
+            f"{name} is {value:g}", f"{name} must be {need}", (name,), written=f"{name} is {{}}"
+        )
 
 
 def _exactly_one(
@@ -485,6 +492,16 @@ def _speed_ratio(value: Any) -> int:
     valid = "a whole number from -64 to 64 other than 0, e.g. 2 or -2 (negative: against the crank)"
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise FieldProblem(f"speed_ratio is {value!r}", valid)
+    if not math.isfinite(value):
+        raise FieldProblem(f"speed_ratio is {value!r}", valid)
+    if value != int(value):
+        # docs/layout-format.md, "Balancing settings": why only whole numbers
+        raise FieldProblem(
+            f"speed_ratio is {value:g}: a shaft at a ratio that is not a whole number turns at "
+            f"order {abs(value):g}, which the engine's inertia forces do not have (their orders "
+            "are whole numbers), so it cancels nothing and adds a shaking force of its own",
+            valid,
+        )
     if value != int(value) or value == 0 or abs(value) > 64:
         raise FieldProblem(f"speed_ratio is {value:g}", valid)
     return int(value)
@@ -504,11 +521,31 @@ class ShaftSpec(
     """
 
 
+class BalanceFactorSpec(
+    CoreSpec,
+    core=BalanceFactor,
+    kinds={"value": "fraction"},
+    types={"of": Literal[CONVENTIONS]},
+):
+    """``balance_factor: {of: one-cylinder, value: 100 %}``: a balance factor and what it
+    is a share of (:class:`balance.core.balance_factor.BalanceFactor`); a bare
+    ``balance_factor: 50 %`` is ``{of: each-cylinder, value: 50 %}``."""
+
+
+def _balance_factor(value: Any) -> Any:
+    """A bare balance factor is a share of each cylinder's reciprocating mass; a mapping
+    says its convention (:class:`BalanceFactorSpec`)."""
+    if value is None or isinstance(value, Mapping | BalanceFactorSpec):
+        return value
+    return {"value": parse_quantity(value, "fraction"), "of": CONVENTIONS[0]}
+
+
 class BalanceSpec(
     CoreSpec,
     core=BalanceSettings,
-    kinds={"counterweight_radius": "length", "balance_factor": "fraction"},
+    kinds={"counterweight_radius": "length"},
     types={
+        "balance_factor": Annotated[BalanceFactorSpec | None, BeforeValidator(_balance_factor)],
         "orders": list[int] | None,
         # the allowed texts in the order the messages have always listed them
         "strategy": Literal[tuple(sorted(STRATEGIES))],
@@ -529,15 +566,29 @@ class BalanceSpec(
                     "give one shaft per speed ratio (a shaft's eccentrics may sit in two planes)",
                     ("shafts", j, "speed_ratio"),
                 )
-        if self.balance_factor is not None and not 0.0 <= self.balance_factor <= 2.0:
+        factor = self.balance_factor
+        if factor is not None and not 0.0 <= factor.value <= 2.0:
+            whose = "each cylinder's" if factor.of == CONVENTIONS[0] else "one cylinder's"
             raise FieldProblem(
-                f"balance_factor is {self.balance_factor:.4g}",
-                "a share between 0 % and 200 % of the reciprocating mass",
+                f"balance_factor is {factor.value:.4g}",
+                f"a share between 0 % and 200 % of {whose} reciprocating mass",
                 ("balance_factor",),
+                written="balance_factor is {}",
             )
-        if self.orders is not None and any(k < 1 for k in self.orders):
-            raise FieldProblem("orders must be 1 or more", "for example [1, 2]", ("orders",))
+        if self.orders is not None and any(not 1 <= k <= MAX_ORDER for k in self.orders):
+            raise FieldProblem(
+                f"orders must be 1 to {MAX_ORDER}", "for example [1, 2]", ("orders",)
+            )
         return self
+
+    def to_core(self) -> BalanceSettings:
+        """The settings (:class:`balance.core.engine.BalanceSettings`); a balance factor of
+        each cylinder's reciprocating mass as a float, as the core takes it."""
+        settings: BalanceSettings = super().to_core()
+        factor = settings.balance_factor
+        if isinstance(factor, BalanceFactor) and factor.of == CONVENTIONS[0]:
+            settings = dataclasses.replace(settings, balance_factor=factor.value)
+        return settings
 
 
 class GasModelSpec(
@@ -693,7 +744,10 @@ class LayoutSpec(Strict):
         )
         if self.speed <= 0:
             raise FieldProblem(
-                f"speed is {self.speed:g} rad/s", "speed must be more than zero", ("speed",)
+                f"speed is {self.speed:g} rad/s",
+                "speed must be more than zero",
+                ("speed",),
+                written="speed is {}",
             )
         positive(self.pitch, "pitch")
         if self.flywheel is not None and self.gas is None and self.flywheel.inertia is None:
@@ -723,6 +777,7 @@ LAYOUT_HINTS = Hints(
         "z": "add the axial position of the throw plane, e.g. 'z: 91 mm'",
         "throws": "add the throw angles, e.g. 'throws: [0, 180, 180, 0]'",
         "speed_ratio": "add the shaft's speed over crank speed, e.g. 'speed_ratio: 2'",
+        "value": "add the balance factor, e.g. '{of: one-cylinder, value: 100 %}'",
         "master": "add the master cylinder's number, e.g. 'master: 1'",
         "pin_radius": "add the link pin's distance from the crank-pin centre, e.g. '46 mm'",
         "pin_angle": "add the link pin's direction from the master rod's centre line, e.g. "
@@ -739,5 +794,11 @@ LAYOUT_HINTS = Hints(
         "master": "the number (1-based, in file order) of the cylinder whose rod carries this "
         "link rod, e.g. 'master: 1'",
         "link": "a mapping {master: 1, pin_radius: 46 mm, pin_angle: 72 deg, length: 230 mm}",
+    },
+    nouns={
+        "cylinders": ("cylinder", "cylinders"),
+        "throws": ("throw", "throws"),
+        "banks": ("bank", "banks"),
+        "shafts": ("shaft", "shafts"),
     },
 )

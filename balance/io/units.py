@@ -41,6 +41,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "ANY_CASE",
+    "ARITHMETIC_KINDS",
     "CASE_MATTERS",
     "DIMENSIONAL",
     "KINDS",
@@ -121,6 +122,17 @@ _DIMENSION_NAMES = {
 def _dimension_name(unit: Any) -> str:
     text = str(unit.dimensionality)
     return _DIMENSION_NAMES.get(text, text)
+
+
+# an operator and a number or parenthesis after the unit's start: arithmetic after the unit
+_AFTER_UNIT = re.compile(r"[-+*/\u2212\u00d7]\s*[\d.(]")
+
+
+def _one_angle_unit(unit: Any) -> bool:
+    """Whether a unit is one unit of angle to the first power (``deg``, ``grad``; not
+    ``deg**2`` or ``percent``, which pint would also convert to degrees)."""
+    powers = list(unit._units.values())
+    return len(powers) == 1 and powers[0] == 1 and _has_angle(unit)
 
 
 def _has_angle(unit: Any) -> bool:
@@ -385,18 +397,84 @@ def check_thousands(text: str) -> None:
         )
 
 
+#: Kinds whose number may be written as arithmetic (``360/7 deg``; :mod:`balance.io.arithmetic`).
+ARITHMETIC_KINDS = frozenset({"angle"})
+_ARITHMETIC_VALID = (
+    "write numbers with + - * / and parentheses, then the unit, e.g. '360/7 deg' or '2*360/5 deg'"
+)
+_OPERATOR_CHARS = frozenset("*/+-^(\u2212\u00d7")
+# a mixed number as inch sizes are written (5-1/8 in): arithmetic would read 5 - 1/8
+_MIXED = re.compile(r"^\s*(\d+)\s*-\s*(\d+)\s*/\s*(\d+)\s*$")
+
+
+def _arithmetic(text: str, kind: str, valid: str) -> tuple[float, str] | None:
+    """The number and unit text of a quantity whose number is arithmetic (``360/7 deg``),
+    or None for one number (read by the caller as before).
+
+    Arithmetic is read in the kinds of :data:`ARITHMETIC_KINDS` only: elsewhere it is
+    refused with the number to write instead (a length ``5-1/8 in`` is an inch size that
+    arithmetic would read as 4.875 in).
+    """
+    from balance.io.arithmetic import ArithmeticProblem, read_arithmetic
+
+    allowed = kind in ARITHMETIC_KINDS
+    try:
+        read = read_arithmetic(text)
+    except ArithmeticProblem as exc:
+        raise UnitProblem(
+            f"cannot read {text.strip()!r}: {exc}", _ARITHMETIC_VALID if allowed else valid
+        ) from None
+    shown = text.strip()
+    if read is not None and allowed and read.rest[:1] in _OPERATOR_CHARS:
+        raise UnitProblem(
+            f"cannot read {shown!r}: arithmetic has numbers, + - * / and parentheses only "
+            "(no powers, no names)",
+            _ARITHMETIC_VALID,
+        )
+    if read is None or read.plain:
+        return None
+    try:
+        number = float(read.value)
+    except OverflowError:
+        raise UnitProblem(f"{shown!r} is out of range for {kind}", valid) from None
+    unit = read.rest
+    if not allowed:
+        mixed = _MIXED.match(read.text)
+        if mixed:
+            whole, top, bottom = (int(g) for g in mixed.groups())
+            if bottom == 0:
+                raise UnitProblem(f"cannot read {shown!r}: division by zero", valid)
+            plus, minus = whole + top / bottom, whole - top / bottom
+            instead = (
+                f"write one number: '{plus:.10g} {unit}'".rstrip()
+                + f" for {whole} {top}/{bottom}, '{minus:.10g} {unit}'".rstrip()
+                + f" for {whole} - {top}/{bottom}"
+            )
+        else:
+            instead = f"write one number, e.g. '{number:.10g} {unit}'".rstrip("' ") + "'"
+        raise UnitProblem(
+            f"{shown!r}: arithmetic is read in angles only, not in {_KIND_ARTICLE[kind]}",
+            instead,
+        )
+    return number, unit
+
+
 def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
     """The value of a quantity's text in the kind's SI unit, and whether it was bare."""
     if len(text) > 80:
         raise UnitProblem("value text is too long", valid)
     check_thousands(text)
-    match = _NUMBER.match(text)
-    if not match:
-        raise UnitProblem(f"cannot read {text!r} as {kind}", valid)
-    number = float(match.group(1))
-    if not math.isfinite(number):
-        raise UnitProblem(f"{text!r} is not a finite number", valid)
-    unit_text = match.group(2)
+    computed = _arithmetic(text, kind, valid)
+    if computed is not None:
+        number, unit_text = computed
+    else:
+        match = _NUMBER.match(text)
+        if not match:
+            raise UnitProblem(f"cannot read {text!r} as {kind}", valid)
+        number = float(match.group(1))
+        if not math.isfinite(number):
+            raise UnitProblem(f"{text!r} is not a finite number", valid)
+        unit_text = match.group(2)
     if not unit_text:
         return number, True
     if _BIG_EXPONENT.search(unit_text):
@@ -422,10 +500,24 @@ def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
     try:
         unit = ureg.parse_units(unit_text)
     except Exception as exc:  # pint raises many types for bad units
+        if _AFTER_UNIT.search(unit_text):  # 360 deg/7, 90 deg + 1 deg: not pint's to read
+            allowed = kind in ARITHMETIC_KINDS
+            raise UnitProblem(
+                f"cannot read {text.strip()!r}: "
+                + ("the arithmetic goes before the unit" if allowed else "a number after the unit"),
+                _ARITHMETIC_VALID if allowed else valid,
+            ) from None
         detail = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise UnitProblem(f"unknown unit {unit_text!r} ({detail})", valid) from None
     if kind == "speed":
         return _speed(number, unit, text, valid), False
+    if kind == "angle" and not _one_angle_unit(unit):  # deg**2, percent: no angles
+        raise UnitProblem(
+            f"{text.strip()!r} is {_dimension_name(unit)}, not an angle"
+            if str(unit.dimensionality) != "dimensionless"
+            else f"{text.strip()!r}: {unit_text!r} is not a unit of angle",
+            valid,
+        )
     try:
         return float(ureg.Quantity(number, unit).to(KINDS[kind][0]).magnitude), False
     except Exception:

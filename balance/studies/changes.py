@@ -4,6 +4,10 @@ A study changes some fields (:class:`balance.io.fields.Field`, rows of the table
 fields :data:`balance.io.layout_fields.FIELDS`) of an :class:`Engine` and
 expects the engine that loading the layout file with those values written in would give:
 
+0. a field of the compact ``crank:`` form (``crank.spacing``, ``crank.bank_stagger``,
+   ``crank.banks[N]``, ``crank.v_angle``) sets every cylinder's axial position and bank
+   angle as the file's expansion gives them (:mod:`balance.io.crank_form`); a field of the
+   ``balance:`` section (``balance.balance_factor``) sets the proposal's setting;
 1. the speed and ``reference_z`` are set as they are;
 2. geometry (throw, bank, z, crank radius, conrod length, offset) and, for masses given
    by part, the parts are set; a changed part or conrod length lumps the parts again
@@ -28,8 +32,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from balance.core.engine import Engine
+from balance.core.balance_factor import BalanceFactor
+from balance.core.engine import BalanceSettings, Engine
 from balance.core.errors import InputError
+from balance.io.crank_form import crank_geometry
 from balance.io.fields import Field
 from balance.io.layout_fields import CYLINDER, FIELDS, GEOMETRY
 
@@ -83,7 +89,7 @@ def apply_changes(
     """
     if engine.has_links:
         _check_link_fields(engine, [field for field, _ in changes])
-    new: dict[str, Any] = {}
+    new: dict[str, Any] = _crank_changes(engine, changes, add)
     parts: dict[str, Any] = {}
     lumped: list[Change] = []
     relump = False
@@ -94,7 +100,18 @@ def apply_changes(
 
     for field, value in changes:
         attribute = field.attribute
-        if attribute in {"speed", "reference_z"}:
+        if attribute.startswith("crank."):
+            continue  # set above
+        if attribute.startswith("balance."):
+            settings = engine.balance if engine.balance is not None else BalanceSettings()
+            key = attribute.removeprefix("balance.")
+            base = getattr(settings, key)
+            if isinstance(base, BalanceFactor):  # keeps the convention the file gave
+                given = BalanceFactor(base.value + value if add else value, base.of)
+            else:
+                given = base + value if add and base is not None else value
+            new["balance"] = replace(current("balance") or settings, **{key: given})
+        elif attribute in {"speed", "reference_z"}:
             new[attribute] = current(attribute) + value if add else value
         elif attribute in LUMPED:
             lumped.append((field, value))
@@ -129,6 +146,43 @@ def apply_changes(
         centre = 0.5 * (z.min(axis=-1) + z.max(axis=-1))
         new["reference_z"] = float(centre) if np.ndim(centre) == 0 else centre[..., None]
     return replace(engine, **new)
+
+
+def _crank_changes(engine: Engine, changes: Sequence[Change], add: bool) -> dict[str, Any]:
+    """The axial positions and bank angles that changes of the compact ``crank:`` form's
+    fields give (:func:`balance.io.crank_form.crank_geometry`, the reader's operations), or
+    nothing when no such field changes.
+
+    ``crank.v_angle`` sets the two banks half of it either side of the middle of the
+    layout's two bank angles, each bank keeping its side (``banks: [-45, 45]`` at 72° gives
+    ``[-36, 36]``, ``banks: [45, -45]`` gives ``[36, -36]``).
+    """
+    crank = [(field, value) for field, value in changes if field.attribute.startswith("crank.")]
+    if not crank:
+        return {}
+    form = crank[0][0].crank
+    assert form is not None
+    spacing: Any = form.spacing
+    stagger: Any = form.bank_stagger
+    banks: list[Any] = list(form.banks)
+    for field, value in crank:
+        key = field.key
+        if key == "spacing":
+            spacing = spacing + value if add else value
+        elif key == "bank_stagger":
+            stagger = stagger + value if add else value
+        elif key == "banks":
+            assert field.bank is not None
+            banks[field.bank] = banks[field.bank] + value if add else value
+        else:  # v_angle: about the middle of the two banks, each keeping its side
+            first, second = form.banks[0], form.banks[1]
+            middle = (first + second) / 2
+            half = np.asarray(value, dtype=np.float64) / 2
+            if second < first:
+                half = -half
+            banks[0], banks[1] = middle - half, middle + half
+    z, bank = crank_geometry(form, spacing, stagger, banks)
+    return {"z": z, "bank": bank}
 
 
 #: Fields that move the kinematics of an engine with link rods (its geometry: the
@@ -167,7 +221,7 @@ def _check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:
     numbers = ", ".join(str(int(i) + 1) for i in np.flatnonzero(linked))
     for field in fields:
         attribute = field.attribute
-        if attribute in LINK_GEOMETRY:
+        if attribute in LINK_GEOMETRY or attribute.startswith("crank."):
             why = "it moves the link kinematics, which are computed once per engine"
         elif attribute in _ROD_PARTS and field.cylinder is None:
             why = (

@@ -42,6 +42,7 @@ from balance.io.fields import (
     parse_vary,
 )
 from balance.studies.changes import Change, apply_changes
+from balance.studies.sweep_balance import balance_varied, residual_outputs, residual_point
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
@@ -176,6 +177,12 @@ class _Plan:
     def dims(self) -> tuple[str, ...]:
         return tuple(v.dim for v in self.varies)
 
+    @property
+    def balance(self) -> bool:
+        """Whether a field of the ``balance:`` section is varied (the residual with the
+        proposal is then written too)."""
+        return balance_varied(self.varies)
+
 
 def _grid_parameters(plan: _Plan, where: tuple[slice, ...]) -> dict[str, Any]:
     """Engine arrays for one chunk: grid dims leading, cylinders last; broadcastable.
@@ -249,13 +256,28 @@ def _chunk(
         )
 
     tails = _tails(plan)
-    return {
+    out = {
         output.name: full(
             np.asarray(output.get(chunk), dtype=np.float64),
             tuple(tails[d] for d in output.dims),
         )
         for output in _outputs(plan)
     }
+    if plan.balance:  # the residual with the proposal, point by point (sweep_balance)
+        residual = {
+            o.name: np.empty(chunk_shape + tuple(tails[d] for d in o.dims))
+            for o in residual_outputs()
+        }
+        starts = tuple(s.start for s in where)
+        for index in np.ndindex(*chunk_shape):
+            at = tuple(start + i for start, i in zip(starts, index, strict=True))
+            point = residual_point(
+                plan.layout, plan.varies, at, plan.orders, plan.model, plan.terms
+            )
+            for name, values in point.items():
+                residual[name][index] = values
+        out.update(residual)
+    return out
 
 
 @dataclass(frozen=True)
@@ -269,6 +291,10 @@ class _Chunk:
     @property
     def roll(self) -> ComplexArray | None:
         return None if self.phasors is None else self.phasors.roll
+
+    def part(self, name: str) -> Any:
+        """A section's part: a sweep computes none (its values are the inertia forces')."""
+        return self.parts.get(name)
 
 
 def _outputs(plan: _Plan) -> list[Output]:
@@ -292,10 +318,14 @@ def _tails(plan: _Plan) -> dict[str, int]:
 def _variables(plan: _Plan) -> dict[str, tuple[tuple[str, ...], str, str]]:
     """Each variable of a sweep with its dimensions after the grid's, unit and
     ``long_name`` (a sweep's, which has no gas forces)."""
-    return {
+    out = {
         output.name: (output.dims, output.units, output.describe(_Chunk(None)))
         for output in _outputs(plan)
     }
+    if plan.balance:
+        for output in residual_outputs():
+            out[output.name] = (output.dims, output.units, output.describe(_Chunk(None)))
+    return out
 
 
 def refuse_variable_speed(layout: Engine, study: str) -> None:
@@ -335,7 +365,14 @@ def _plan(
         raise InputError(f"model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
     refuse_variable_speed(layout, "sweep")
     ks = parse_orders(orders)
-    return _Plan(layout, tuple(_as_varies(layout, vary)), ks, model, terms, moments, roll)
+    varies = tuple(_as_varies(layout, vary))
+    if balance_varied(varies) and not (moments and roll):
+        names = ", ".join(v.field.text for v in varies if v.field.attribute.startswith("balance."))
+        raise InputError(
+            f"vary: {names}: the residual with the proposal needs the moments and the roll; "
+            "compute both (moments, roll)"
+        )
+    return _Plan(layout, varies, ks, model, terms, moments, roll)
 
 
 def _coords(plan: _Plan) -> dict[str, tuple[tuple[str, ...], Any, dict[str, str]]]:

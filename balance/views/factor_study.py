@@ -39,9 +39,12 @@ def json_block(result: Result) -> dict[str, Any]:
         peaks [N, N m].
     """
     study = _part(result)
+    one = study.equivalents(study.optimal).one_cylinder
     return {
         "balance_factor_study": {
+            "factor_of": "each-cylinder",
             "optimal_factor": json_number(study.optimal),
+            "optimal_factor_one_cylinder": None if one is None else json_number(one),
             "factors": [
                 {
                     "factor": float(f),
@@ -77,13 +80,20 @@ def _render_factor_study(study: FactorStudy) -> list[RenderableType]:
         [f"{100 * f:.4g}", *(format_number(float(column[i])) for column in values)]
         for i, f in enumerate(np.asarray(study.factor))
     ]
+    best = study.equivalents(study.optimal)
     return [
         NumberTable(
             "Balance factor study: residual first order (rotating masses balanced in full)",
             columns,
             rows,
+            notes=(
+                "balance factor: the share of each cylinder's reciprocating mass put on the "
+                "crank (balance_factor of: each-cylinder)",
+            ),
         ),
-        Text(f"Factor minimising the larger force peak: {float(study.optimal):.1%}"),
+        Text(
+            f"Factor minimising the larger force peak: {float(study.optimal):.1%} ({best.other()})"
+        ),
     ]
 
 

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from balance.core.balancing import SHAFT_CLEARANCE
 from balance.core.errors import InputError
 from balance.core.phasors import phase_deg, safe_ratio
 from balance.views import signals
@@ -88,10 +89,15 @@ def _proposal_entries(proposal: Proposal) -> dict[str, Any]:
             }
         )
     factor = proposal.balance_factor
+    given = proposal.factor
+    one = given.one_cylinder if given is not None else None
     return {
         "strategy": proposal.strategy,
         "orders": [int(k) for k in proposal.orders],
         "balance_factor": None if factor is None else float(factor),
+        "balance_factor_one_cylinder": None if one is None else float(one),
+        "balance_factor_of": None if given is None else given.given.of,
+        "balance_factor_convention": None if given is None else given.describe(),
         "cancel_roll": bool(proposal.cancel_roll),
         "notes": [n for n in proposal.notes if n],
         "counterweights": counterweights,
@@ -131,13 +137,67 @@ def json_block(result: Result) -> dict[str, Any]:
     return {
         "proposal": _proposal_entries(part.proposal)
         | {
+            "orders_left": [int(k) for k in part.left],
+            "shaft_default_axes": _default_rule(result),
             "residual": {
                 "force": _residual_peaks(result, "force", result.reference_force),
                 "moment": _residual_peaks(result, "moment", result.reference_moment),
                 "roll": roll_entries(result.roll_orders, part.residual_roll),
-            }
+            },
         }
     }
+
+
+def _default_rule(result: Result) -> str | None:
+    """Where the default shaft axes are and why, when a shaft has a coordinate there (None
+    otherwise; :func:`balance.core.balancing.default_axes`)."""
+    if not any("default" in (s.x_from, s.y_from) for s in _part(result).proposal.shafts):
+        return None
+    r = float(np.mean(result.engine.crank_radius))
+    c = SHAFT_CLEARANCE * r
+    return (
+        f"default axes: {c * 1e3:.4g} mm ({SHAFT_CLEARANCE:g} r) from the crank axis, below it, "
+        f"a pair 30° either side of straight down (x = ∓{r * 1e3:.4g} mm): within the crank "
+        "train's reach; to place them elsewhere, give their axes in the layout's balance: shafts:"
+    )
+
+
+def _listed(orders: Any) -> str:
+    return ",".join(map(str, orders))
+
+
+def _cancelled(part: ProposalResult) -> str:
+    """The orders asked for and, where the residual keeps some of them, which."""
+    asked = _listed(part.proposal.orders)
+    if not part.left:
+        return f"cancelling orders {asked}"
+    plural = "orders" if len(part.proposal.orders) != 1 else "order"
+    which = "order" if len(part.left) == 1 else "orders"
+    return (
+        f"asked to cancel {plural} {asked}; {which} {_listed(part.left)} not cancelled in full "
+        "(see the notes)"
+    )
+
+
+def _roll_choice(proposal: Proposal) -> str:
+    """What ``cancel_roll`` did, in a few words ("" where it was not asked)."""
+    if not proposal.cancel_roll:
+        return ""
+    placed = sum("cancel-roll" in (s.x_from, s.y_from) for s in proposal.shafts)
+    if placed:
+        return f"cancel_roll: {placed} shaft{'s' if placed != 1 else ''} placed for the roll"
+    return "cancel_roll: no shaft moved (see the notes)"
+
+
+def _choices(part: ProposalResult) -> str:
+    """The proposal's header: strategy, the orders (and those left), the balance factor
+    with its convention, what cancel_roll did."""
+    proposal = part.proposal
+    text = f"strategy {proposal.strategy}, {_cancelled(part)}"
+    if proposal.factor is not None:
+        text += f", balance factor {proposal.factor.stated()}"
+    roll = _roll_choice(proposal)
+    return f"{text}, {roll}" if roll else text
 
 
 def _render_proposal(result: Result) -> list[RenderableType]:
@@ -148,13 +208,7 @@ def _render_proposal(result: Result) -> list[RenderableType]:
 
     part = _part(result)
     proposal = part.proposal
-    factor = proposal.balance_factor
-    choice = (
-        f"Proposal: strategy {proposal.strategy}, cancelling orders "
-        f"{','.join(map(str, proposal.orders))}"
-        + ("" if factor is None else f", balance factor {float(factor):.0%}")
-    )
-    out: list[RenderableType] = [Text(choice, style="bold")]
+    out: list[RenderableType] = [Text(f"Proposal: {_choices(part)}", style="bold")]
     out.extend(Text(f"Note: {note}") for note in proposal.notes if note)
     cws = proposal.counterweights
     shafts = proposal.shafts
@@ -214,6 +268,7 @@ def _render_proposal(result: Result) -> list[RenderableType]:
                     Column("angle", "deg"),
                 ],
                 rows,
+                notes=tuple(n for n in [_default_rule(result)] if n),
             )
         )
     force_peak = part.residual.peak("force")
@@ -307,12 +362,16 @@ def report_section(result: Result, figures: bool) -> str:
 
     part = _part(result)
     proposal = part.proposal
-    factor = proposal.balance_factor
+    factor = proposal.factor
     facts = [
         ("strategy", str(proposal.strategy)),
-        ("orders cancelled", ",".join(map(str, proposal.orders))),
-        ("balance factor", "-" if factor is None else f"{float(factor):.0%}"),
-        ("roll cancelled", "yes" if proposal.cancel_roll else "no"),
+        ("orders to cancel", _listed(proposal.orders)),
+        (
+            "orders not cancelled in full",
+            _listed(part.left) + " (see the notes)" if part.left else "none",
+        ),
+        ("balance factor", "-" if factor is None else factor.describe()),
+        ("roll", _roll_choice(proposal) or "cancel_roll not asked"),
     ]
     out = [html_facts(facts)]
     notes = [note for note in proposal.notes if note]
@@ -370,6 +429,9 @@ def report_section(result: Result, figures: bool) -> str:
                 rows,
             )
         )
+        rule = _default_rule(result)
+        if rule:
+            out.append(f'<p class="note">{escape(rule)}</p>')
     else:
         out.append("<p>None needed.</p>")
     out.append("<h3>Residual with the proposal</h3>")
@@ -574,10 +636,13 @@ def proposal_summary(result: Result) -> str:
         f"{n_cw} counterweight{'s' if n_cw != 1 else ''}",
         f"{n_shaft} balance shaft{'s' if n_shaft != 1 else ''}",
     ]
-    return (
-        f"balancing {proposal.strategy}, orders "
-        f"{','.join(map(str, proposal.orders))}: {' and '.join(parts)}"
-    )
+    orders = _listed(proposal.orders)
+    if part.left:
+        orders += f" ({_listed(part.left)} in part)"
+    factor = "" if proposal.factor is None else f", balance factor {proposal.factor.stated()}"
+    roll = _roll_choice(proposal)
+    roll = f", {roll}" if roll else ""
+    return f"balancing {proposal.strategy}, orders {orders}{factor}{roll}: {' and '.join(parts)}"
 
 
 #: The figure kinds of the section.
