@@ -89,10 +89,10 @@ ComplexArray = NDArray[np.complex128]
 NEWTON_STEPS = 100
 #: Relative change of the energy below which the power law's Newton iteration has converged.
 NEWTON_TOLERANCE = 1e-14
-#: Relative change below which a step that is no smaller than the one before means the
-#: iteration has reached the rounding of the linear solve (about 1e-14 to 3e-14 on long
-#: cycles): converged as far as floating point allows.
-NEWTON_FLOOR = 1e-12
+#: Relative change below which a step that is not at least halved from the one before means
+#: the iteration has reached the rounding of the linear solve (1e-14 to 2e-12 on the cycles
+#: hypothesis found): converged as far as floating point allows.
+NEWTON_FLOOR = 1e-9
 
 
 # --------------------------------------------------------------------------- the bodies
@@ -622,7 +622,8 @@ def _power_law(inertia: FloatArray, torque: FloatArray, cycle: float, load: Powe
     solved in closed form (:func:`periodic_linear`), from the constant-speed estimate
     (the speed at which the load is the mean torque).  Converged when a full step changes
     the energy by less than :data:`NEWTON_TOLERANCE` of its largest value, or by less than
-    :data:`NEWTON_FLOOR` and no less than the step before (the rounding floor)."""
+    :data:`NEWTON_FLOOR` and no less than half the step before (the rounding floor:
+    Newton's steps shrink quadratically until then)."""
     mean_torque = float(np.mean(torque))
     speed = load.speed * (mean_torque / load.torque) ** (1.0 / load.exponent)
     _, work = periodic_integral(torque - mean_torque, cycle)
@@ -647,7 +648,7 @@ def _power_law(inertia: FloatArray, torque: FloatArray, cycle: float, load: Powe
                 raise AnalysisError("the power-law load's steady state was not found")
         energy = energy + factor * change
         size = float(np.max(np.abs(change)) / np.max(energy))
-        if factor == 1.0 and (size <= NEWTON_TOLERANCE or NEWTON_FLOOR >= size >= last):
+        if factor == 1.0 and (size <= NEWTON_TOLERANCE or NEWTON_FLOOR >= size >= 0.5 * last):
             return np.asarray(energy)
         last = size if factor == 1.0 else math.inf
     raise AnalysisError("the power-law load's steady state did not converge")
