@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import importlib.util
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -13,6 +14,15 @@ from balance.io.layout_file import layout_from_dict
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+
+def needs(module: str, extra: str) -> pytest.MarkDecorator:
+    """Skip a test, saying why, only when ``module`` is not installed: a package of the
+    ``extra`` extra that the ``test`` extra does not install (README, "Development")."""
+    return pytest.mark.skipif(
+        importlib.util.find_spec(module) is None,
+        reason=f"needs {module}, not installed (pip install '.[{extra}]')",
+    )
 
 
 def _with_unit(value: float | str, unit: str) -> str:

@@ -69,7 +69,7 @@ def test_json_orders_and_speed_options():
 def test_table_is_default_and_readable():
     result = run("analyse", "inline-4")
     assert result.exit_code == 0
-    assert "Reciprocating" in result.stdout and "Roll" in result.stdout
+    assert "reciprocating inertia" in result.stdout and "Roll" in result.stdout
     assert result.stderr == ""
 
 

@@ -178,3 +178,59 @@ def test_every_compared_output_is_a_column(monkeypatch):
     console.print(*views.render_comparison(ds, absolute=True))
     text = console.export_text()
     assert text.index("mean torque") < text.index("largest mount force")
+
+
+def test_default_pitch_is_the_bore_pitch_so_moments_compare():
+    """A boxer's moments are normalised by its bore pitch (between neighbouring cylinders
+    of one bank: 113 mm on boxer-4, twice its 56.5 mm rod stagger), an inline's by its throw
+    spacing; a boxer twin has none (n/a). docs/conventions.md, "Normalisation and pitch"."""
+    names = ["boxer-4", "inline-4", "boxer-6", "boxer-2"]
+    ds = compare([load_layout(n) for n in names], names, "1-2")
+    pitch = ds["pitch"].values
+    assert pitch[:3] == pytest.approx([0.113, 0.090, 0.118], rel=1e-12)
+    assert math.isnan(pitch[3])
+    for label in names[:3]:
+        one = ds.sel(layout=label)
+        per = float(one["reference_force"]) * float(one["pitch"])
+        np.testing.assert_allclose(
+            one["reciprocating_moment_peak_normalised"], one["reciprocating_moment_peak"] / per
+        )
+    text = runner.invoke(app, ["compare", *names, "--orders", "1-2"], env={"COLUMNS": "240"})
+    assert text.exit_code == 0, text.stderr
+    assert "moments per F1 a with a the layout's pitch: its pitch: key, else its bore pitch" in (
+        text.stdout
+    )
+    moments = text.stdout.split("Free moment peaks", 1)[1].split("Roll torque", 1)[0]
+    rows = {line.split()[1]: line.split()[3] for line in moments.splitlines() if "│" in line}
+    assert rows["boxer-4"] == "113" and rows["inline-4"] == "90" and rows["boxer-2"] == "n/a"
+
+
+def test_one_pitch_for_every_layout():
+    """``--pitch 90mm`` normalises every layout's moments by one F1 a; the moments in N m
+    and the forces do not change, and the heading, the JSON and the Dataset say so."""
+    names = ["boxer-4", "vr6"]
+    own = compare([load_layout(n) for n in names], names, "1-2")
+    done = compare_results([load_layout(n) for n in names], names, "1-2", pitch=0.09)
+    ds = comparison_dataset(
+        [c.result for c in done], names, [1.0, 1.0], speed=None, displacement=None, pitch=0.09
+    )
+    assert ds.attrs["common_pitch_m"] == 0.09
+    np.testing.assert_array_equal(ds["pitch"], [0.09, 0.09])
+    np.testing.assert_array_equal(ds["reciprocating_moment_peak"], own["reciprocating_moment_peak"])
+    np.testing.assert_array_equal(
+        ds["reciprocating_force_peak_normalised"], own["reciprocating_force_peak_normalised"]
+    )
+    np.testing.assert_allclose(
+        ds["reciprocating_moment_peak_normalised"],
+        own["reciprocating_moment_peak_normalised"] * (own["pitch"] / 0.09),
+        rtol=1e-12,
+    )
+    r = runner.invoke(app, ["compare", *names, "--pitch", "90mm", "-f", "json"])
+    assert r.exit_code == 0, r.stderr
+    assert [e["pitch_m"] for e in json.loads(r.stdout)["layouts"]] == [0.09, 0.09]
+    r = runner.invoke(app, ["compare", *names, "--pitch", "90mm"], env={"COLUMNS": "240"})
+    assert "moments per F1 a with one pitch a = 90 mm for every layout" in r.stdout
+    bad = runner.invoke(app, ["compare", *names, "--pitch", "0mm"])
+    assert bad.exit_code != 0 and "--pitch: must be a length above zero" in bad.stderr
+    with pytest.raises(Exception, match="pitch must be a length above zero"):
+        compare_results([load_layout("boxer-4")], pitch=-1.0)

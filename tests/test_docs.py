@@ -150,3 +150,79 @@ def test_docs_extra_and_how_to_build_the_docs():
     )
     development = readme.split("## Development", 1)[1]
     assert "'.[docs]'" in development and "sphinx" in development
+
+
+def _requirement_names(requirements: list[str]) -> set[str]:
+    return {re.split(r"[<>=\[ ]", req, maxsplit=1)[0] for req in requirements}
+
+
+#: What only a developer needs: the docs, the optional back ends, lint and types, a browser.
+DEV_ONLY = {"sphinx", "myst-parser", "numpydoc", "playwright", "dask", "zarr", "mypy", "ruff"}
+
+
+def test_the_test_extra_is_only_what_the_tests_need():
+    """``test`` installs pytest and its plugins (``-n`` and ``--mpl`` of addopts),
+    hypothesis and mpmath, none of Sphinx, Playwright, Dask, Zarr, mypy or ruff; ``dev`` is
+    ``test`` with ``docs``, ``zarr``, ``distributed``, Playwright, ruff and mypy.  The
+    README's set-up commands stay two, and .ci/run runs its test command as written."""
+    import tomllib
+
+    extras = tomllib.loads(PYPROJECT.read_text())["project"]["optional-dependencies"]
+    test = _requirement_names(extras["test"])
+    assert test == {"pytest", "pytest-xdist", "pytest-mpl", "hypothesis", "mpmath"}
+    assert not test & DEV_ONLY
+    assert "balance[test,docs,zarr,distributed]" in extras["dev"]
+    assert {"playwright", "ruff", "mypy", "types-PyYAML"} <= _requirement_names(extras["dev"])
+    readme = README.read_text()
+    setup = readme.split("```sh\n", 1)[1].split("```", 1)[0].splitlines()
+    assert setup == [
+        "python3 -m pip install . && balance analyse inline-4",
+        "python3 -m pip install '.[test]' && python3 -m pytest",
+    ]
+    ci = (README.parent / ".ci" / "run").read_text()
+    assert "python3 -m pip install '.[test]' && python3 -m pytest\n" in ci
+    assert ci.index("pip install '.[dev]'") < ci.index("pip install '.[test]'")
+
+
+#: The tests that need a package of ``dev`` only, and the package.
+OPTIONAL_TESTS = {
+    "tests/test_sweep.py::test_dask_cluster_gives_identical_result": "distributed",
+    "tests/test_sweep.py::test_zarr_store_is_the_sweep_dataset": "zarr",
+    "tests/test_sweep.py::test_zarr_write_that_fails_keeps_the_old_store": "zarr",
+    "tests/test_sweep.py::test_sweep_refuses_to_replace_a_directory_that_is_not_a_store": "zarr",
+    "tests/test_outputs_cli.py::test_sweep_summary_speed_in_rpm_and_attributes": "zarr",
+    "tests/test_report.py::test_report_renders_in_a_headless_browser": "playwright",
+}
+
+
+def test_tests_of_optional_packages_skip_only_when_they_are_absent(tmp_path):
+    """With the packages of ``dev`` absent (as after ``pip install '.[test]'``), the tests
+    that need one skip, naming it; where it is installed, their marker does not skip."""
+    import importlib.util
+    import os
+    import subprocess
+    import sys
+
+    from helpers import needs
+
+    for module in set(OPTIONAL_TESTS.values()):
+        installed = importlib.util.find_spec(module) is not None
+        assert needs(module, "dev").args[0] is not installed
+    blocker = tmp_path / "absent_dev_packages.py"
+    modules = ("dask", "distributed", "zarr", "playwright", "sphinx", "numpydoc", "mypy")
+    blocker.write_text("import sys\n" + "".join(f"sys.modules[{m!r}] = None\n" for m in modules))
+    root = README.parent
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(root)])}
+    options = ["-q", "-n", "0", "-p", "absent_dev_packages", "-p", "no:cacheprovider", "-rs"]
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", *options, *OPTIONAL_TESTS],
+        cwd=root,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stdout[-3000:]
+    assert f"{len(OPTIONAL_TESTS)} skipped" in done.stdout, done.stdout[-3000:]
+    for module in set(OPTIONAL_TESTS.values()):
+        assert f"needs {module}, not installed" in done.stdout

@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -874,3 +875,21 @@ def test_sizing_under_a_speed_dependent_load(load):
     part = _dynamics(engine, load=load).part("dynamics")
     assert part.flywheel_sized
     assert part.speed_fluctuation == pytest.approx(0.01, rel=1e-9)
+
+
+def test_the_power_law_stops_at_the_rounding_floor():
+    """A cycle that hypothesis found (J = 0.03125 (1 + 0.25 cos θ/2) kg m², Q = 168 +
+    cos θ/2 + 2 cos(2θ + 1) N m, a square law through 50 rad/s, as sampled in
+    ``tests/data/power_law_rounding_floor.npz``): Newton's steps on the power law's
+    steady state fall to 1e-14 to 2.5e-14 of the energy and stay there, the rounding of the
+    closed-form linear solve, so the old test "below 1e-14" never passed and the analysis
+    was refused.  It now stops there, and agrees with the propeller's exact solution."""
+    data = np.load(Path(__file__).parent / "data" / "power_law_rounding_floor.npz")
+    inertia, torque = data["inertia"], data["torque"]
+    slope = _slope(inertia)
+    law = periodic_motion(
+        inertia, slope, torque, 4 * math.pi, PowerLaw(float(data["load_torque"]), 50.0, 2.0)
+    )
+    prop = periodic_motion(inertia, slope, torque, 4 * math.pi, Propeller(), 50.0)
+    np.testing.assert_allclose(law.speed, prop.speed, rtol=1e-10)
+    assert law.mean_speed == pytest.approx(50.0, rel=1e-10)

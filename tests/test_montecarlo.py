@@ -105,7 +105,8 @@ def test_cli_tolerance_and_plot(tmp_path):
         ],
     )
     assert result.exit_code == 0, result.stderr
-    assert "Free moment peak per order" in result.stdout and plot.stat().st_size > 1000
+    assert "Free moment (reciprocating + rotating) peak per order: percentiles" in result.stdout
+    assert plot.stat().st_size > 1000
 
 
 def test_parse_scatter_units():

@@ -243,18 +243,25 @@ def test_errors_are_one_line_and_name_the_flag(tmp_path, mounts_file):
 
 
 def test_sweep_command_lists_the_crossings(tmp_path):
-    r = run("mounts", "inline-4-mounts", "--speed", "800rpm:8000rpm:200", "--format", "json")
+    r = run("mounts", "single-mounts", "--speed", "800rpm:8000rpm:200", "--format", "json")
     assert r.exit_code == 0, r.stderr
     data = json.loads(r.stdout)
     assert len(data["speed_rpm"]) == 200 and data["orders"] == list(range(1, 9))
     assert len(data["largest_mount_force_N"]) == 8
     assert all(len(row) == 200 for row in data["largest_mount_force_N"])
     freqs = [m["frequency_Hz"] for m in data["modes"]]
-    assert data["crossings"]
+    assert {c["order"] for c in data["crossings"]} == {1, 2}
     for c in data["crossings"]:
         assert c["speed_rpm"] == pytest.approx(60 * freqs[c["mode"] - 1] / c["order"])
         assert 800 <= c["speed_rpm"] <= 8000
-    table = run("mounts", "inline-4-mounts", "--orders", "1-2", "--with-proposal")
+    # the inline-4's first order is zero: it loads no mount, so it crosses no mode (its
+    # second order, the lowest it has, is above every mode from 800 rpm on)
+    r = run("mounts", "inline-4-mounts", "--speed", "800rpm:8000rpm:200", "--format", "json")
+    data = json.loads(r.stdout)
+    assert max(data["largest_mount_force_N"][0]) == 0.0 and data["crossings"] == []
+    table = run("mounts", "inline-4-mounts", "--speed", "800rpm:8000rpm:200")
+    assert "No order that loads the mounts crosses a mode" in table.stdout
+    table = run("mounts", "single-mounts", "--orders", "1-2", "--with-proposal")
     assert table.exit_code == 0, table.stderr
     assert "Orders crossing modes" in table.stdout and "with the proposal" in table.stdout
     csv = run("mounts", "single-mounts", "--speed", "1000rpm:2000rpm:3", "-f", "csv")

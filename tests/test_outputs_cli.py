@@ -16,6 +16,7 @@ import re
 import numpy as np
 import pytest
 import xarray as xr
+from helpers import needs
 from typer.testing import CliRunner
 
 import balance
@@ -66,6 +67,7 @@ def assert_numbers_are_numbers(ds: xr.Dataset) -> None:
                 assert not NUMBER_TEXT.fullmatch(value), (owner, key, value)
 
 
+@needs("zarr", "zarr")
 def test_sweep_summary_speed_in_rpm_and_attributes(tmp_path):
     target = tmp_path / "s.nc"
     result = run(

@@ -9,6 +9,7 @@ from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
+from helpers import needs
 
 import balance
 from balance.core.analysis import compute
@@ -285,6 +286,7 @@ def test_report_is_deterministic(fresh_process):
     assert fresh_process.report.read_text(encoding="utf-8") == report("inline-3")
 
 
+@needs("playwright", "dev")
 @pytest.mark.skipif(
     not CHROMIUM.exists() and not os.environ.get("CI"),
     reason="needs Debian chromium at /usr/bin/chromium (apt-get install -y chromium); "
@@ -293,7 +295,7 @@ def test_report_is_deterministic(fresh_process):
 def test_report_renders_in_a_headless_browser(tmp_path):
     """The reports of REPORTED in one start of the browser, a page each: the inline-3's,
     and the inline-4's, whose hostile name and path run no script (no dialog opens)."""
-    from playwright import sync_api  # a test dependency: only a missing browser skips
+    from playwright import sync_api  # of the dev extra: skipped only when it is absent
 
     names = list(REPORTED)
     figures = {"inline-3": len(FIGURE_KINDS), "inline-4": len(FIGURE_KINDS) - 1}  # no proposal

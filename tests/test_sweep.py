@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 import xarray as xr
+from helpers import needs
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from typer.testing import CliRunner
@@ -263,6 +264,8 @@ def test_chunk_slices_cover_the_grid():
         assert np.all(seen == 1)
 
 
+@needs("zarr", "zarr")
+@needs("distributed", "distributed")
 def test_dask_cluster_gives_identical_result(tmp_path):
     """A real local cluster (worker processes): the same bits in memory, netCDF and Zarr.
 
@@ -304,6 +307,7 @@ def test_dask_cluster_gives_identical_result(tmp_path):
             assert np.array_equal(from_zarr[name].values, local[name].values)
 
 
+@needs("zarr", "zarr")
 def test_zarr_store_is_the_sweep_dataset(tmp_path):
     layout = balance.load_layout("v12-60")
     vary = {"speed": "1000rpm:8000rpm:7", "cylinders[4].throw": "100deg,120deg,140deg"}
@@ -324,6 +328,7 @@ def test_zarr_store_is_the_sweep_dataset(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["v12.zarr"]
 
 
+@needs("zarr", "zarr")
 def test_zarr_write_that_fails_keeps_the_old_store(tmp_path, monkeypatch):
     layout = balance.load_layout("inline-4")
     store = balance.studies.sweep.sweep_to_file(
@@ -341,6 +346,7 @@ def test_zarr_write_that_fails_keeps_the_old_store(tmp_path, monkeypatch):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.zarr"]
 
 
+@needs("zarr", "zarr")
 def test_sweep_refuses_to_replace_a_directory_that_is_not_a_store(tmp_path):
     precious = tmp_path / "results.zarr"
     precious.mkdir()

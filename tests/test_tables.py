@@ -256,10 +256,14 @@ def test_missing_pitch_prints_na_with_the_reason():
     text = run("analyse", "single", columns=100)
     assert "pitch a = n/a (all cylinders in one plane)" in text
     assert "- mm" not in text
-    moments = text.split("free moments per order", 1)[1].split("Rotating", 1)[0]
+    moments = text.split("Free moments about reference_z", 1)[1].split("Roll torque", 1)[0]
     normalised = [line.split()[-2] for line in moments.splitlines() if re.match(r"│\s+\d", line)]
-    assert normalised == ["n/a"] * 8
+    assert normalised == ["n/a"] * 10  # orders 1 to 8, and 1 rotating and 1 free
     assert "no pitch a (all cylinders in one plane)" in moments
+    # in several planes but one cylinder per bank (a boxer twin): no bore pitch either
+    boxer = run("analyse", "boxer-2", columns=100)
+    assert "pitch a = n/a (one cylinder per bank: no bore pitch; set pitch: in the layout)" in boxer
+    assert "n/a: no pitch a (one cylinder per bank: no bore pitch), so no moment per F1 a" in boxer
 
 
 def test_near_zero_prints_as_zero():

@@ -81,6 +81,14 @@ def compare_command(
         str | None,
         typer.Option("--displacement", help="Scale every layout to this displacement, e.g. 2L."),
     ] = None,
+    pitch: Annotated[
+        str | None,
+        typer.Option(
+            "--pitch",
+            help="One pitch a for the moments per F1 a of every layout, e.g. 90mm (default: "
+            "each layout's pitch: key, else its bore pitch).",
+        ),
+    ] = None,
     model: Annotated[
         Model, typer.Option("--model", help="Piston acceleration model.")
     ] = Model.exact,
@@ -114,11 +122,22 @@ def compare_command(
         volume = parse_option_quantity(displacement, "volume", "--displacement")
         if volume <= 0:
             raise InputError("--displacement: must be more than zero")
+    pitch_value = None
+    if pitch is not None:
+        pitch_value = parse_option_quantity(pitch, "length", "--pitch")
+        if not pitch_value > 0:
+            raise InputError("--pitch: must be a length above zero, e.g. 90mm")
     check_output(output, force, binary=format is CompareFormat.netcdf)
     engines = [load_layout(name) for name in names]
     labels = [Path(n).stem if n.endswith((".yaml", ".yml")) else n for n in names]
     compared = compare_results(
-        engines, labels, order_list, speed=speed_value, displacement=volume, model=model.value
+        engines,
+        labels,
+        order_list,
+        speed=speed_value,
+        displacement=volume,
+        model=model.value,
+        pitch=pitch_value,
     )
     for c in compared:
         warn(c.result.warnings, quiet, c.label)
@@ -128,6 +147,7 @@ def compare_command(
         [c.scale_factor for c in compared],
         speed=speed_value,
         displacement=volume,
+        pitch=pitch_value,
     )
     if format is CompareFormat.netcdf:
         assert output is not None

@@ -89,6 +89,10 @@ ComplexArray = NDArray[np.complex128]
 NEWTON_STEPS = 100
 #: Relative change of the energy below which the power law's Newton iteration has converged.
 NEWTON_TOLERANCE = 1e-14
+#: Relative change below which a step that is not at least halved from the one before means
+#: the iteration has reached the rounding of the linear solve (1e-14 to 2e-12 on the cycles
+#: hypothesis found): converged as far as floating point allows.
+NEWTON_FLOOR = 1e-9
 
 
 # --------------------------------------------------------------------------- the bodies
@@ -616,7 +620,10 @@ def _power_law(inertia: FloatArray, torque: FloatArray, cycle: float, load: Powe
     r"""The periodic energy under :math:`T_L = T_0(\omega/\omega_0)^n`: Newton's method on
     the whole cycle, each step the linearised load :math:`T_L(E_k) + T_L'(E_k)(E - E_k)`
     solved in closed form (:func:`periodic_linear`), from the constant-speed estimate
-    (the speed at which the load is the mean torque)."""
+    (the speed at which the load is the mean torque).  Converged when a full step changes
+    the energy by less than :data:`NEWTON_TOLERANCE` of its largest value, or by less than
+    :data:`NEWTON_FLOOR` and no less than half the step before (the rounding floor:
+    Newton's steps shrink quadratically until then)."""
     mean_torque = float(np.mean(torque))
     speed = load.speed * (mean_torque / load.torque) ** (1.0 / load.exponent)
     _, work = periodic_integral(torque - mean_torque, cycle)
@@ -629,6 +636,7 @@ def _power_law(inertia: FloatArray, torque: FloatArray, cycle: float, load: Powe
         value = load.torque * (scale * e) ** (0.5 * load.exponent)
         return value, 0.5 * load.exponent * value / e
 
+    last = math.inf
     for _ in range(NEWTON_STEPS):
         value, slope = load_of(energy)
         new = periodic_linear(slope, torque - value + slope * energy, cycle)
@@ -639,8 +647,10 @@ def _power_law(inertia: FloatArray, torque: FloatArray, cycle: float, load: Powe
             if factor < 1e-12:
                 raise AnalysisError("the power-law load's steady state was not found")
         energy = energy + factor * change
-        if factor == 1.0 and np.max(np.abs(change)) <= NEWTON_TOLERANCE * np.max(energy):
+        size = float(np.max(np.abs(change)) / np.max(energy))
+        if factor == 1.0 and (size <= NEWTON_TOLERANCE or NEWTON_FLOOR >= size >= 0.5 * last):
             return np.asarray(energy)
+        last = size if factor == 1.0 else math.inf
     raise AnalysisError("the power-law load's steady state did not converge")
 
 

@@ -29,12 +29,54 @@ __all__ = [
     "Engine",
     "Links",
     "ShaftPosition",
+    "bore_pitch",
 ]
 
 FloatArray = NDArray[np.float64]
 
 #: Counterweight strategies of a balancing proposal.
 STRATEGIES = ("two-plane", "per-throw")
+
+
+def bore_pitch(z: NDArray[np.float64], bank: NDArray[np.float64]) -> float:
+    """The bore pitch: the mean axial distance between neighbouring cylinders of one bank.
+
+    The cylinders of a bank are those whose bore axes point the same way (one ``bank``
+    angle); a boxer's or a V's two banks are two.  The bore pitch of an inline engine is
+    its throw spacing, and so is that of a V whose rods share (or split) the pins; a
+    boxer with a throw per cylinder has a bore pitch of twice its throw spacing, and the
+    rod stagger of a V or a boxer is not a pitch (docs/conventions.md, "Normalisation and
+    ``pitch``").
+
+    Parameters
+    ----------
+    z : ndarray
+        Axial position of each cylinder [m].
+    bank : ndarray
+        Bank angle of each cylinder [rad].
+
+    Returns
+    -------
+    float
+        The mean gap between the distinct ``z`` of each bank's cylinders, over every bank
+        with cylinders in two planes or more [m]; NaN when no bank has (every cylinder in
+        one plane, or one cylinder per bank: a single, a twin of two banks, a radial).
+    """
+    z = np.asarray(z, dtype=np.float64)
+    key = np.round(np.mod(np.degrees(np.asarray(bank, dtype=np.float64)), 360.0), 6) % 360.0
+    gaps = []
+    for b in dict.fromkeys(key.tolist()):  # the banks in the order of their first cylinder
+        planes = np.unique(np.round(z[key == b], 12))
+        if planes.size > 1:
+            gaps.append((float(planes[-1] - planes[0]), planes.size - 1))
+    if not gaps:
+        return math.nan
+    first = gaps[0][0] / gaps[0][1]
+    # banks with the same bore pitch to rounding (a boxer's second bank at z + 56.5 mm):
+    # that of the first cylinder's bank, as written (113 mm, not 113.00000000000001 mm)
+    if all(math.isclose(span / n, first, rel_tol=1e-12) for span, n in gaps):
+        return first
+    return sum(span for span, _ in gaps) / sum(n for _, n in gaps)
 
 
 @dataclass(frozen=True)
@@ -182,14 +224,17 @@ class Engine:
     reference_z : float
         Axial position about which moments are taken [m].
     pitch : float
-        Cylinder pitch used to normalise moments [m]; NaN where it is undefined (all
-        cylinders in one plane).
+        Pitch used to normalise moments [m]: the layout's ``pitch``, else the bore pitch
+        (:func:`bore_pitch`); NaN where it is undefined (every cylinder in one plane, or
+        one cylinder per bank).
     bore : float
         Cylinder bore [m], NaN if not given (needed only for displacement).
     cycle : str
         ``"four-stroke"`` or ``"two-stroke"``.
     firing_order : tuple of int or None
         Cylinder numbers (1-based) in firing order, if given.
+    pitch_given : bool
+        Whether ``pitch`` was given in the layout (otherwise it is the bore pitch).
     reference_z_given : bool
         Whether ``reference_z`` was given (otherwise it is the midpoint of the cylinders'
         ``z``, and a study that moves a cylinder moves it too).
@@ -235,6 +280,7 @@ class Engine:
     source: str | None = None
     path: str | None = None
     reference_z_given: bool = False
+    pitch_given: bool = False
     balance: BalanceSettings | None = None
     gas: GasInput | None = field(default=None, repr=False)
     mass_parts: MassParts | None = field(default=None, repr=False)

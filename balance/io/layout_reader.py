@@ -24,7 +24,7 @@ from typing import Any, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.core.engine import CYLINDER_FIELDS, Engine, Links
+from balance.core.engine import CYLINDER_FIELDS, Engine, Links, bore_pitch
 from balance.core.errors import LayoutError, LayoutErrors, Location, raise_all
 from balance.core.gas import GasInput, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
@@ -359,7 +359,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         links_checked = not problems
     z = arrays["z"]
     reference_z = spec.reference_z if spec.reference_z is not None else 0.5 * (z.min() + z.max())
-    pitch = _pitch(spec, z)
+    pitch = _pitch(spec, z, arrays["bank"])
     firing = _collect(problems, lambda: _firing_order(spec, n, doc))
     gas = (
         _collect(problems, lambda: _gas(spec, doc, cylinders, prefix, arrays, firing, links))
@@ -378,6 +378,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         source=spec.source,
         path=None if doc.file.startswith("<") else doc.file,
         reference_z_given=spec.reference_z is not None,
+        pitch_given=spec.pitch is not None,
         balance=spec.balance.to_core() if spec.balance is not None else None,
         gas=gas,
         mass_parts=_mass_parts(part_rows) if part_rows else None,
@@ -821,15 +822,14 @@ def _links(
     return links
 
 
-def _pitch(spec: LayoutSpec, z: FloatArray) -> float:
+def _pitch(spec: LayoutSpec, z: FloatArray, bank: FloatArray) -> float:
+    """The layout's ``pitch``, else the bore pitch (docs/conventions.md, "Normalisation and
+    ``pitch``"): the compact form's ``spacing`` is the bore pitch of each of its banks."""
     if spec.pitch is not None:
         return float(spec.pitch)
     if spec.crank is not None and len(spec.crank.throws) > 1 and spec.crank.spacing:
         return float(spec.crank.spacing)
-    distinct = np.unique(np.round(z, 12))
-    if distinct.size < 2:
-        return math.nan
-    return float((distinct[-1] - distinct[0]) / (distinct.size - 1))
+    return bore_pitch(z, bank)
 
 
 def _firing_order(spec: LayoutSpec, n: int, doc: SourceDocument) -> tuple[int, ...] | None:

@@ -106,11 +106,14 @@ def apply_changes(
             settings = engine.balance if engine.balance is not None else BalanceSettings()
             key = attribute.removeprefix("balance.")
             base = getattr(settings, key)
+            setting: Any
             if isinstance(base, BalanceFactor):  # keeps the convention the file gave
-                given = BalanceFactor(base.value + value if add else value, base.of)
+                given: Any = value  # an array over a grid
+                share = base.value + given if add else given
+                setting = BalanceFactor(share, base.of)
             else:
-                given = base + value if add and base is not None else value
-            new["balance"] = replace(current("balance") or settings, **{key: given})
+                setting = base + value if add and base is not None else value
+            new["balance"] = replace(current("balance") or settings, **{key: setting})
         elif attribute in {"speed", "reference_z"}:
             new[attribute] = current(attribute) + value if add else value
         elif attribute in LUMPED:

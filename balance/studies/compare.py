@@ -110,6 +110,7 @@ def compare_results(
     displacement: float | None = None,
     model: str = "exact",
     terms: int = 3,
+    pitch: float | None = None,
 ) -> list[Compared]:
     """Analyse several layouts the same way (with a balancing proposal each, and on its
     mounts where a layout has a ``mounts:`` section).
@@ -128,6 +129,11 @@ def compare_results(
         :func:`scale_layout`); needs each layout's ``bore``.
     model, terms
         Piston acceleration model (see :func:`balance.analyse`).
+    pitch : float, optional
+        One pitch :math:`a` [m], finite and above zero, for the normalised moments of
+        every layout (after any scaling to ``displacement``); default each layout's own
+        (its ``pitch``, else its bore pitch: docs/conventions.md, "Normalisation and
+        ``pitch``").
 
     Returns
     -------
@@ -137,6 +143,8 @@ def compare_results(
     if not layouts:
         raise InputError("compare: give at least one layout")
     ks = parse_orders(orders)
+    if pitch is not None and not (math.isfinite(pitch) and pitch > 0):
+        raise InputError(f"pitch must be a length above zero, got {pitch!r} m")
     labels = list(names) if names is not None else [lay.name for lay in layouts]
     taken: set[str] = set()
     out = []
@@ -149,6 +157,8 @@ def compare_results(
                 )
             factor = (displacement / layout.displacement) ** (1.0 / 3.0)
             layout = scale_layout(layout, factor)
+        if pitch is not None:
+            layout = replace(layout, pitch=float(pitch), pitch_given=True)
         request = build_request(
             layout, ks, speed=speed, model=model, terms=terms, speed_model="constant"
         )

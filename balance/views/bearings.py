@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.bearing_loads import Bearings
+from balance.views.figures import grid_figure, layout_heading, placeholder, title_text
 from balance.views.polar import format_number
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -49,9 +50,22 @@ def _mm(value: float) -> str:
     return f"{value * 1e3:.4g}"
 
 
+def _rounding(b: Bearings) -> tuple[float, float, int]:
+    """The scale [N] of the terms of every load of ``b``, the length [m] their moments' levers
+    reach, and the number of terms (:func:`_printed`)."""
+    scale = float(
+        np.sum(b.pin_max)
+        + np.max(b.main_max, initial=0.0)
+        + np.max(b.main_max_with_proposal, initial=0.0)
+    )
+    span = float(np.ptp(np.concatenate([b.main_z, b.pin_z]))) if b.main_z.size else 0.0
+    n = b.pin_z.size + len(b.counterweights) + 2
+    return scale, span, n
+
+
 def _printed(b: Bearings) -> dict[str, np.ndarray]:
-    """The loads [N] and moments [N m] as tables print them: what is below the rounding of
-    their sums is 0 (:func:`balance.views.polar.zero_below_rounding`).
+    """The loads [N] and moments [N m] as tables and figures print them: what is below the
+    rounding of their sums is 0 (:func:`balance.views.polar.zero_below_rounding`).
 
     Each main's load is a lever-rule sum of the throw loads (pin loads, crank unbalance and
     counterweights), so the scale of its terms is at most the sum of the largest pin loads
@@ -60,13 +74,7 @@ def _printed(b: Bearings) -> dict[str, np.ndarray]:
     """
     from balance.views.polar import zero_below_rounding
 
-    scale = float(
-        np.sum(b.pin_max)
-        + np.max(b.main_max, initial=0.0)
-        + np.max(b.main_max_with_proposal, initial=0.0)
-    )
-    span = float(np.ptp(np.concatenate([b.main_z, b.pin_z]))) if b.main_z.size else 0.0
-    n = b.pin_z.size + len(b.counterweights) + 2
+    scale, span, n = _rounding(b)
     out = {}
     for name in (
         "pin_max",
@@ -80,6 +88,17 @@ def _printed(b: Bearings) -> dict[str, np.ndarray]:
     for name in ("moment_max", "moment_max_with_proposal"):
         out[name] = zero_below_rounding(getattr(b, name), scale * span, n)
     return out
+
+
+def _printed_curve(b: Bearings, load: np.ndarray) -> np.ndarray:
+    """A load over the cycle [N, complex] as the figures draw it: each component 0 where it
+    cannot be told from zero (the rule of :func:`_printed`)."""
+    from balance.views.polar import zero_below_rounding
+
+    scale, _, n = _rounding(b)
+    return np.asarray(
+        zero_below_rounding(load.real, scale, n) + 1j * zero_below_rounding(load.imag, scale, n)
+    )
 
 
 #: The columns of the main-bearing loads and of the internal moments, after number and z.
@@ -296,49 +315,43 @@ def _strategy_table(rows: Sequence[tuple[str, Bearings]]) -> list[RenderableType
 
 
 def _not_computed(result: Result, kind: str, title: str | None) -> Figure:
-    """A figure that says the bearing loads were not asked for (like the other kinds do for
-    what was not computed)."""
-    fig, (ax,) = _figure(1, (6.0, 3.0), 1)
-    ax.set_axis_off()
-    ax.text(0.5, 0.5, f"no bearing loads in this result:\n{ASK}", ha="center", va="center")
-    fig.suptitle(title or f"{result.engine.name}: {kind.replace('_', ' ')}")
-    return fig
-
-
-def _figure(n_axes: int, size: tuple[float, float], ncols: int) -> tuple[Figure, list[Axes]]:
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=size, layout="constrained")
-    nrows = math.ceil(n_axes / ncols)
-    grid = fig.subplots(nrows, ncols, squeeze=False)
-    axes = list(np.ravel(grid))
-    for extra in axes[n_axes:]:
-        extra.set_visible(False)
-    return fig, axes[:n_axes]
+    """A figure that says the bearing loads were not asked for."""
+    return placeholder(result, kind, title, f"no bearing loads in this result:\n{ASK}")
 
 
 def _polar_diagram(
     ax: Axes, curves: Sequence[tuple[np.ndarray, str, str]], x_label: str, y_label: str
 ) -> None:
-    """Loads as x-y curves through the origin, equal scales, in kN."""
+    """Loads as x-y curves through the origin, equal scales, in kN (a load that is zero at
+    every crank angle: a note that says so, on axes of 1 kN)."""
     for load, style, label in curves:
         closed = np.concatenate([load, load[:1]]) / 1e3
         ax.plot(closed.imag, closed.real, style, lw=1.2, label=label)
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.axvline(0.0, color="0.6", lw=0.6)
     ax.plot([0.0], [0.0], "k+", ms=6)
-    ax.set_aspect("equal", adjustable="datalim")
+    if all(not np.any(load) for load, _, _ in curves):
+        ax.text(
+            0.5, 0.75, "0 at every crank angle", transform=ax.transAxes, ha="center", color="0.4"
+        )
+        ax.set_xlim(-1.0, 1.0)
+        ax.set_ylim(-1.0, 1.0)
+        ax.set_aspect("equal", adjustable="box")
+    else:
+        ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
 
 
 def _plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
     """Plot kind ``pin_load``: polar diagram of each crank-pin load in the crank-fixed frame
-    (up: outwards along the throw; right: in the direction of rotation), the textbook chart."""
+    (up: outwards along the throw; right: in the direction of rotation), the textbook chart,
+    with the largest load marked (a line from the origin, labelled with its crank angle)."""
     b = _loads(result)
     if b is None:
         return _not_computed(result, "pin_load", title)
     crank = b.pin_load_crank_frame
+    v = _printed(b)
     # pins with the same diagram (a V's or an inline's equal throws) are drawn once
     shown: list[int] = []
     for j in range(crank.shape[0]):
@@ -346,7 +359,8 @@ def _plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
         if not any(np.max(np.abs(crank[j] - crank[i])) <= 1e-9 * scale for i in shown):
             shown.append(j)
     ncols = min(3, len(shown))
-    fig, axes = _figure(len(shown), (4.2 * ncols, 4.2 * math.ceil(len(shown) / ncols)), ncols)
+    size = (4.2 * ncols, 4.2 * math.ceil(len(shown) / ncols) + 0.4)
+    fig, axes = grid_figure(len(shown), size, ncols)
     for ax, j in zip(axes, shown, strict=True):
         same = [
             i + 1
@@ -356,20 +370,33 @@ def _plot_pin_load(result: Result, *, title: str | None = None) -> Figure:
         ]
         _polar_diagram(
             ax,
-            [(crank[j], "C0-", "pin load")],
+            [(_printed_curve(b, crank[j]), "C0-", "pin load over the cycle")],
             "along rotation [kN]",
             "along the throw, outwards [kN]",
         )
         peak = int(np.argmax(np.abs(crank[j])))
-        ax.plot([0.0, crank[j][peak].imag / 1e3], [0.0, crank[j][peak].real / 1e3], "C3-", lw=0.8)
+        theta = round(math.degrees(float(b.pin_max_angle[j])), 1) % 360.0
+        ax.plot(
+            [0.0, crank[j][peak].imag / 1e3],
+            [0.0, crank[j][peak].real / 1e3],
+            "C3-",
+            lw=0.8,
+            label=f"largest load (θ = {theta:.1f}°)",
+        )
         cyl = ", ".join(" ".join(map(str, b.pin_cylinders[i - 1])) for i in same)
         ax.set_title(
             f"pin{'s' if len(same) > 1 else ''} {', '.join(map(str, same))} (cyl. {cyl}): "
-            f"max {format_number(float(b.pin_max[j]) / 1e3)} kN",
+            f"max {format_number(float(v['pin_max'][j]) / 1e3)} kN",
             fontsize=9,
         )
+        ax.legend(fontsize=7, loc="lower right")
     gas = "with gas forces" if b.gas else "inertia only"
-    fig.suptitle(title or f"{result.engine.name}: crank-pin load in the crank-fixed frame ({gas})")
+    fig.suptitle(
+        title_text(
+            fig.get_figwidth(),
+            title or f"{layout_heading(result)}: crank-pin load in the crank-fixed frame ({gas})",
+        )
+    )
     return fig
 
 
@@ -381,22 +408,30 @@ def _plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
         return _not_computed(result, "main_loads", title)
     n = b.main_z.size
     ncols = min(4, n)
-    fig, axes = _figure(n, (3.6 * ncols, 3.6 * math.ceil(n / ncols)), ncols)
+    fig, axes = grid_figure(n, (3.6 * ncols, 3.6 * math.ceil(n / ncols)), ncols)
     with_cw = bool(b.counterweights)
+    v = _printed(b)
     for m, ax in enumerate(axes):
-        curves = [(b.main_load[m], "C0-", "without counterweights")]
+        curves = [(_printed_curve(b, b.main_load[m]), "C0-", "without counterweights")]
         if with_cw:
-            curves.append((b.main_load_with_proposal[m], "C1--", "with the proposal"))
+            curves.append(
+                (_printed_curve(b, b.main_load_with_proposal[m]), "C1--", "with the proposal")
+            )
         _polar_diagram(ax, curves, "x [kN]", "y [kN]")
-        z_mm, top = _mm(float(b.main_z[m])), format_number(float(b.main_max[m]) / 1e3)
+        z_mm, top = _mm(float(b.main_z[m])), format_number(float(v["main_max"][m]) / 1e3)
         text = f"main {m + 1}, z = {z_mm} mm: max {top}"
         if with_cw:
-            text += f" / {format_number(float(b.main_max_with_proposal[m]) / 1e3)}"
+            text += f" / {format_number(float(v['main_max_with_proposal'][m]) / 1e3)}"
         ax.set_title(text + " kN", fontsize=9)
     if with_cw:
         axes[0].legend(fontsize=7, loc="best")
     gas = "with gas forces" if b.gas else "inertia only"
-    fig.suptitle(title or f"{result.engine.name}: main-bearing loads in the engine frame ({gas})")
+    fig.suptitle(
+        title_text(
+            fig.get_figwidth(),
+            title or f"{layout_heading(result)}: main-bearing loads in the engine frame ({gas})",
+        )
+    )
     return fig
 
 
@@ -406,18 +441,24 @@ def _plot_internal_moment(result: Result, *, title: str | None = None) -> Figure
     b = _loads(result)
     if b is None:
         return _not_computed(result, "internal_moment", title)
-    fig, (ax,) = _figure(1, (7.0, 4.2), 1)
+    fig, (ax,) = grid_figure(1, (7.0, 4.2), 1)
     z = b.main_z * 1e3
-    ax.plot(z, b.moment_max, "C0o-", label="without counterweights")
+    v = _printed(b)
+    ax.plot(z, v["moment_max"], "C0o-", label="without counterweights")
     if b.counterweights:
-        ax.plot(z, b.moment_max_with_proposal, "C1s--", label="with the proposal")
+        ax.plot(z, v["moment_max_with_proposal"], "C1s--", label="with the proposal")
     for zp in np.unique(np.round(b.pin_z, 9)):
         ax.axvline(zp * 1e3, color="0.8", lw=0.8)
     ax.set_xlabel("z of the main bearing [mm] (grey: throw planes)")
     ax.set_ylabel("largest internal moment [N m]")
     ax.set_ylim(bottom=0.0)
     ax.legend(fontsize=8)
-    fig.suptitle(title or f"{result.engine.name}: internal bending moment of the crankshaft")
+    fig.suptitle(
+        title_text(
+            fig.get_figwidth(),
+            title or f"{layout_heading(result)}: internal bending moment of the crankshaft",
+        )
+    )
     return fig
 
 

@@ -34,6 +34,7 @@ __all__ = [
     "compare_table",
     "comparison_dataset",
     "markdown_table",
+    "pitch_heading",
     "render_comparison",
 ]
 
@@ -47,6 +48,7 @@ def comparison_dataset(
     *,
     speed: float | None = None,
     displacement: float | None = None,
+    pitch: float | None = None,
 ) -> xr.Dataset:
     """The analyses of a comparison (:func:`balance.studies.compare.compare_results`)
     stacked along ``layout``, one label and length scale factor each.
@@ -63,6 +65,8 @@ def comparison_dataset(
         The common crank speed asked for [rad/s].
     displacement : float, optional
         The common displacement asked for [m^3].
+    pitch : float, optional
+        The common pitch asked for [m] (every result's ``pitch`` already is this one).
 
     Returns
     -------
@@ -72,9 +76,9 @@ def comparison_dataset(
         ``counterweight_total_mass``, ``counterweight_total_unbalance``, ``n_shafts`` and
         every compared output (:func:`balance.core.catalogue.compared`; NaN for a layout
         without it).
-        ``speed`` and ``displacement`` are recorded in the attributes
-        ``common_speed_rpm`` and ``displacement_m3`` when asked for; ``orders`` is an
-        integer array.
+        ``speed``, ``displacement`` and ``pitch`` are recorded in the attributes
+        ``common_speed_rpm``, ``displacement_m3`` and ``common_pitch_m`` when asked for;
+        ``orders`` is an integer array.
     """
     import xarray as xr
 
@@ -144,6 +148,8 @@ def comparison_dataset(
         out.attrs["common_speed_rpm"] = speed_rpm(speed)
     if displacement is not None:
         out.attrs["displacement_m3"] = float(displacement)
+    if pitch is not None:
+        out.attrs["common_pitch_m"] = float(pitch)
     return out
 
 
@@ -270,6 +276,7 @@ def compare_json(ds: xr.Dataset) -> dict[str, object]:
                 "displacement_m3": json_number(one["displacement"]),
                 "scale_factor": json_number(one["scale_factor"]),
                 "speed_rpm": json_number(rad_per_s_to_rpm(float(one["speed"]))),
+                "pitch_m": json_number(one["pitch"]),
                 "reciprocating": {
                     "force": _orders(one, "reciprocating_force"),
                     "moment": _orders(one, "reciprocating_moment"),
@@ -348,8 +355,10 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
     amplitudes, and the balancing needs (cylinders, counterweight mass, shafts, and each
     compared output some layout has, :func:`balance.core.catalogue.compared`).  Normalised
     values are per each layout's own :math:`F_1 = m_{rec} r\omega^2`, :math:`F_1 a` and
-    :math:`m_{rec} r^2\omega^2`; where a layout has no pitch (every cylinder in one plane)
-    its moments per :math:`F_1 a` print as ``n/a``, and a note under the table says why.
+    :math:`m_{rec} r^2\omega^2`, with :math:`a` its pitch (the layout's ``pitch``, else its
+    bore pitch, :func:`balance.core.engine.bore_pitch`), which the heading says; where a
+    layout has no pitch (every cylinder in one plane, or one cylinder per bank) its
+    moments per :math:`F_1 a` print as ``n/a``, and a note under the table says why.
 
     Parameters
     ----------
@@ -374,6 +383,8 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
     out: list[RenderableType] = [
         Text(f"Comparison of {len(labels)} layouts ({kind}; model {ds.attrs['model']})", "bold")
     ]
+    if not absolute:
+        out.append(Text(pitch_heading(ds)))
 
     no_pitch = (
         [label for label in labels if not np.isfinite(float(ds["pitch"].sel(layout=label)))]
@@ -381,7 +392,10 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
         else []
     )
     note = (
-        (f"n/a: no pitch a (all cylinders in one plane) for {', '.join(no_pitch)}",)
+        (
+            "n/a: no pitch a (all cylinders in one plane, or one cylinder per bank) for "
+            + ", ".join(no_pitch),
+        )
         if no_pitch and not absolute
         else ()
     )
@@ -390,12 +404,14 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
         if name not in ds:
             continue
         rotating = f"rotating_{what}_{'magnitude' if absolute else 'normalised'}"
+        with_pitch = what == "moment" and not absolute and "pitch" in ds
         rows = []
         for label in labels:
             one = ds.sel(layout=label)
             rows.append(
                 [
                     label,
+                    *([_pitch_cell(float(one["pitch"]))] if with_pitch else []),
                     *(_cell(float(one[name].sel(order=k)), name) for k in ks),
                     _cell(float(one[rotating]), rotating),
                 ]
@@ -406,6 +422,7 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
                 f"Free {what} peaks: reciprocating per order, rotating (order 1)",
                 [
                     layout,
+                    *([Column("pitch a", "mm")] if with_pitch else []),
                     *(Column(f"order {k}", column_unit) for k in ks),
                     Column("rotating", column_unit),
                 ],
@@ -456,6 +473,36 @@ def render_comparison(ds: xr.Dataset, *, absolute: bool) -> list[RenderableType]
         rows.append(row)
     out.append(NumberTable("Balancing needs: what each layout's proposal uses", columns, rows))
     return out
+
+
+def pitch_heading(ds: xr.Dataset) -> str:
+    """What the normalised values of a comparison are per: each layout's :math:`F_1` and
+    its own pitch (the layout's ``pitch``, else its bore pitch), or one pitch for all.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The comparison (:func:`comparison_dataset`).
+
+    Returns
+    -------
+    str
+    """
+    common = ds.attrs.get("common_pitch_m")
+    if common is not None:
+        return (
+            "Per each layout's F1 = m_rec r w^2; moments per F1 a with one pitch "
+            f"a = {format_number(float(common) * 1e3)} mm for every layout"
+        )
+    return (
+        "Per each layout's F1 = m_rec r w^2; moments per F1 a with a the layout's pitch: "
+        "its pitch: key, else its bore pitch (between neighbouring cylinders of one bank)"
+    )
+
+
+def _pitch_cell(pitch: float) -> str:
+    """A layout's pitch [m] as the moment table prints it, in mm (``n/a`` without one)."""
+    return format_number(pitch * 1e3) if np.isfinite(pitch) else "n/a"
 
 
 def _cell(value: float, name: str) -> str:

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.catalogue import speed_rpm
+from balance.views.figures import grid_figure, placeholder, speed_text, title_text
 from balance.views.polar import format_number, json_number, order_value
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -38,7 +39,8 @@ __all__ = [
 ]
 
 #: The quantities per order, their unit and how a table names them.
-QUANTITIES = (("force", "N", "whole free force"), ("moment", "N m", "free moment"),
+QUANTITIES = (("force", "N", "free force (reciprocating + rotating)"),
+              ("moment", "N m", "free moment (reciprocating + rotating)"),
               ("roll", "N m", "roll torque"))  # fmt: skip
 
 _num = json_number
@@ -310,8 +312,7 @@ def tables(result: Result) -> list[RenderableType]:
         peak = "amplitude" if quantity == "roll" else "peak"
         out.append(
             NumberTable(
-                f"{name[0].upper()}{name[1:]} per order (in time, against the mean crank "
-                "angle): varying and constant speed",
+                f"{name[0].upper()}{name[1:]} per order: varying and constant speed",
                 [
                     Column("order", key=True),
                     Column(f"{peak} dynamic", unit),
@@ -320,6 +321,7 @@ def tables(result: Result) -> list[RenderableType]:
                     Column("difference", "%"),
                 ],
                 _order_rows(p, quantity),
+                notes=("per order in time, against the mean crank angle",),
             )
         )
     text = (
@@ -335,31 +337,20 @@ def tables(result: Result) -> list[RenderableType]:
 # --------------------------------------------------------------------------- figures
 
 
-def _figure(n_axes: int, size: tuple[float, float], ncols: int) -> tuple[Figure, list[Axes]]:
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=size, layout="constrained")
-    nrows = math.ceil(n_axes / ncols)
-    grid = fig.subplots(nrows, ncols, squeeze=False)
-    axes = list(np.ravel(grid))
-    for extra in axes[n_axes:]:
-        extra.set_visible(False)
-    return fig, axes[:n_axes]
-
-
 def _not_computed(result: Result, kind: str, title: str | None) -> Figure:
     """A figure that says the variable-speed analysis was not asked for."""
-    fig, (ax,) = _figure(1, (6.0, 3.0), 1)
-    ax.set_axis_off()
-    ax.text(
-        0.5,
-        0.5,
+    return placeholder(
+        result,
+        kind,
+        title,
         "no variable-speed analysis in this result:\nask for the dynamic speed model",
-        ha="center",
-        va="center",
     )
-    fig.suptitle(title or f"{result.engine.name}: {kind.replace('_', ' ')}")
-    return fig
+
+
+def _heading(result: Result, p: DynamicsResult) -> str:
+    """The layout's name and the mean crank speed of the variable-speed analysis, as its
+    figure titles begin."""
+    return f"{result.engine.name} at {speed_text(p.mean_speed)} mean"
 
 
 def _cycle_axis(ax: Axes, span: float) -> None:
@@ -379,7 +370,7 @@ def _plot_crank_speed(result: Result, *, title: str | None = None) -> Figure:
     p = _part(result)
     if p is None:
         return _not_computed(result, "crank_speed", title)
-    fig, (top, bottom) = _figure(2, (9.0, 6.0), 1)
+    fig, (top, bottom) = grid_figure(2, (9.0, 6.0), 1)
     rpm = 30.0 / math.pi
     angle, speed = _closed(p, p.motion.speed * rpm)
     mean = p.mean_speed * rpm
@@ -403,7 +394,12 @@ def _plot_crank_speed(result: Result, *, title: str | None = None) -> Figure:
     bottom.axhline(0.0, color="0.6", lw=0.6)
     bottom.set_ylabel("angular acceleration [rad/s²]")
     _cycle_axis(bottom, p.cycle_deg)
-    fig.suptitle(title or f"{result.engine.name}: crank speed over the working cycle")
+    fig.suptitle(
+        title_text(
+            fig.get_figwidth(),
+            title or f"{_heading(result, p)}: crank speed over the working cycle",
+        )
+    )
     return fig
 
 
@@ -413,7 +409,7 @@ def _plot_reduced_inertia(result: Result, *, title: str | None = None) -> Figure
     p = _part(result)
     if p is None:
         return _not_computed(result, "reduced_inertia", title)
-    fig, (ax,) = _figure(1, (9.0, 4.0), 1)
+    fig, (ax,) = grid_figure(1, (9.0, 4.0), 1)
     angle, inertia = _closed(p, p.inertia)
     ax.plot(angle, inertia, "C2-", label="J(θ)")
     ax.axhline(float(np.mean(p.inertia)), color="k", ls="--", lw=1.0, label="cycle mean")
@@ -428,7 +424,12 @@ def _plot_reduced_inertia(result: Result, *, title: str | None = None) -> Figure
     )
     ax.legend(loc="best", fontsize=8)
     _cycle_axis(ax, p.cycle_deg)
-    fig.suptitle(title or f"{result.engine.name}: reduced inertia of the crank train")
+    fig.suptitle(
+        title_text(
+            fig.get_figwidth(),
+            title or f"{_heading(result, p)}: reduced inertia of the crank train",
+        )
+    )
     return fig
 
 
@@ -473,11 +474,16 @@ def _plot_speed_model_orders(result: Result, *, title: str | None = None) -> Fig
     if p is None:
         return _not_computed(result, "speed_model_orders", title)
     shown = [q for q in QUANTITIES if p.has(q[0])]
-    fig, axes = _figure(len(shown), (10.0, 3.4 * len(shown)), 1)
+    fig, axes = grid_figure(len(shown), (10.0, 3.4 * len(shown)), 1)
     for ax, (quantity, unit, name) in zip(axes, shown, strict=True):
         _bars(ax, p, quantity, unit, name)
     fig.suptitle(
-        title or f"{result.engine.name}: free force and roll per order, constant and varying speed"
+        title_text(
+            fig.get_figwidth(),
+            title
+            or f"{_heading(result, p)}: free force (reciprocating + rotating), moment and roll per "
+            "order, constant and varying speed",
+        )
     )
     return fig
 

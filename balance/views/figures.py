@@ -16,7 +16,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from balance.core.catalogue import speed_rpm
 from balance.views import signals
+from balance.views.polar import zero_below_rounding
 from balance.views.signals import Quantity, Source
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -29,7 +31,6 @@ __all__ = [
     "BEFORE_COLOUR",
     "STYLE",
     "TOTAL_COLOUR",
-    "ZERO_SHARE",
     "AxesArg",
     "axis_label",
     "degree_axis",
@@ -37,17 +38,21 @@ __all__ = [
     "empty_note",
     "finish",
     "format_value",
+    "grid_figure",
     "h_align",
+    "layout_heading",
     "layout_name",
     "new_figure",
     "order_bars",
     "order_colour",
     "order_signals",
     "pick_orders",
+    "placeholder",
     "scale_of",
     "shared_legend",
     "significant_mask",
     "source_label",
+    "speed_text",
     "styled",
     "title_text",
     "v_align",
@@ -79,9 +84,6 @@ STYLE: dict[str, Any] = {
     "pdf.fonttype": 42,
     "path.simplify": False,
 }
-
-#: Share of the largest order below which an order counts as zero in a figure.
-ZERO_SHARE = 1e-9
 
 #: The colour of a total (the sum of the orders) and of a figure's "before".
 TOTAL_COLOUR = "black"
@@ -182,6 +184,70 @@ def new_figure(
     return root, axes, False
 
 
+def grid_figure(
+    n_axes: int, size: tuple[float, float], ncols: int = 1
+) -> tuple[Figure, list[Axes]]:
+    """A figure (constrained layout) of ``n_axes`` axes in rows of ``ncols``, the cells of
+    the grid after the last hidden: the figures of the bearing loads, the variable speed
+    and the torsion.
+
+    Parameters
+    ----------
+    n_axes : int
+        Number of axes [1].
+    size : (float, float)
+        Width and height of the figure [in].
+    ncols : int
+        Axes per row [1].
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    axes : list of matplotlib.axes.Axes
+        The ``n_axes`` axes, row by row.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size, layout="constrained")
+    grid = fig.subplots(math.ceil(n_axes / ncols), ncols, squeeze=False)
+    axes = list(np.ravel(grid))
+    for extra in axes[n_axes:]:
+        extra.set_visible(False)
+    return fig, axes[:n_axes]
+
+
+def placeholder(
+    result: Result, kind: str, title: str | None, text: str, size: tuple[float, float] = (7.0, 3.0)
+) -> Figure:
+    """The figure of a kind whose section is not in the result: a note saying so (and how
+    to ask for it), under the title the figure would have.
+
+    Parameters
+    ----------
+    result : Result
+        The analysis.
+    kind : str
+        The figure kind (``pin_load``).
+    title : str or None
+        The caller's title; by default the layout, its speed and the kind.
+    text : str
+        The note.
+    size : (float, float)
+        Width and height of the figure [in].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    with styled():
+        fig, (ax,) = grid_figure(1, size)
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, color="0.4")
+        default = f"{layout_heading(result)}: {kind.replace('_', ' ')}"
+        fig.suptitle(title_text(fig.get_figwidth(), title or default))
+        return fig
+
+
 def title_text(figure_width: float, text: str) -> str:
     """A figure title wrapped to the figure's width.
 
@@ -254,6 +320,38 @@ def layout_name(result: Result) -> str:
     return str(result.engine.name)
 
 
+def speed_text(speed: float) -> str:
+    """A crank speed as figure titles state it: ``8000 rpm`` (a no-break space, so that a
+    wrapped title keeps the number and its unit together).
+
+    Parameters
+    ----------
+    speed : float
+        The crank speed [rad/s].
+
+    Returns
+    -------
+    str
+    """
+    return f"{speed_rpm(speed):.6g}\u00a0rpm"
+
+
+def layout_heading(result: Result) -> str:
+    """How every figure title of a result begins: the layout's name and its crank speed
+    (``Inline-4, flat crank (Honda K20A) at 8000 rpm``).
+
+    Parameters
+    ----------
+    result : Result
+        From :func:`balance.core.analysis.compute`.
+
+    Returns
+    -------
+    str
+    """
+    return f"{layout_name(result)} at {speed_text(result.engine.speed)}"
+
+
 def scale_of(result: Result, quantity: Quantity, normalised: bool) -> tuple[float, str, str]:
     """How a force or moment is drawn: divided by its stored reference, or as it is.
 
@@ -305,7 +403,14 @@ def axis_label(name: str, unit: str) -> str:
 
 
 def significant_mask(values: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """Which values are not zero next to the largest (above :data:`ZERO_SHARE` of it).
+    """Which values a figure draws and labels: those that are not zero by the rule of every
+    view (docs/conventions.md, "Zero by symmetry";
+    :func:`balance.views.polar.zero_below_rounding`), with the values' own sum as the
+    scale and their number as the number of terms.
+
+    The values a figure draws (peaks, phasor magnitudes, amplitudes) were cleaned by the
+    analysis already (a phasor sum that cancels is exactly 0); this keeps out of the
+    figure what is within the rounding of the values drawn beside it.
 
     Parameters
     ----------
@@ -317,9 +422,9 @@ def significant_mask(values: NDArray[np.float64]) -> NDArray[np.bool_]:
     ndarray of bool
         Of the shape of ``values``; all False when every value is zero.
     """
-    size = np.nan_to_num(np.abs(values), nan=0.0)
-    largest = float(size.max(initial=0.0))
-    return np.asarray(size > ZERO_SHARE * largest) if largest > 0 else np.zeros(size.shape, bool)
+    size = np.nan_to_num(np.abs(np.asarray(values, dtype=np.float64)), nan=0.0)
+    kept = zero_below_rounding(size, float(size.sum()), max(size.size, 1))
+    return np.asarray(kept > 0.0)
 
 
 def pick_orders(all_orders: NDArray[Any], orders: Iterable[float] | None) -> NDArray[np.bool_]:
@@ -407,10 +512,12 @@ def empty_note(axes: Axes, text: str) -> None:
     axes.text(0.5, 0.8, text, transform=axes.transAxes, ha="center", va="center", color="0.4")
 
 
-def denoise(values: NDArray[Any], reference: float) -> NDArray[Any]:
-    """Zero what is round-off of the phasor sums: parts below ZERO_SHARE of ``reference``.
+def denoise(values: NDArray[Any], reference: float, n_terms: int) -> NDArray[Any]:
+    """Zero what is round-off of a signal summed over orders: the rule of every view
+    (:func:`balance.views.polar.zero_below_rounding`), with the sum of the orders' peaks as
+    the scale and the number of phasors summed as the number of terms.
 
-    Real and imaginary parts (x and y) are treated separately, so that a force along y does
+    Real and imaginary parts (y and x) are treated separately, so that a force along y does
     not show a 1e-14 N wobble in x on an axis scaled to it.
 
     Parameters
@@ -418,8 +525,10 @@ def denoise(values: NDArray[Any], reference: float) -> NDArray[Any]:
     values : ndarray, real or complex
         Signals [N, N m, or per their reference].
     reference : float
-        The size they are compared with, in their unit (nothing is zeroed without a finite
-        one above zero).
+        The sum of the sizes of the phasors summed into each value, in their unit
+        (nothing is zeroed without a finite one above zero).
+    n_terms : int
+        The number of phasors summed into each value (forward and backward of each order).
 
     Returns
     -------
@@ -428,12 +537,11 @@ def denoise(values: NDArray[Any], reference: float) -> NDArray[Any]:
     """
     if not (math.isfinite(reference) and reference > 0.0):
         return values
-    limit = ZERO_SHARE * reference
     if np.iscomplexobj(values):
-        real = np.where(np.abs(values.real) < limit, 0.0, values.real)
-        imag = np.where(np.abs(values.imag) < limit, 0.0, values.imag)
+        real = zero_below_rounding(values.real, reference, n_terms)
+        imag = zero_below_rounding(values.imag, reference, n_terms)
         return np.asarray(real + 1j * imag)
-    return np.asarray(np.where(np.abs(values) < limit, 0.0, values))
+    return zero_below_rounding(values, reference, n_terms)
 
 
 def order_signals(
@@ -485,8 +593,8 @@ def order_signals(
     total = per_order.sum(axis=0)
     return (
         ks,
-        denoise(per_order, reference),
-        denoise(total, reference),
+        denoise(per_order, reference, 2 * ks.size),
+        denoise(total, reference, 2 * ks.size),
         unit,
         significant_mask(peaks),
     )

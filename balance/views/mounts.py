@@ -15,8 +15,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from balance.core.mounts import COORDINATES, MountsResult
+from balance.views.figures import layout_heading
 from balance.views.fitted import Column, NumberTable
-from balance.views.polar import format_number, json_number, order_value
+from balance.views.polar import format_number, json_number, order_value, zero_below_rounding
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -38,14 +39,46 @@ __all__ = [
 ]
 
 
+#: What loads the block on its mounts (the note under the response tables, and the figure).
+LOADS_NOTE = "loads: the free forces and moments (reciprocating + rotating) and the roll"
+
 #: rad/s to rpm as one factor: 800 rpm prints as 800.0 (speed * 60 / (2 pi) gives
 #: 799.9999999999999, so the sweep's speeds stay as they were written)
 RPM = 30.0 / math.pi
 
 
 def _share(value: float) -> str:
-    """A percentage of energy; round-off below 1e-9 % shown as 0."""
-    return "0" if abs(value) < 1e-9 else format_number(value, 3)
+    """A percentage of energy, 0 where it is within the rounding of the shares, which add
+    up to 100 % over six coordinates (:func:`balance.views.polar.zero_below_rounding`)."""
+    return format_number(float(zero_below_rounding(value, 100.0, 6)), 3)
+
+
+def _printed_response(m: MountsResult) -> tuple[np.ndarray, np.ndarray]:
+    r"""The response amplitudes as the tables print them: the CG's translations [m] and
+    the rotations [rad] of each order, 0 where they cannot be told from zero.
+
+    The rule of every view (:func:`balance.views.polar.zero_below_rounding`, six terms)
+    with one scale per order: the largest motion of that order, a rotation counted at
+    :math:`L`, the farthest mount's distance from the CG (a rotation of :math:`\phi`
+    moves that mount by :math:`\phi L`): a translation is 0 at most
+    :math:`64 \cdot 6\,\varepsilon S` and a rotation at most that over :math:`L`."""
+    translation, rotation = m.translation, m.rotation
+    reach = float(np.max(np.linalg.norm(m.system.offsets, axis=-1), initial=0.0))
+    reach = reach if reach > 0.0 else 1.0
+    scale = np.maximum(
+        np.max(translation, axis=-1, initial=0.0), reach * np.max(rotation, axis=-1, initial=0.0)
+    )[..., None]
+    return (
+        zero_below_rounding(translation, scale, 6),
+        zero_below_rounding(rotation, scale / reach, 6),
+    )
+
+
+def _excited(m: MountsResult) -> np.ndarray:
+    """Which orders load the mounts at some speed of ``m`` (an order whose loads are zero,
+    a balanced engine's first order say, crosses no mode: it excites none)."""
+    largest = np.asarray(m.largest_force).reshape(-1, m.orders.size)
+    return np.asarray(np.any(largest > 0.0, axis=0))
 
 
 # ---------------------------------------------------------------------------------------
@@ -110,8 +143,16 @@ def _mounts_json(m: MountsResult) -> dict[str, Any]:
     }
 
 
+def _crossings(m: MountsResult) -> list[tuple[float, int, float]]:
+    """The mode crossings (:meth:`MountsResult.mode_crossings`) of the orders that load
+    the mounts (:func:`_excited`)."""
+    excited = {float(k) for k, e in zip(m.orders, _excited(m), strict=True) if e}
+    return [c for c in m.mode_crossings() if float(c[0]) in excited]
+
+
 def _crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
-    """Which order crosses which mode at which speed, within a sweep's speed range."""
+    """Which order crosses which mode at which speed, within a sweep's speed range (the
+    orders that load the mounts only)."""
     return [
         {
             "order": order_value(k),
@@ -119,7 +160,7 @@ def _crossing_entries(m: MountsResult) -> list[dict[str, Any]]:
             "frequency_Hz": json_number(m.modes.frequency[j]),
             "speed_rpm": json_number(w * RPM),
         }
-        for k, j, w in m.mode_crossings()
+        for k, j, w in _crossings(m)
     ]
 
 
@@ -230,12 +271,14 @@ def _mounts_tables(m: MountsResult) -> list[RenderableType]:
     parts: list[RenderableType] = [_modes_table(m)]
     what = "with the proposal" if m.with_proposal else "without balancing masses"
     peak = m.force_peak
+    translation, rotation = _printed_response(m)
     rows = []
     for i, k in enumerate(m.orders):
-        cells = [format_number(1e3 * float(v)) for v in m.translation[i]]
-        cells += [format_number(1e3 * float(v)) for v in m.rotation[i]]
+        cells = [format_number(1e3 * float(v)) for v in translation[i]]
+        cells += [format_number(1e3 * float(v)) for v in rotation[i]]
         n = int(np.argmax(peak[i]))
-        rows.append([str(order_value(k)), *cells, format_number(float(peak[i, n])), str(n + 1)])
+        where = str(n + 1) if peak[i, n] > 0.0 else "-"
+        rows.append([str(order_value(k)), *cells, format_number(float(peak[i, n])), where])
     parts.append(
         NumberTable(
             f"Response on the mounts per order ({what}"
@@ -253,9 +296,10 @@ def _mounts_tables(m: MountsResult) -> list[RenderableType]:
                 Column("at mount"),
             ],
             rows,
+            notes=(LOADS_NOTE,),
         )
     )
-    axis = m.roll_axis
+    axis = zero_below_rounding(m.roll_axis, 1.0, 3)
     tilt = math.degrees(math.acos(min(1.0, abs(float(axis[2])))))
     parts.append(
         Text(f"Torque-roll axis (TRA) through the CG along [{', '.join(f'{v:.4f}' for v in axis)}]")
@@ -364,7 +408,7 @@ def sweep_tables(m: MountsResult, layout: str) -> list[RenderableType]:
             )
         )
     else:
-        parts.append(Text("No order crosses a mode in the speed range."))
+        parts.append(Text("No order that loads the mounts crosses a mode in the speed range."))
     if m.gas:
         parts.append(
             Text(
@@ -411,30 +455,63 @@ def plot_mount_sweep(m: MountsResult, *, title: str | None = None, layout: str =
         if np.max(largest[:, i]) <= 0:
             continue
         ax.semilogy(rpm, largest[:, i], label=f"order {order_value(k)}", color=f"C{i % 10}")
-    for k, j, w in m.mode_crossings():
-        i = int(np.searchsorted(m.orders, k))
-        ax.axvline(w * RPM, color=f"C{i % 10}", linestyle=":", linewidth=0.8)
-        ax.annotate(
-            f"{order_value(k)}×m{j + 1}",
-            (w * RPM, 1.0),
-            xycoords=("data", "axes fraction"),
-            rotation=90,
-            fontsize=7,
-            va="top",
-            ha="right",
-        )
+    _crossing_marks(ax, m, rpm)
     modes = ", ".join(f"{f:.3g}" for f in m.modes.frequency)
     ax.set_xlabel("crank speed [rpm]")
     ax.set_ylabel("largest mount force [N]")
     ax.set_title(f"modes [Hz]: {modes}; dotted: order k meets mode j at 60 f_j / k rpm", fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(loc="lower right", ncols=2, fontsize=8)
+    ax.legend(loc="best", ncols=2, fontsize=8)
     what = "with the proposal" if m.with_proposal else "without balancing masses"
     import textwrap
 
-    text = title if title is not None else f"{layout}: mount forces against speed ({what})"
+    span = f"{format_number(float(rpm.min()), 5)}-{format_number(float(rpm.max()), 5)} rpm"
+    text = (
+        title
+        if title is not None
+        else f"{layout}: mount forces against speed, {span} ({what}; loads: free forces "
+        "and moments, roll)"
+    )
     fig.suptitle(textwrap.fill(text, 80))
     return fig
+
+
+def _crossing_marks(ax: Any, m: MountsResult, rpm: np.ndarray) -> None:
+    """A dotted line at each crossing of an order that loads the mounts (:func:`_crossings`)
+    with its label ``k×mj`` at the top, in the order's colour; a label that would overlap
+    the one before it goes one row lower."""
+    low, high = float(rpm.min()), float(rpm.max())
+    width = max(high - low, 1e-300)
+    # a label's width as a share of the axes: 7 pt characters on 8 in wide axes, about
+    label_share = 0.012
+    rows: list[float] = []  # the right end (axes fraction) of the last label of each row
+    for k, j, w in _crossings(m):
+        i = int(np.searchsorted(m.orders, k))
+        x = w * RPM
+        ax.axvline(x, color=f"C{i % 10}", linestyle=":", linewidth=0.8)
+        text = f"{order_value(k)}×m{j + 1}"
+        start = (x - low) / width
+        row = next((r for r, end in enumerate(rows) if start > end), len(rows))
+        if row == len(rows):
+            rows.append(0.0)
+        rows[row] = start + label_share * (len(text) + 1)
+        ax.annotate(
+            text,
+            (x, 1.0 - 0.05 * row),
+            xycoords=("data", "axes fraction"),
+            xytext=(2, -2),
+            textcoords="offset points",
+            fontsize=7,
+            va="top",
+            ha="left",
+            color=f"C{i % 10}",
+            bbox={"boxstyle": "square,pad=0.1", "facecolor": "white", "edgecolor": "none"},
+            zorder=5,
+        )
+    if rows and ax.get_yscale() == "log":  # room above the curves for the rows of labels
+        bottom, top = (math.log10(v) for v in ax.get_ylim())
+        free = 1.0 - 0.05 * (len(rows) + 0.5)
+        ax.set_ylim(top=10.0 ** (bottom + (top - bottom) / free))
 
 
 def _plot_mounts(result: Result, *, title: str | None = None) -> Figure:
@@ -460,7 +537,7 @@ def _plot_mounts(result: Result, *, title: str | None = None) -> Figure:
             va="center",
             transform=ax.transAxes,
         )
-        fig.suptitle(title if title is not None else f"{result.engine.name}: mounts")
+        fig.suptitle(title if title is not None else f"{layout_heading(result)}: mounts")
         return fig
     return plot_mount_sweep(part.sweep, title=title, layout=str(result.engine.name))
 

@@ -24,7 +24,7 @@ from balance.views.figures import (
     finish,
     format_value,
     h_align,
-    layout_name,
+    layout_heading,
     new_figure,
     order_colour,
     pick_orders,
@@ -194,7 +194,7 @@ def plot_phasors(
         divisor, unit, _ = scale_of(result, quantity, normalised)
         name = "force" if quantity == "force" else "moment Σ Δz·F"
         groups.append((ks, fwd / divisor, bwd / divisor, axis_label(name, unit), ks_shown, note))
-    default_title = f"{layout_name(result)}: phasors at θ\u00a0=\u00a00, {source_label(source)}"
+    default_title = f"{layout_heading(result)}: phasors at θ\u00a0=\u00a00, {source_label(source)}"
     with styled():
         if ax is None:
             fig, axes_list, title_y = _phasor_figure(
@@ -480,5 +480,5 @@ def _phasors_common(
         handles += _direction_legend("forward (wide)", "backward (dashed)")
         fig.legend(handles=handles, loc="outside right center")
         return finish(
-            fig, owned, title, f"{layout_name(result)}: phasors at θ = 0, {source_label(source)}"
+            fig, owned, title, f"{layout_heading(result)}: phasors at θ = 0, {source_label(source)}"
         )

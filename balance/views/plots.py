@@ -46,9 +46,10 @@ couples.
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -60,15 +61,13 @@ from balance.views import signals
 from balance.views.figures import (
     STYLE,
     TOTAL_COLOUR,
-    ZERO_SHARE,
     AxesArg,
     axis_label,
     degree_axis,
     denoise,
     empty_note,
     finish,
-    h_align,
-    layout_name,
+    layout_heading,
     new_figure,
     order_bars,
     order_colour,
@@ -78,7 +77,6 @@ from balance.views.figures import (
     significant_mask,
     source_label,
     styled,
-    v_align,
 )
 from balance.views.phasor_plots import PHASOR_COLUMNS, phasor_panels, plot_phasors
 from balance.views.signals import Source
@@ -94,7 +92,6 @@ __all__ = [
     "PHASOR_COLUMNS",
     "PLOT_KINDS",
     "STYLE",
-    "ZERO_SHARE",
     "all_kinds",
     "applicable_kinds",
     "figure_bytes",
@@ -122,7 +119,9 @@ def plot_crank_star(result: Result, *, ax: AxesArg = None, title: str | None = N
 
     The view is along -z: +y is up, +x to the right, and the crank turns clockwise (from +y
     towards +x).  Each throw is drawn as a spoke at its angle (crank angle 0) with the
-    cylinders on it; each bank (bore axis) as a dashed line at its angle.
+    cylinders on it; each bank (bore axis) as a dashed line at its angle.  Labels of
+    throws (or banks) too close to sit beside each other are spread apart along their
+    ring, each joined to its spoke by a thin line (:func:`_spread_angles`).
 
     Parameters
     ----------
@@ -131,7 +130,7 @@ def plot_crank_star(result: Result, *, ax: AxesArg = None, title: str | None = N
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; a new figure otherwise.
     title : str, optional
-        Figure title; by default the layout name.
+        Figure title; by default the layout name and speed.
 
     Returns
     -------
@@ -147,54 +146,56 @@ def plot_crank_star(result: Result, *, ax: AxesArg = None, title: str | None = N
         axes.plot(np.sin(circle), np.cos(circle), color="0.75", lw=1.0, zorder=1)
         axes.plot([0.0], [0.0], "o", color="black", ms=6, zorder=4)
 
+        throw_keys = np.round(throws, 6) % 360.0
+        spokes = [
+            (math.radians(float(t)), cylinders[throw_keys == t], float(t))
+            for t in np.unique(throw_keys)
+        ]
+        throw_texts = [f"{_cylinder_list(on)}\n({t:g}°)" for _, on, t in spokes]
+        throw_boxes = [_text_box(text, 0.092, 0.175) for text in throw_texts]
+        throw_at = _spread_angles([a for a, _, _ in spokes], throw_boxes, _THROW_RING)
+        outer = _THROW_RING
+        for (a, _, _), text, box, shown in zip(
+            spokes, throw_texts, throw_boxes, throw_at, strict=True
+        ):
+            tip = (math.sin(a), math.cos(a))
+            axes.plot([0.0, tip[0]], [0.0, tip[1]], color="C0", lw=3.0, zorder=3)
+            axes.plot([tip[0]], [tip[1]], "o", color="C0", ms=9, zorder=3)
+            reach = _place_label(axes, a, shown, box, _THROW_RING, 1.08, text, "C0", 10, "bold")
+            outer = max(outer, reach)
+
         bank_keys = np.round(banks, 6) % 360.0
-        for bank in np.unique(bank_keys):
-            on_bank = cylinders[bank_keys == bank]
-            a = math.radians(float(bank))
+        bank_ring = max(1.7, outer + 0.1)
+        several = len(np.unique(bank_keys)) > 1
+        lines = [
+            (math.radians(float(b)), cylinders[bank_keys == b], float(b))
+            for b in np.unique(bank_keys)
+        ]
+        bank_texts = [
+            f"bank {_signed_angle(b)}\ncyl. {_cylinder_list(on)}"
+            if several
+            else f"bore axis {_signed_angle(b)}"
+            for _, on, b in lines
+        ]
+        bank_boxes = [_text_box(text, 0.078, 0.16) for text in bank_texts]
+        bank_at = _spread_angles([a for a, _, _ in lines], bank_boxes, bank_ring)
+        limit = 2.6
+        for (a, _, _), text, box, shown in zip(lines, bank_texts, bank_boxes, bank_at, strict=True):
+            end = bank_ring - 0.1
             axes.plot(
-                [0.0, 1.6 * math.sin(a)],
-                [0.0, 1.6 * math.cos(a)],
+                [0.0, end * math.sin(a)],
+                [0.0, end * math.cos(a)],
                 ls="--",
                 color="C3",
                 lw=1.3,
                 zorder=2,
             )
-            label = _signed_angle(float(bank))
-            names = ", ".join(str(int(c)) for c in on_bank)
-            axes.text(
-                1.72 * math.sin(a),
-                1.72 * math.cos(a),
-                f"bank {label}\ncyl. {names}"
-                if len(np.unique(bank_keys)) > 1
-                else f"bore axis {label}",
-                ha=h_align(a),
-                va=v_align(a),
-                color="C3",
-                fontsize=9,
-            )
-
-        throw_keys = np.round(throws, 6) % 360.0
-        for throw in np.unique(throw_keys):
-            on_throw = cylinders[throw_keys == throw]
-            a = math.radians(float(throw))
-            tip = (math.sin(a), math.cos(a))
-            axes.plot([0.0, tip[0]], [0.0, tip[1]], color="C0", lw=3.0, zorder=3)
-            axes.plot([tip[0]], [tip[1]], "o", color="C0", ms=9, zorder=3)
-            axes.text(
-                1.2 * tip[0],
-                1.2 * tip[1],
-                f"{', '.join(str(int(c)) for c in on_throw)}\n({float(throw):g}°)",
-                ha=h_align(a),
-                va=v_align(a),
-                fontsize=10,
-                fontweight="bold",
-                color="C0",
-                zorder=5,
-            )
+            reach = _place_label(axes, a, shown, box, bank_ring, end, text, "C3", 9, "normal")
+            limit = max(limit, reach + 0.1)
 
         # direction of rotation: from +y towards +x, i.e. clockwise in this view; drawn in
         # the lower left corner, where no bank label goes unless a bank points there
-        centre = (-2.15, -2.15)
+        centre = (-limit + 0.45, -limit + 0.45)
         start, end = math.radians(-60.0), math.radians(60.0)
         axes.annotate(
             "",
@@ -208,8 +209,8 @@ def plot_crank_star(result: Result, *, ax: AxesArg = None, title: str | None = N
             },
         )
         axes.text(centre[0], centre[1] - 0.05, "rotation", ha="center", va="top", color="0.3")
-        axes.set_xlim(-2.6, 2.6)
-        axes.set_ylim(-2.6, 2.6)
+        axes.set_xlim(-limit, limit)
+        axes.set_ylim(-limit, limit)
         axes.set_aspect("equal")
         axes.grid(False)
         axes.set_xticks([-1.0, 0.0, 1.0])
@@ -217,12 +218,152 @@ def plot_crank_star(result: Result, *, ax: AxesArg = None, title: str | None = N
         axes.set_xlabel("x / crank radius [1]  (towards the pin after +y)")
         axes.set_ylabel("y / crank radius [1]  (up)")
         axes.set_title("throws (solid) and banks (dashed), seen from the front")
-        return finish(fig, owned, title, f"{layout_name(result)}: crank star")
+        return finish(fig, owned, title, f"{layout_heading(result)}: crank star")
+
+
+#: The radius [crank radii] of the inner edge of the throw labels of the crank star.
+_THROW_RING = 1.15
 
 
 def _signed_angle(angle_deg: float) -> str:
     signed = (angle_deg + 180.0) % 360.0 - 180.0
     return f"{signed:+g}°" if signed else "0°"
+
+
+def _cylinder_list(numbers: Iterable[Any]) -> str:
+    """Cylinder numbers as a label lists them: runs of three or more as ``1-9``."""
+    values = sorted(int(n) for n in numbers)
+    runs: list[list[int]] = []
+    for n in values:
+        if runs and n == runs[-1][-1] + 1:
+            runs[-1].append(n)
+        else:
+            runs.append([n])
+    return ", ".join(
+        f"{run[0]}-{run[-1]}" if len(run) > 2 else ", ".join(map(str, run)) for run in runs
+    )
+
+
+def _text_box(text: str, char: float, line: float) -> tuple[float, float]:
+    """Width and height [crank radii] of a label of the crank star: ``char`` per character
+    of its longest line and ``line`` per line (the star's axes are about one inch per crank
+    radius, so 10 pt text is about 0.09 wide and 0.17 high per character)."""
+    rows = text.split("\n")
+    return max(len(r) for r in rows) * char + 0.06, len(rows) * line + 0.04
+
+
+def _extent(angle: float, box: tuple[float, float]) -> tuple[float, float]:
+    """Half of a label's extent along a ring at ``angle`` [rad from +y] and across it."""
+    w, h = box
+    s, c = abs(math.sin(angle)), abs(math.cos(angle))
+    return c * w / 2.0 + s * h / 2.0, s * w / 2.0 + c * h / 2.0
+
+
+def _spread_angles(
+    angles: Sequence[float], boxes: Sequence[tuple[float, float]], ring: float
+) -> list[float]:
+    """Where labels go on a ring of radius ``ring`` so that none overlaps its neighbours:
+    each at its own angle where there is room, otherwise the crowded ones spread apart,
+    in the same order, centred on their own angles.
+
+    Parameters
+    ----------
+    angles : sequence of float
+        Each label's own angle [rad from +y, clockwise].
+    boxes : sequence of (float, float)
+        Each label's width and height [crank radii].
+    ring : float
+        Radius of the labels' inner edge [crank radii].
+
+    Returns
+    -------
+    list of float
+        The angle of each label [rad], in the order given.
+    """
+    n = len(angles)
+    if n < 2:
+        return list(angles)
+    turn = 2.0 * math.pi
+    wrapped = [a % turn for a in angles]
+    order = sorted(range(n), key=lambda i: wrapped[i])
+    # cut the circle in its widest gap, so that a crowd around 0 deg stays together
+    gaps = [(wrapped[order[(j + 1) % n]] - wrapped[order[j]]) % turn or turn for j in range(n)]
+    cut = (gaps.index(max(gaps)) + 1) % n
+    order = order[cut:] + order[:cut]
+    base = wrapped[order[0]]
+    want = [base + (wrapped[i] - base) % turn for i in order]
+
+    def gap(i: int, j: int) -> float:
+        """The angle two neighbouring labels need between their centres."""
+        ti, ri = _extent(want[i], boxes[order[i]])
+        tj, rj = _extent(want[j], boxes[order[j]])
+        return (ti + tj + 0.04) / (ring + min(ri, rj))
+
+    clusters = [[i] for i in range(n)]
+    while True:
+        placed = []
+        for members in clusters:
+            offsets = [0.0]
+            for a, b in itertools.pairwise(members):
+                offsets.append(offsets[-1] + gap(a, b))
+            centre = sum(want[i] for i in members) / len(members)
+            shift = centre - sum(offsets) / len(offsets)
+            placed.append([shift + o for o in offsets])
+        merged = False
+        for c in range(len(clusters) - 1):
+            last, first = clusters[c][-1], clusters[c + 1][0]
+            if placed[c + 1][0] - placed[c][-1] < gap(last, first) - 1e-12:
+                clusters[c : c + 2] = [clusters[c] + clusters[c + 1]]
+                merged = True
+                break
+        if not merged:
+            break
+    out = [0.0] * n
+    for members, where in zip(clusters, placed, strict=True):
+        for i, angle in zip(members, where, strict=True):
+            out[order[i]] = angle
+    return out
+
+
+def _place_label(
+    axes: Axes,
+    own: float,
+    shown: float,
+    box: tuple[float, float],
+    ring: float,
+    start: float,
+    text: str,
+    colour: str,
+    size: float,
+    weight: str,
+) -> float:
+    """Write a crank-star label with its inner edge on ``ring`` at angle ``shown`` [rad],
+    joined by a thin line from radius ``start`` on its own angle ``own`` when it was moved
+    there; returns the radius of its outer edge [crank radii]."""
+    _, across = _extent(shown, box)
+    centre = ring + across
+    x, y = centre * math.sin(shown), centre * math.cos(shown)
+    if abs(shown - own) > math.radians(1.0):
+        axes.plot(
+            [start * math.sin(own), ring * math.sin(shown)],
+            [start * math.cos(own), ring * math.cos(shown)],
+            color=colour,
+            lw=0.7,
+            zorder=2,
+        )
+    axes.text(
+        x,
+        y,
+        text,
+        ha="center",
+        va="center",
+        fontsize=size,
+        fontweight=weight,
+        color=colour,
+        zorder=5,
+        bbox={"boxstyle": "square,pad=0.05", "facecolor": "white", "edgecolor": "none"},
+    )
+    return centre + across
 
 
 def plot_crank_angle(
@@ -301,7 +442,7 @@ def plot_crank_angle(
                 axes.plot(theta, total_values, color=TOTAL_COLOUR, lw=2.6, label="total", zorder=1)
         shared_legend(fig, axes_list)
         return finish(
-            fig, owned, title, f"{layout_name(result)}: {source_label(source)} over a revolution"
+            fig, owned, title, f"{layout_heading(result)}: {source_label(source)} over a revolution"
         )
 
 
@@ -381,7 +522,7 @@ def plot_locus(
             fig,
             owned,
             title,
-            f"{layout_name(result)}: locus of the {source_label(source)} force and moment",
+            f"{layout_heading(result)}: locus of the {source_label(source)} force and moment",
         )
 
 
@@ -449,7 +590,7 @@ def plot_spectrum(
             axes.set_title(name)
             axes.set_ylabel(axis_label(name, unit))
         return finish(
-            fig, owned, title, f"{layout_name(result)}: order spectrum, {source_label(source)}"
+            fig, owned, title, f"{layout_heading(result)}: order spectrum, {source_label(source)}"
         )
 
 
@@ -498,7 +639,7 @@ def plot_roll(
     with styled():
         fig, (torque_axes, bar_axes), owned = new_figure(ax, 2, (10.5, 4.6), kind="roll")
         per_order = denoise(
-            signals.roll_signal_per_order(roll, ks, theta), float(np.nansum(amplitude))
+            signals.roll_signal_per_order(roll, ks, theta), float(np.nansum(amplitude)), ks.size
         )
         shown = significant_mask(amplitude)
         degree_axis(torque_axes, span)
@@ -526,7 +667,7 @@ def plot_roll(
         bar_axes.set_ylabel(axis_label("amplitude", unit))
         shared_legend(fig, [torque_axes])
         what = "roll with the proposed shafts" if residual else "roll"
-        return finish(fig, owned, title, f"{layout_name(result)}: {what}")
+        return finish(fig, owned, title, f"{layout_heading(result)}: {what}")
 
 
 #: The figure kinds of every analysis and the functions that draw them (the sections' own

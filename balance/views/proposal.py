@@ -19,7 +19,7 @@ from balance.views.figures import (
     degree_axis,
     denoise,
     finish,
-    layout_name,
+    layout_heading,
     new_figure,
     order_bars,
     scale_of,
@@ -293,7 +293,7 @@ def _render_proposal(result: Result) -> list[RenderableType]:
         )
     out.append(
         NumberTable(
-            "Residual with the proposal (all free forces and moments, and roll)",
+            "Residual with the proposal: free (reciprocating + rotating) + proposal; roll",
             [
                 Column("order", key=True),
                 Column("force peak", "N"),
@@ -548,8 +548,9 @@ def plot_balance(
             before_peak = signals.peak_of(result, quantity, "free")
             after_peak = signals.peak_of(result, quantity, "residual")
             reference = float(np.nansum(before_peak)) / divisor
-            before = denoise(signals.phasor_signal(bf, bb, ks, theta) / divisor, reference)
-            after = denoise(signals.phasor_signal(af, ab, ks, theta) / divisor, reference)
+            n_terms = 2 * ks.size
+            before = denoise(signals.phasor_signal(bf, bb, ks, theta) / divisor, reference, n_terms)
+            after = denoise(signals.phasor_signal(af, ab, ks, theta) / divisor, reference, n_terms)
             name = "force |F|" if quantity == "force" else "moment |Σ Δz·F|"
             top = axes_list[col]
             degree_axis(top)
@@ -588,7 +589,7 @@ def plot_balance(
         roll_reference = float(np.nansum(ra))
         top.plot(
             roll_theta,
-            denoise(signals.roll_signal(roll, rk, roll_theta), roll_reference),
+            denoise(signals.roll_signal(roll, rk, roll_theta), roll_reference, rk.size),
             color=BEFORE_COLOUR,
             ls="--",
             lw=1.8,
@@ -597,7 +598,7 @@ def plot_balance(
         )
         top.plot(
             roll_theta,
-            denoise(signals.roll_signal(residual_roll, rk, roll_theta), roll_reference),
+            denoise(signals.roll_signal(residual_roll, rk, roll_theta), roll_reference, rk.size),
             color="C4",
             lw=2.2,
             label="after (with shafts)",
@@ -608,7 +609,7 @@ def plot_balance(
         order_bars(axes_list[5], rk, [(ra, BEFORE_COLOUR, "before"), (qa, "C4", "after")])
         axes_list[5].set_ylabel("roll amplitude [N m]")
         axes_list[5].legend(loc="upper right")
-        return finish(fig, owned, title, f"{layout_name(result)}: {proposal_summary(result)}")
+        return finish(fig, owned, title, f"{layout_heading(result)}: {proposal_summary(result)}")
 
 
 def proposal_summary(result: Result) -> str:

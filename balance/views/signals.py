@@ -254,7 +254,8 @@ def bundle_of(result: Result, source: Source = "free") -> Phasors:
     result : Result
         From :func:`balance.core.analysis.compute`.
     source : {'free', 'reciprocating', 'residual'}
-        What to include (see the module notes): ``result.phasors.free()``,
+        What to include (see the module notes): ``result.phasors.free()`` (its order 1
+        set to 0 where it cancels to rounding, :func:`balance.views.polar.free_phasors`),
         ``result.phasors`` or the proposal's residual.
 
     Returns
@@ -280,7 +281,9 @@ def bundle_of(result: Result, source: Source = "free") -> Phasors:
         bundle: Phasors = part.residual
         return bundle
     if source == "free":
-        return result.phasors.free()
+        from balance.views.polar import free_phasors
+
+        return free_phasors(result.phasors, result.engine.n_cylinders)
     return result.phasors
 
 

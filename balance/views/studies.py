@@ -140,7 +140,7 @@ def tolerance_tables(result: Any, percentiles: Sequence[float]) -> list[Renderab
                 rows.append([str(int(k)), label, *(format_number(float(v)) for v in values)])
         out.append(
             NumberTable(
-                f"Free {what} peak per order: percentiles over the samples",
+                f"Free {what} (reciprocating + rotating) peak per order: percentiles",
                 [
                     Column("order", key=True),
                     Column("balancing", key=True, justify="left"),

@@ -20,14 +20,17 @@ import numpy as np
 from balance.core.catalogue import speed_rpm
 from balance.core.phasors import phase_deg, safe_ratio
 from balance.views.fitted import Column, NumberTable
-from balance.views.polar import format_number
+from balance.views.polar import format_number, free_phasors
 
 if TYPE_CHECKING:  # pragma: no cover
     from rich.console import RenderableType
 
+    from balance.core.engine import Engine
     from balance.core.result import Result
 
 __all__ = [
+    "BORE_PITCH",
+    "NO_BORE_PITCH",
     "NO_PITCH",
     "format_ratio",
     "pitch_note",
@@ -35,8 +38,17 @@ __all__ = [
     "render",
 ]
 
-#: Why a moment has no normalised value: the pitch is undefined.
+#: Why a moment has no normalised value: the pitch is undefined (every cylinder in one
+#: plane; :func:`pitch_text` gives the reason of an engine).
 NO_PITCH = "n/a (all cylinders in one plane)"
+
+#: Why a moment has no normalised value when the cylinders are in several planes but no
+#: bank has two of them (a boxer twin, a staggered V-twin): no bore pitch.
+NO_BORE_PITCH = "n/a (one cylinder per bank: no bore pitch; set pitch: in the layout)"
+
+#: What the pitch of a layout without ``pitch:`` is (docs/conventions.md, "Normalisation
+#: and ``pitch``").
+BORE_PITCH = "bore pitch: between neighbouring cylinders of one bank"
 
 
 def format_ratio(value: float, reference: float) -> str:
@@ -58,19 +70,34 @@ def format_ratio(value: float, reference: float) -> str:
     return format_number(value)
 
 
-def pitch_text(pitch: float) -> str:
-    """The cylinder pitch as printed: ``90 mm``, or ``n/a`` and why.
+def _no_pitch(engine: Engine | None) -> str:
+    """Why an engine has no pitch (:data:`NO_PITCH` without an engine)."""
+    if engine is None or np.unique(np.round(np.asarray(engine.z), 12)).size < 2:
+        return NO_PITCH
+    return NO_BORE_PITCH
+
+
+def pitch_text(pitch: float, engine: Engine | None = None) -> str:
+    """The pitch as printed: ``90 mm`` (with an engine, and what it is: the layout's own,
+    or the bore pitch), or ``n/a`` and why.
 
     Parameters
     ----------
     pitch : float
         The pitch [m]; NaN when the layout has none.
+    engine : Engine, optional
+        The engine: the text then says where the pitch comes from.
 
     Returns
     -------
     str
     """
-    return f"{format_number(pitch * 1e3)} mm" if math.isfinite(pitch) else NO_PITCH
+    if not math.isfinite(pitch):
+        return _no_pitch(engine)
+    text = f"{format_number(pitch * 1e3)} mm"
+    if engine is None:
+        return text
+    return f"{text} ({'set in the layout' if engine.pitch_given else BORE_PITCH})"
 
 
 def pitch_note(result: Result) -> tuple[str, ...]:
@@ -88,7 +115,8 @@ def pitch_note(result: Result) -> tuple[str, ...]:
     """
     if math.isfinite(float(result.reference_moment)) and float(result.reference_moment) != 0:
         return ()
-    return ("n/a: no pitch a (all cylinders in one plane), so no moment per F1 a",)
+    reason = _no_pitch(result.engine).removeprefix("n/a (").removesuffix(")").split(";")[0]
+    return (f"n/a: no pitch a ({reason}), so no moment per F1 a",)
 
 
 def _heading(result: Result) -> list[RenderableType]:
@@ -106,7 +134,7 @@ def _heading(result: Result) -> list[RenderableType]:
         f"F1 = m_rec r w^2 = {format_number(float(result.reference_force))} N; "
         f"moments about z = {format_number(float(engine.reference_z) * 1e3)} mm"
     )
-    pitch = f"pitch a = {pitch_text(float(result.pitch))}"
+    pitch = f"pitch a = {pitch_text(float(result.pitch), engine)}"
     return [Text(str(engine.name), style="bold"), Text(summary), Text(norm), Text(pitch)]
 
 
@@ -152,40 +180,43 @@ def render(result: Result, only: tuple[str, ...] | None = None) -> RenderableTyp
     return Group(*parts)
 
 
-def _free_tables(result: Result) -> list[RenderableType]:
-    """The free forces and moments per order, the rotating masses and the roll."""
-    from rich.text import Text
+#: The titles of the free force and moment tables: the quantity each row holds.
+FREE_TITLES = {
+    "force": "Free forces per order: reciprocating inertia; at order 1 also rotating and free",
+    "moment": "Free moments about reference_z: reciprocating; order 1 also rotating and free",
+}
 
+#: The note under them: what the rows of order 1 are.
+FREE_NOTE = "1 rot.: the rotating masses; 1 free = reciprocating + rotating (as drawn)"
+
+
+def _free_tables(result: Result) -> list[RenderableType]:
+    """The free forces and moments per order (reciprocating inertia, and at order 1 the
+    rotating masses and their sum, the free force the figures draw), and the roll."""
     p = result.phasors
+    free = free_phasors(p, result.engine.n_cylinders)
     parts: list[RenderableType] = []
     kinds = [("force", "N", "F1", result.reference_force)]
     if result.has_moments:
         kinds.append(("moment", "N m", "F1 a", result.reference_moment))
     for what, unit, per, reference in kinds:
-        mag = p.magnitude(what)  # type: ignore[arg-type]
-        phase = p.phase(what)  # type: ignore[arg-type]
-        peak = p.peak(what)  # type: ignore[arg-type]
-        normalised = safe_ratio(peak, reference)
-        rows = [
-            [
-                str(int(k)),
-                format_number(float(mag[i, 0])),
-                format_number(float(phase[i, 0])),
-                format_number(float(mag[i, 1])),
-                format_number(float(phase[i, 1])),
-                format_number(float(peak[i])),
-                format_ratio(float(normalised[i]), float(reference)),
-            ]
-            for i, k in enumerate(p.orders)
-        ]
-        title = (
-            "Reciprocating inertia: free forces per order"
-            if what == "force"
-            else "Reciprocating inertia: free moments per order, about reference_z"
-        )
+        forward, backward = p.pair(what)  # type: ignore[arg-type]
+        free_forward, _ = free.pair(what)  # type: ignore[arg-type]
+        rotating = complex(p.rotating(what))  # type: ignore[arg-type]
+        rows = []
+        if 1 not in p.orders:
+            rows.append(_phasor_row("1 rot.", rotating, 0j, reference))
+        for i, k in enumerate(p.orders):
+            rows.append(_phasor_row(str(int(k)), forward[i], backward[i], reference))
+            if k == 1:
+                rows.append(_phasor_row("1 rot.", rotating, 0j, reference))
+                rows.append(_phasor_row("1 free", free_forward[i], backward[i], reference))
+        notes: tuple[str, ...] = (FREE_NOTE,) if 1 in p.orders else (FREE_NOTE.split(";")[0],)
+        if what == "moment":
+            notes += pitch_note(result)
         parts.append(
             NumberTable(
-                title,
+                FREE_TITLES[what],
                 [
                     Column("order", key=True),
                     Column("forward", unit),
@@ -193,24 +224,33 @@ def _free_tables(result: Result) -> list[RenderableType]:
                     Column("backward", unit),
                     Column("phase", "deg"),
                     Column("peak", unit),
-                    Column(f"peak / {per}" if what == "force" else f"peak / ({per})"),
+                    # (F1 a) without spaces: the moments table fits 100 columns
+                    Column(f"peak / {per}" if what == "force" else f"peak/({per})"),
                 ],
                 rows,
-                notes=pitch_note(result) if what == "moment" else (),
-            )
-        )
-    for what, unit in (("force", "N"), ("moment", "N m"))[: len(kinds)]:
-        rotating = p.rotating(what)  # type: ignore[arg-type]
-        parts.append(
-            Text(
-                f"Rotating masses (order 1, forward): {what} "
-                f"{format_number(float(np.abs(rotating)))} {unit} at "
-                f"{format_number(float(phase_deg(rotating)))} deg"
+                notes=notes,
             )
         )
     if result.roll is not None:
         parts.append(_roll_table(result))
     return parts
+
+
+def _phasor_row(label: str, forward: complex, backward: complex, reference: float) -> list[str]:
+    """A row of the free force or moment table: the forward and backward phasors'
+    magnitudes and phases, the peak and the peak per ``reference``."""
+    pair = np.array([forward, backward], dtype=np.complex128)
+    size, phase = np.abs(pair), phase_deg(pair)
+    peak = float(size.sum())
+    return [
+        label,
+        format_number(float(size[0])),
+        format_number(float(phase[0])),
+        format_number(float(size[1])),
+        format_number(float(phase[1])),
+        format_number(peak),
+        format_ratio(float(safe_ratio(peak, reference)), float(reference)),
+    ]
 
 
 def _render_warnings(result: Result) -> list[RenderableType]:

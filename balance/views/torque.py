@@ -14,7 +14,7 @@ from balance.views.figures import (
     AxesArg,
     degree_axis,
     finish,
-    layout_name,
+    layout_heading,
     new_figure,
     styled,
 )
@@ -146,7 +146,7 @@ def _no_gas(result: Result, ax: AxesArg, kind: str, title: str | None) -> Figure
             va="center",
             color="0.4",
         )
-        return finish(fig, owned, title, f"{layout_name(result)}: {kind}")
+        return finish(fig, owned, title, f"{layout_heading(result)}: {kind}")
 
 
 def plot_torque(result: Result, *, ax: AxesArg = None, title: str | None = None) -> Figure:
@@ -192,7 +192,7 @@ def plot_torque(result: Result, *, ax: AxesArg = None, title: str | None = None)
         axes.set_ylabel("torque [N m]")
         axes.set_title("torque on the crankshaft (+ with rotation), gas and inertia")
         axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-        return finish(fig, owned, title, f"{layout_name(result)}: torque over the cycle")
+        return finish(fig, owned, title, f"{layout_heading(result)}: torque over the cycle")
 
 
 FORCE_NAMES = (
@@ -265,7 +265,7 @@ def plot_forces(
         for axes in (top, bottom):
             degree_axis(axes, span)
             axes.set_xlabel("crank angle from firing TDC [deg]")
-        return finish(fig, owned, title, f"{layout_name(result)}: forces on cylinder {cylinder}")
+        return finish(fig, owned, title, f"{layout_heading(result)}: forces on cylinder {cylinder}")
 
 
 #: The figure kinds of the section.

@@ -18,10 +18,10 @@ import numpy as np
 
 from balance.core.catalogue import speed_rpm
 from balance.core.phasors import phase_deg
+from balance.views.figures import grid_figure, placeholder, styled, title_text
 from balance.views.polar import format_number, json_number, order_value
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from rich.console import RenderableType
 
@@ -568,31 +568,6 @@ def _speed_table(t: TorsionResult) -> Any:
 # --------------------------------------------------------------------------- figures
 
 
-def _styled() -> Any:
-    import matplotlib as mpl
-
-    from balance.views.plots import STYLE
-
-    settings: Any = STYLE
-    return mpl.rc_context(settings)
-
-
-def _figure(nrows: int, size: tuple[float, float]) -> tuple[Figure, list[Axes]]:
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=size, layout="constrained")
-    grid = fig.subplots(nrows, 1, squeeze=False)
-    return fig, list(np.ravel(grid))
-
-
-def _wrapped(fig: Figure, text: str) -> str:
-    """A figure title wrapped to the figure's width (about 10 px a character at 12 pt and
-    100 dpi, as the other figures)."""
-    import textwrap
-
-    return textwrap.fill(text, max(30, int(fig.get_figwidth() * 10.0)))
-
-
 def _range_text(t: TorsionResult) -> str:
     rpm = _rpm(t.speeds)
     if len(rpm) == 1:
@@ -601,12 +576,8 @@ def _range_text(t: TorsionResult) -> str:
 
 
 def _not_computed(result: Result, kind: str, title: str | None, text: str) -> Figure:
-    with _styled():
-        fig, (ax,) = _figure(1, (7.0, 3.0))
-        ax.set_axis_off()
-        ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, color="0.4")
-        fig.suptitle(_wrapped(fig, title or f"{result.engine.name}: {kind.replace('_', ' ')}"))
-        return fig
+    """A figure that says why there is no torsion to draw."""
+    return placeholder(result, kind, title, text)
 
 
 _ABSENT = "not computed: no torsion in this result (a layout with a torsion: section has it)"
@@ -637,8 +608,8 @@ def _plot_campbell(result: Result, *, title: str | None = None) -> Figure:
     low, high = float(rpm.min()), float(rpm.max())
     top_speed = 1.1 * high
     top_freq = float(np.max(t.orders)) * top_speed / 60.0
-    with _styled():
-        fig, (ax,) = _figure(1, (9.0, 6.0))
+    with styled():
+        fig, (ax,) = grid_figure(1, (9.0, 6.0))
         ax.axvspan(low, high, color="0.93", zorder=0, label="speed range")
         n = np.array([0.0, top_speed])
         for k, major in zip(t.orders, t.major, strict=True):
@@ -689,7 +660,7 @@ def _plot_campbell(result: Result, *, title: str | None = None) -> Figure:
         )
         ax.legend(loc="upper left", fontsize=7)
         default = f"{result.engine.name}: Campbell diagram, {_range_text(t)}"
-        fig.suptitle(_wrapped(fig, title or default))
+        fig.suptitle(title_text(fig.get_figwidth(), title or default))
         return fig
 
 
@@ -700,8 +671,8 @@ def _plot_modes(result: Result, *, title: str | None = None) -> Figure:
     if t is None:
         return _not_computed(result, "torsion_modes", title, _ABSENT)
     count = min(SHAPES_DRAWN, t.frequencies.size)
-    with _styled():
-        fig, (ax,) = _figure(1, (9.0, 5.0))
+    with styled():
+        fig, (ax,) = grid_figure(1, (9.0, 5.0))
         x = np.arange(1, len(t.stations) + 1)
         for j in range(count):
             ax.plot(
@@ -728,8 +699,8 @@ def _plot_modes(result: Result, *, title: str | None = None) -> Figure:
             if count < t.frequencies.size
             else "torsional mode shapes"
         )
-        default = f"{result.engine.name}: {shown} (undamped)"
-        fig.suptitle(_wrapped(fig, title or default))
+        default = f"{result.engine.name}: {shown} (undamped; the same at every speed)"
+        fig.suptitle(title_text(fig.get_figwidth(), title or default))
         return fig
 
 
@@ -765,8 +736,8 @@ def _plot_response(result: Result, *, title: str | None = None) -> Figure:
         (per_order, synthesis, label),
     )
     marker = "o" if rpm.size == 1 else None
-    with _styled():
-        fig, axes = _figure(2, (9.0, 7.5))
+    with styled():
+        fig, axes = grid_figure(2, (9.0, 7.5))
         for ax, (values, total, ylabel) in zip(axes, panels, strict=True):
             peaks = np.max(values, axis=1) if values.size else np.zeros(0)
             largest = float(np.max(peaks)) if peaks.size else 0.0
@@ -801,7 +772,7 @@ def _plot_response(result: Result, *, title: str | None = None) -> Figure:
             ax.legend(fontsize=7, ncols=3, loc="upper left")
         what = "gas and inertia" if t.excitation.gas is not None else "inertia only"
         default = f"{result.engine.name}: torsional response, {_range_text(t)} ({what})"
-        fig.suptitle(_wrapped(fig, title or default))
+        fig.suptitle(title_text(fig.get_figwidth(), title or default))
         return fig
 
 
