@@ -138,12 +138,12 @@ def test_throw_id_shares_crank_unbalance_among_the_rods_of_a_throw(tmp_path):
 
 
 def test_default_mains_never_split_the_rods_of_one_throw(tmp_path):
-    """The L-twin's two staggered rods are one throw: mains half a pitch (the 24 mm plane
-    spacing) beyond its first and last rod, none between them; without labels the two
-    planes are two throws with a main between them, as before."""
+    """The L-twin's two staggered rods are one throw: mains one stroke (60.8 mm; the layout
+    has no bore pitch) beyond its first and last rod, none between them; without labels the
+    two planes are two throws with a main between them, as before."""
     compact = write(tmp_path, L_TWIN)
     mains = balance.analyse(str(compact), bearings=True)["main_bearing_z"].values
-    np.testing.assert_allclose(mains, [-0.012, 0.036], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(mains, [-0.0608, 0.0848], rtol=0, atol=1e-15)
     plain = unlabelled(tmp_path, expanded(tmp_path, compact))
     mains = balance.analyse(str(plain), bearings=True)["main_bearing_z"].values
     np.testing.assert_allclose(mains, [-0.012, 0.012, 0.036], rtol=0, atol=1e-15)

@@ -824,11 +824,15 @@ def _links(
 
 def _pitch(spec: LayoutSpec, z: FloatArray, bank: FloatArray) -> float:
     """The layout's ``pitch``, else the bore pitch (docs/conventions.md, "Normalisation and
-    ``pitch``"): the compact form's ``spacing`` is the bore pitch of each of its banks."""
+    ``pitch``"): the compact form's ``spacing`` is the bore pitch of each of its banks
+    (unless ``row_rotation`` turns the rows: then its rows' banks are banks of their own,
+    as in the expansion)."""
     if spec.pitch is not None:
         return float(spec.pitch)
-    if spec.crank is not None and len(spec.crank.throws) > 1 and spec.crank.spacing:
-        return float(spec.crank.spacing)
+    crank = spec.crank
+    turned = crank is not None and any(crank.row_rotation or ())
+    if crank is not None and len(crank.throws) > 1 and crank.spacing and not turned:
+        return float(crank.spacing)
     return bore_pitch(z, bank)
 
 
