@@ -221,3 +221,16 @@ def test_cylinder_pressure_and_gas_force_are_np_interp_and_p_minus_p0_times_a(na
     area = math.pi / 4.0 * gas.bore**2
     force = piston_gas_force(pressure, gas)
     np.testing.assert_array_equal(force, (pressure - gas.crankcase_pressure) * area)
+
+
+def test_periodic_tables_keep_each_table_its_own():
+    """Each cylinder's prepared table is its own: with 2000 tables, a key folded from the two
+    arrays' ids into one int (id(angle) ^ id(pressure) << 1) gave some tables another's
+    (a cylinder then took another's pressures, as memory addresses fell)."""
+    from balance.core.gas import periodic_tables
+
+    tables = [(np.array([0.0, 90.0, 180.0]), np.array([1.0, 2.0, 3.0]) * i) for i in range(2000)]
+    prepared = periodic_tables(tables, 720.0)
+    for i, (xp, fp) in enumerate(prepared):
+        np.testing.assert_array_equal(xp, [-540.0, 0.0, 90.0, 180.0, 720.0])
+        np.testing.assert_array_equal(fp, np.array([3.0, 1.0, 2.0, 3.0, 1.0]) * i)

@@ -40,6 +40,7 @@ from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
 from balance.core.phasors import Phasors, rounding_threshold
 from balance.core.speed import speed_squared
+from balance.core.throws import crank_pins
 
 __all__ = [
     "DEFAULT_ORDERS",
@@ -184,10 +185,11 @@ def _deg(z: complex) -> float:
 
 
 def throw_groups(layout: Engine) -> NDArray[np.intp]:
-    """Index of the crank throw (and rod plane) each cylinder's pin belongs to.
+    """Index of the crank pin each cylinder's rod is on:
+    :func:`balance.core.throws.crank_pins`.
 
-    Rods whose pins are at the same angle and the same axial position share a throw;
-    split pins and staggered rods are separate planes.
+    Rods whose pins are at the same angle and the same axial position share a pin (on one
+    crank throw); split pins and staggered rods are separate planes.
 
     Parameters
     ----------
@@ -197,20 +199,16 @@ def throw_groups(layout: Engine) -> NDArray[np.intp]:
     Returns
     -------
     ndarray of int
-        Per cylinder, the number of its throw, from 0.
+        Per cylinder, the number of its pin, from 0.
     """
-    keys = np.round(np.mod(np.degrees(layout.throw), 360.0), 9) % 360.0
-    z = np.round(layout.z, 12)
-    pairs = np.stack([keys, z], axis=-1)
-    _, inverse = np.unique(pairs, axis=0, return_inverse=True)
-    return np.asarray(inverse.ravel(), dtype=np.intp)
+    return crank_pins(layout)
 
 
 def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float64]:
     """The least member value of each group of :func:`throw_groups`.
 
-    The members of a throw agree only to the rounding of :func:`throw_groups`; taking the
-    least of them, rather than the first or last, keeps the throw where it is whatever the
+    The rods of a pin agree only to the rounding of :func:`throw_groups`; taking the
+    least of them, rather than the first or last, keeps the pin where it is whatever the
     cylinders' numbering.
 
     Parameters
@@ -218,12 +216,12 @@ def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float
     values : array_like
         One value per cylinder (a throw's plane [m] or angle [rad]).
     groups : ndarray of int
-        The throw of each cylinder (:func:`throw_groups`).
+        The pin of each cylinder (:func:`throw_groups`).
 
     Returns
     -------
     ndarray
-        One value per throw, in the unit of ``values``.
+        One value per pin, in the unit of ``values``.
     """
     out = np.full(int(groups.max()) + 1, np.inf)
     np.minimum.at(out, groups, np.asarray(values, dtype=np.float64))

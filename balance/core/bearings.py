@@ -8,7 +8,7 @@ angles:
 
 1. :func:`big_end_forces`: the force each big end puts on its crank pin, from the
    Newton–Euler equations of the piston and of the conrod as a rigid body;
-2. :func:`pin_groups`: the rods that share a crank pin (same throw angle and plane) and
+2. :func:`pin_groups`: the rods that share a crank pin (one throw, angle and plane) and
    their summed load, the crank-pin load;
 3. the throw load: the pin load plus the centrifugal force of the throw's
    ``crank_unbalance`` (and of counterweights, given as ``(z, unbalance)`` pairs);
@@ -70,6 +70,7 @@ from balance.core.engine import Engine
 from balance.core.gas import cylinder_pressure, periodic_tables, piston_gas_force
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 from balance.core.speed import speed_squared
+from balance.core.throws import crank_throws, throw_spans
 from balance.core.torque import engine_pressure_tables
 
 __all__ = [
@@ -106,18 +107,28 @@ GAS_MAX_STEP_DEG = 0.5
 # --------------------------------------------------------------------------- geometry
 
 
-def default_mains(z: ArrayLike, pitch: float = math.nan, stroke: float = math.nan) -> FloatArray:
-    r"""Default main-bearing positions [m]: one between neighbouring throw planes, one half a
+def default_mains(
+    z: ArrayLike,
+    pitch: float = math.nan,
+    stroke: float = math.nan,
+    throws: ArrayLike | None = None,
+) -> FloatArray:
+    r"""Default main-bearing positions [m]: one between neighbouring throws, one half a
     pitch beyond each end throw.
 
     Parameters
     ----------
     z : array_like
-        Axial positions of the cylinders' throw planes [m] (repeats allowed).
+        Axial positions of the cylinders' rods [m] (repeats allowed).
     pitch : float
-        Throw pitch [m] used for a single throw plane (the layout's ``pitch``); NaN if none.
+        Throw pitch [m] used for a single throw without neighbours (the layout's ``pitch``);
+        NaN if none.
     stroke : float
-        Stroke [m]; a single throw plane without a pitch gets mains one stroke either side.
+        Stroke [m]; a single throw without a pitch gets mains one stroke either side.
+    throws : array_like of int, optional
+        The crank throw of each cylinder (:func:`balance.core.throws.crank_throws`); the
+        rods of one throw are never split by a main.  Default: every plane of rods is a
+        throw of its own.
 
     Returns
     -------
@@ -126,24 +137,31 @@ def default_mains(z: ArrayLike, pitch: float = math.nan, stroke: float = math.na
 
     Notes
     -----
-    With distinct planes :math:`z_1 < \dots < z_n` the mains are
-    :math:`z_1 - (z_2 - z_1)/2`, the midpoints :math:`(z_j + z_{j+1})/2` and
-    :math:`z_n + (z_n - z_{n-1})/2`: each end main is half the neighbouring spacing beyond
-    the end throw (half a pitch for evenly spaced throws).  A single plane gets mains at
-    :math:`z_1 \mp p/2` with the layout's pitch :math:`p`, or :math:`z_1 \mp` stroke.
+    The throws take the stretches :math:`[a_j, b_j]` of the crank, from the first to the
+    last plane of their rods (:func:`balance.core.throws.throw_spans`; one plane,
+    :math:`a_j = b_j`, without staggered rods), in order along it.  With more than one
+    stretch the mains are :math:`a_1 - (a_2 - b_1)/2`, the midpoints
+    :math:`(a_{j+1} + b_j)/2` and :math:`b_n + (a_n - b_{n-1})/2`: each end main is half
+    the neighbouring gap beyond the end throw (half a pitch for evenly spaced throws in one
+    plane each).  A single stretch gets mains at :math:`a_1 - p/2` and :math:`b_1 + p/2`
+    with the layout's pitch :math:`p`, or one stroke either side.
     """
-    planes = np.unique(np.round(np.asarray(z, dtype=np.float64), 12))
-    if planes.size == 1:
+    planes = np.asarray(z, dtype=np.float64)
+    if throws is None:
+        lo = hi = np.unique(np.round(planes, 12))
+    else:
+        lo, hi = throw_spans(planes, throws)
+    if lo.size == 1:
         half = 0.5 * pitch if math.isfinite(pitch) and pitch > 0 else stroke
-        return np.array([planes[0] - half, planes[0] + half])
-    middle = 0.5 * (planes[1:] + planes[:-1])
-    first = planes[0] - 0.5 * (planes[1] - planes[0])
-    last = planes[-1] + 0.5 * (planes[-1] - planes[-2])
+        return np.array([lo[0] - half, hi[0] + half])
+    middle = 0.5 * (lo[1:] + hi[:-1])
+    first = lo[0] - 0.5 * (lo[1] - hi[0])
+    last = hi[-1] + 0.5 * (lo[-1] - hi[-2])
     return np.concatenate([[first], middle, [last]])
 
 
 def engine_default_mains(engine: Engine) -> FloatArray:
-    """:func:`default_mains` of an engine (its pitch and largest stroke).
+    """:func:`default_mains` of an engine (its throws, pitch and largest stroke).
 
     Parameters
     ----------
@@ -155,7 +173,9 @@ def engine_default_mains(engine: Engine) -> FloatArray:
     ndarray
         Strictly increasing main positions [m].
     """
-    return default_mains(engine.z, engine.pitch, float(2.0 * np.max(engine.crank_radius)))
+    return default_mains(
+        engine.z, engine.pitch, float(2.0 * np.max(engine.crank_radius)), crank_throws(engine)
+    )
 
 
 def engine_mains(engine: Engine) -> FloatArray:
@@ -246,12 +266,14 @@ def moment_arms(load_z: ArrayLike, mains: ArrayLike) -> FloatArray:
 
 
 def pin_groups(engine: Engine) -> tuple[NDArray[np.intp], FloatArray, tuple[tuple[int, ...], ...]]:
-    """The crank pins: rods whose pins share a throw angle and a plane.
+    """The crank pins: rods of one crank throw at one throw angle and in one plane
+    (:func:`balance.core.throws.crank_pins`).
 
     Parameters
     ----------
     engine : Engine
-        The engine (throws and ``z``, :func:`balance.core.balancing.throw_groups`).
+        The engine (throws, ``z`` and crank throws,
+        :func:`balance.core.balancing.throw_groups`).
 
     Returns
     -------

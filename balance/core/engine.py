@@ -253,6 +253,11 @@ class Engine:
         (:func:`balance.io.request.build_request`).
     links : Links or None
         Articulated rods (:class:`Links`); None when every rod runs on its crank pin.
+    throw_index : ndarray of int or None
+        The crank throw each cylinder's rod is on (0-based: the layout's ``throw_id``, or
+        the compact form's entry of ``throws``); rods on one throw share its
+        ``crank_unbalance``.  None: rods at one throw angle and ``z`` share a throw
+        (:func:`balance.core.throws.crank_throws`, the one rule of the core).
     """
 
     name: str
@@ -281,6 +286,7 @@ class Engine:
     mass_parts: MassParts | None = field(default=None, repr=False)
     sections: Mapping[str, Any] = field(default_factory=dict, repr=False)
     links: Links | None = field(default=None, repr=False)
+    throw_index: NDArray[np.intp] | None = field(default=None, repr=False)
 
     def section(self, name: str) -> Any:
         """What the layout's section ``name`` says (None when it has none)."""
@@ -319,7 +325,8 @@ class Engine:
 
         Only the numbering changes: every cylinder keeps its throw, bank and position, so
         the crank angle origin stays where it was.  The firing order is dropped (its
-        numbers would no longer match); link rods keep their masters (:meth:`Links.reordered`).
+        numbers would no longer match); link rods keep their masters (:meth:`Links.reordered`)
+        and every rod its crank throw.
         """
         idx = np.asarray(order, dtype=np.intp)
         if sorted(idx.tolist()) != list(range(self.n_cylinders)):
@@ -328,4 +335,13 @@ class Engine:
         gas = self.gas.reordered(idx) if self.gas is not None else None
         parts = self.mass_parts.reordered(idx) if self.mass_parts is not None else None
         links = self.links.reordered(idx) if self.links is not None else None
-        return replace(self, firing_order=None, gas=gas, mass_parts=parts, links=links, **arrays)
+        throws = self.throw_index[idx] if self.throw_index is not None else None
+        return replace(
+            self,
+            firing_order=None,
+            gas=gas,
+            mass_parts=parts,
+            links=links,
+            throw_index=throws,
+            **arrays,
+        )

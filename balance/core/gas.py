@@ -495,10 +495,13 @@ def periodic_tables(
     list of (ndarray, ndarray)
         The prepared tables, in the order given.
     """
-    prepared: dict[int, tuple[FloatArray, FloatArray]] = {}
+    # keyed by both objects' ids (alive in ``tables`` meanwhile); a key folded into one int
+    # (id(angle) ^ id(pressure) << 1) could give two tables one key, and one cylinder
+    # another's pressures, as memory addresses fell
+    prepared: dict[tuple[int, int], tuple[FloatArray, FloatArray]] = {}
     out = []
     for angle, pressure in tables:
-        key = id(angle) ^ (id(pressure) << 1)
+        key = (id(angle), id(pressure))
         if key not in prepared:
             xp = np.asarray(angle, dtype=np.float64) % period
             fp = np.asarray(pressure, dtype=np.float64)

@@ -8,7 +8,8 @@
 
 The section is optional: ``--bearings`` without it (or a section without ``mains``) means
 the default mains of :func:`balance.core.bearings.engine_default_mains` (one between
-neighbouring throw planes, one half a pitch beyond each end throw).
+neighbouring throws, never between the rods of one throw, and one half a pitch beyond each
+end throw).
 
 What is valid
 -------------
@@ -149,7 +150,7 @@ def _build(spec: BearingsSpec, engine: Engine) -> tuple[float, ...]:
 def _expand(section: Any, mains: tuple[float, ...]) -> dict[str, Any]:
     """The section as ``layout expand`` writes it: the mains used (the section's, or the
     defaults)."""
-    return {"mains": [written(z, "length") for z in mains]}
+    return {"mains": [written(z, "length", exact=True) for z in mains]}
 
 
 #: The ``bearings:`` section's entry in the reader's registry.

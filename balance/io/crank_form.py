@@ -5,7 +5,8 @@ throws, their axial ``spacing``, the ``banks`` and their ``bank_stagger``; the r
 expands them into one entry per cylinder, cylinder ``(t, j)`` of throw ``t`` and bank ``j``
 at
 
-    z = t * spacing + j * bank_stagger,   bank = banks[j],   throw = throws[t] + split[j].
+    z = t * spacing + j * bank_stagger,   bank = banks[j] (+ row_rotation[t]),
+    throw = throws[t] + split[j].
 
 A sweep of ``crank.spacing``, ``crank.bank_stagger``, ``crank.banks[N]`` or ``crank.v_angle``
 (:mod:`balance.io.fields`) needs those indices and values, which the :class:`Engine` does
@@ -51,6 +52,9 @@ class CrankForm:
         Axial offset of bank ``j`` from bank 0, per bank [m].
     banks : tuple of float
         Bank angles [deg].
+    row_rotation : tuple of float
+        Per throw, the angle added to its rods' bank angles [deg] (``crank.row_rotation``;
+        empty when the file gives none).
     """
 
     throw_index: NDArray[np.intp]
@@ -58,6 +62,7 @@ class CrankForm:
     spacing: float
     bank_stagger: float
     banks: tuple[float, ...]
+    row_rotation: tuple[float, ...] = ()
 
 
 def crank_form(engine: Engine, field: str) -> CrankForm:
@@ -130,6 +135,7 @@ def _read(
         spacing=float(crank.spacing or 0.0),
         bank_stagger=float(crank.bank_stagger),
         banks=tuple(float(b) for b in crank.banks),
+        row_rotation=tuple(float(r) for r in crank.row_rotation or ()),
     )
     return form, engine.throw, engine.bank, engine.z
 
@@ -140,7 +146,8 @@ def crank_geometry(
     """Each cylinder's axial position and bank angle for given crank values.
 
     The operations are the reader's (``t * spacing + j * bank_stagger``; the bank's angle
-    in degrees converted to radians), so the result is the one the file with these values
+    in degrees, plus its throw's ``row_rotation`` where that is not 0, converted to
+    radians), so the result is the one the file with these values
     gives, bit for bit.  The values may be arrays with grid axes and a trailing axis of size
     one (a sweep's grid); the result then has the grid's axes and the cylinders last.
 
@@ -165,7 +172,15 @@ def crank_geometry(
     t = form.throw_index.astype(np.float64)
     j = form.bank_index.astype(np.float64)
     z = t * np.asarray(spacing, dtype=np.float64) + j * np.asarray(bank_stagger, dtype=np.float64)
+    turn = form.row_rotation or (0.0,) * (int(form.throw_index.max()) + 1)
     columns = np.broadcast_arrays(
-        *(np.atleast_1d(np.asarray(banks[k], dtype=np.float64)) for k in form.bank_index)
+        *(
+            np.atleast_1d(
+                np.asarray(banks[k], dtype=np.float64) + turn[t]
+                if turn[t]
+                else np.asarray(banks[k], dtype=np.float64)
+            )
+            for t, k in zip(form.throw_index.tolist(), form.bank_index.tolist(), strict=True)
+        )
     )
     return z, np.radians(np.concatenate(columns, axis=-1))

@@ -92,12 +92,12 @@ def _expand(section: Any, load: Load) -> dict[str, Any]:
     if isinstance(load, MeanLoad | PropellerLoad):
         return {"load": load.kind}
     if isinstance(load, ConstantLoad):
-        return {"load": {"torque": written(load.torque, "torque")}}
+        return {"load": {"torque": written(load.torque, "torque", exact=True)}}
     assert isinstance(load, PowerLawLoad)
     return {
         "load": {
-            "torque": written(load.torque, "torque"),
-            "at": written(load.speed, "speed"),
+            "torque": written(load.torque, "torque", exact=True),
+            "at": written(load.speed, "speed", exact=True),
             "exponent": load.exponent,
         }
     }

@@ -1,11 +1,16 @@
 """The layout writer: ``balance layout expand``, a layout in the explicit form.
 
 :func:`expand_layout` reads a layout (:mod:`balance.io.layout_reader`) and writes it back
-as YAML with one entry per cylinder: the compact ``crank:`` form expanded, every throw
-given (``tdc`` converted), and every other section as validated, in SI values written with
-the units of the table of fields (:mod:`balance.io.layout_fields`), ten significant digits.
-Each concern section writes its own part (:mod:`balance.io.layout_sections`).  The format
-is in docs/layout-format.md, "Seeing the expansion".
+as YAML with one entry per cylinder: the compact ``crank:`` form expanded (a compact
+``link:`` into each link cylinder's ``link`` entry and rod parts), every cylinder's throw
+angle as the file gives it (``throw``, or its ``tdc``, which without a firing order places
+its firing) and the crank throw it is on (``throw_id``: the file's, or numbered along the
+file), and every other section as validated, in SI values written with the units of the
+table of fields (:mod:`balance.io.layout_fields`), each number with the fewest digits that
+read back to the same float.  The expansion is the same engine: analysed, it gives the
+file's numbers bit for bit, and expanded again, the same text.  Each concern section writes
+its own part (:mod:`balance.io.layout_sections`).  The format is in docs/layout-format.md,
+"Seeing the expansion".
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ from typing import Any
 from balance.core.engine import Engine
 from balance.io.layout_fields import layout_field, written
 from balance.io.layout_reader import build_layout, cylinder_entries, read_document
-from balance.io.layout_sections import section_reader
+from balance.io.layout_sections import section_keys, section_reader
 from balance.io.schema import CoreSpec, GasSpec
 
 __all__ = ["expand_layout"]
@@ -27,8 +32,9 @@ __all__ = ["expand_layout"]
 def expand_layout(source: str | Path) -> str:
     """The layout written in the explicit form (one entry per cylinder), as YAML text.
 
-    Compact forms are expanded; throws are given (``tdc`` is converted); every other
-    section is kept as validated, in SI values with units.
+    Compact forms are expanded; every cylinder gives its throw angle (``throw``, or the
+    ``tdc`` the file gives) and its crank throw (``throw_id``); every other section is kept
+    as validated, in SI values with units.  Read back, the text is the same engine.
 
     Parameters
     ----------
@@ -56,7 +62,7 @@ def expand_layout(source: str | Path) -> str:
         out["description"] = spec.description
     if spec.source:
         out["source"] = spec.source
-    out["speed"] = written(spec.speed, "speed")
+    out["speed"] = written(spec.speed, "speed", exact=True)
     out["cycle"] = spec.cycle
     geometry: dict[str, str] = {}
     g = spec.geometry
@@ -71,26 +77,34 @@ def expand_layout(source: str | Path) -> str:
     out["geometry"] = geometry
     out["masses"] = _fields_dict(spec.masses.model_dump(exclude_none=True))
     entries = []
-    for cyl in cylinders:
+    assert layout.throw_index is not None
+    for i, cyl in enumerate(cylinders):
+        # a tdc stays a tdc: without a firing order it places the cylinder's firing (mod 720)
+        angle = ("tdc", cyl.tdc) if cyl.tdc is not None else ("throw", cyl.throw_angle)
         entry: dict[str, Any] = {
-            "throw": _written("throw", _wrap_deg(cyl.throw_angle)),
+            angle[0]: _written(angle[0], angle[1]),
             "bank": _written("bank", cyl.bank),
             "z": _written("z", cyl.z),
+            "throw_id": cyl.throw_id
+            if cyl.throw_id is not None
+            else int(layout.throw_index[i]) + 1,
         }
-        over = cyl.model_dump(exclude_none=True, exclude={"throw", "tdc", "bank", "z", "link"})
+        over = cyl.model_dump(
+            exclude_none=True, exclude={"throw", "tdc", "bank", "z", "throw_id", "link"}
+        )
         entry.update(_fields_dict(over))
         if cyl.link is not None:
             entry["link"] = {
                 "master": int(cyl.link.master),
-                "pin_radius": written(cyl.link.pin_radius, "length"),
-                "pin_angle": written(cyl.link.pin_angle, "angle"),
-                "length": written(cyl.link.length, "length"),
+                "pin_radius": written(cyl.link.pin_radius, "length", exact=True),
+                "pin_angle": written(cyl.link.pin_angle, "angle", exact=True),
+                "length": written(cyl.link.length, "length", exact=True),
             }
         entries.append(entry)
     out["cylinders"] = entries
     out["reference_z"] = _written("reference_z", layout.reference_z)
     if math.isfinite(layout.pitch):
-        out["pitch"] = written(layout.pitch, "length")
+        out["pitch"] = written(layout.pitch, "length", exact=True)
     if layout.firing_order:
         out["firing_order"] = list(layout.firing_order)
     if spec.balance is not None:
@@ -100,18 +114,21 @@ def expand_layout(source: str | Path) -> str:
     if spec.flywheel is not None:
         fly: dict[str, str] = {}
         if spec.flywheel.inertia is not None:
-            fly["inertia"] = written(spec.flywheel.inertia, "inertia")
+            fly["inertia"] = written(spec.flywheel.inertia, "inertia", exact=True)
         if spec.flywheel.speed_fluctuation is not None:
-            fly["speed_fluctuation"] = written(spec.flywheel.speed_fluctuation, "fraction")
+            fly["speed_fluctuation"] = written(
+                spec.flywheel.speed_fluctuation, "fraction", exact=True
+            )
         out["flywheel"] = fly
     for key, value in layout.sections.items():  # each concern section writes its own
-        out[key] = section_reader(key).expand(doc.data[key], value)
+        if key in section_keys():  # not the flywheel of a crank that coasts: written above
+            out[key] = section_reader(key).expand(doc.data[key], value)
 
     class _Dumper(yaml.SafeDumper):
         pass
 
     def _flow_dict(dumper: yaml.SafeDumper, data: dict[str, Any]) -> Any:
-        flow = ("throw" in data or "master" in data or "speed_ratio" in data) and all(
+        flow = ("throw_id" in data or "master" in data or "speed_ratio" in data) and all(
             not isinstance(v, list) and (not isinstance(v, dict) or "master" in v)
             for v in data.values()
         )
@@ -121,17 +138,56 @@ def expand_layout(source: str | Path) -> str:
     header = f"# {spec.name}: explicit form"
     if layout.path:
         header += f" of {layout.path}"
+
+    def dumped(keys: list[str]) -> str:
+        part = {k: out[k] for k in keys}
+        if not part:
+            return ""
+        return yaml.dump(part, Dumper=_Dumper, sort_keys=False, width=100, allow_unicode=True)
+
+    keys = list(out)
+    at = keys.index("cylinders")
     return (
         header
         + "\n"
-        + yaml.dump(out, Dumper=_Dumper, sort_keys=False, width=100, allow_unicode=True)
+        + dumped(keys[:at])
+        + _cylinders_text(out["cylinders"])
+        + dumped(keys[at + 1 :])
         + _link_comments(layout)
     )
 
 
+def _flow(value: Any) -> str:
+    """A value of a cylinder's entry in YAML's flow style, on one line."""
+    import yaml
+
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}: {_flow(v)}" for k, v in value.items()) + "}"
+    text: str = yaml.safe_dump([value], default_flow_style=True, width=10**9, allow_unicode=True)
+    return text.strip()[1:-1]
+
+
+def _cylinders_text(entries: list[dict[str, Any]], width: int = 100) -> str:
+    """The ``cylinders:`` list, one flow mapping per cylinder, broken between its keys (a
+    link entry kept whole) where a line would pass ``width`` columns."""
+    lines = ["cylinders:"]
+    for entry in entries:
+        items = [f"{k}: {_flow(v)}" for k, v in entry.items()]
+        line = "- {"
+        for j, item in enumerate(items):
+            piece = item + ("}" if j == len(items) - 1 else ",")
+            if j and len(line) + 1 + len(piece) > width:
+                lines.append(line)
+                line = "    " + piece
+            else:
+                line += (" " if j else "") + piece
+        lines.append(line)
+    return "\n".join(lines) + "\n"
+
+
 def _written(name: str, value: float) -> str:
     """A value of the field ``name`` in its unit (:mod:`balance.io.layout_fields`)."""
-    return written(value, layout_field(name).kind)
+    return written(value, layout_field(name).kind, exact=True)
 
 
 def _fields_dict(values: dict[str, float]) -> dict[str, str]:
@@ -151,7 +207,7 @@ def _core_dict(spec: CoreSpec) -> dict[str, Any]:
             continue
         kind = spec.core_kinds.get(f.name)
         if kind is not None:
-            out[f.name] = written(value, kind)
+            out[f.name] = written(value, kind, exact=True)
         elif isinstance(value, list):
             out[f.name] = [_core_dict(v) if isinstance(v, CoreSpec) else v for v in value]
         elif isinstance(value, CoreSpec):
@@ -172,9 +228,9 @@ def _gas_dict(gas: GasSpec, path: str | None) -> dict[str, Any]:
         out["pressure_trace"] = str(trace)
     if gas.model is not None:
         out["model"] = _core_dict(gas.model)
-    out["crankcase_pressure"] = written(gas.crankcase_pressure, "pressure")
+    out["crankcase_pressure"] = written(gas.crankcase_pressure, "pressure", exact=True)
     if gas.bore is not None:
-        out["bore"] = written(gas.bore, "length")
+        out["bore"] = written(gas.bore, "length", exact=True)
     return out
 
 
@@ -203,10 +259,3 @@ def _link_comments(layout: Engine) -> str:
             f"TDC at {math.degrees(tdc[i]):.6g} deg"
         )
     return "\n".join(lines) + "\n"
-
-
-def _wrap_deg(angle: float) -> float:
-    wrapped = math.fmod(angle, 360.0)
-    if wrapped < 0:
-        wrapped += 360.0
-    return 0.0 if wrapped == 360.0 else wrapped

@@ -237,7 +237,7 @@ def entry_fields() -> tuple[LayoutField, ...]:
     return tuple(f for f in FIELDS if f.per_cylinder)
 
 
-def written(value: float, kind: str) -> str:
+def written(value: float, kind: str, exact: bool = False) -> str:
     """A checked value (SI; degrees for angles) as ``layout expand`` writes it: the
     fewest significant digits, from ten, that give the number back exactly
     (:func:`exact_number`), and the unit of its kind (:data:`LAYOUT_UNITS`), ``-0`` as ``0``.
@@ -248,6 +248,12 @@ def written(value: float, kind: str) -> str:
         The value [SI unit of its kind; deg for angles].
     kind : str
         Its unit kind.
+    exact : bool
+        True (what ``layout expand`` writes): a value that no number in that unit reads
+        back to (110000 Pa: '1.1 bar' reads as 110000.00000000001 Pa; 0.086 m: '86 mm'
+        reads as 0.08600000000000001 m) is written in the unit it is held in
+        (``110000 Pa``, ``0.086 m``), which reads back as it is.  False: always in the
+        unit of its kind.
 
     Returns
     -------
@@ -255,7 +261,33 @@ def written(value: float, kind: str) -> str:
         For example ``"86 mm"``, ``"6000 rpm"``.
     """
     unit = LAYOUT_UNITS[kind]
-    return f"{exact_number(_TO_LAYOUT[kind](value), value, kind, unit)} {unit}"
+    text = f"{exact_number(_TO_LAYOUT[kind](value), value, kind, unit)} {unit}"
+    base = _BASE_UNITS.get(kind)
+    if not exact or base is None or _reads_back(text, value, kind):
+        return text
+    # no number of the usual unit reads back to this value (110000 Pa is no 'X bar'):
+    # the value in the unit it is held in, which reads back as it is
+    return f"{exact_number(value, value, kind, base)} {base}".rstrip()
+
+
+#: Unit kind -> the unit a checked value is held in, as the file writes it (a fraction: bare),
+#: where it is not the :data:`LAYOUT_UNITS` one.
+_BASE_UNITS: dict[str, str] = {
+    "length": "m",
+    "pressure": "Pa",
+    "speed": "rad/s",
+    "fraction": "",
+}
+
+
+def _reads_back(text: str, value: float, kind: str) -> bool:
+    """Whether ``text`` read as a quantity of ``kind`` is ``value`` exactly."""
+    from balance.io.units import parse_quantity
+
+    try:
+        return bool(parse_quantity(text, kind) == value)
+    except ValueError:
+        return False
 
 
 def exact_number(

@@ -28,12 +28,14 @@ from balance.core.engine import CYLINDER_FIELDS, Engine, Links, bore_pitch
 from balance.core.errors import LayoutError, LayoutErrors, Location, raise_all
 from balance.core.gas import GasInput, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
+from balance.core.throws import rods_per_throw
 from balance.io.layout_fields import GEOMETRY_KEYS, LUMPED_KEYS, PART_KEYS, layout_field
 from balance.io.layout_sections import section_keys, section_reader
+from balance.io.layout_throws import throw_index
 from balance.io.layouts import layout_path
 from balance.io.located import problem_error, validate
 from balance.io.problems import FieldProblem, FieldProblems
-from balance.io.schema import LAYOUT_HINTS, CrankSpec, CylinderSpec, LayoutSpec
+from balance.io.schema import LAYOUT_HINTS, CrankSpec, CylinderSpec, LayoutSpec, LinkSpec
 from balance.io.traces import read_pressure_trace
 from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
 
@@ -47,6 +49,8 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+#: The rod parts a compact ``link:`` gives every link rod.
+ROD_KEYS = ("conrod", "conrod_cg_to_big_end", "conrod_inertia")
 
 
 def load_layout(source: str | Path) -> Engine:
@@ -192,18 +196,58 @@ def cylinder_entries(
 
 
 def _expand_crank(crank: CrankSpec) -> list[CylinderSpec]:
+    """The compact form's cylinders, throw-major, each with its throw's ``throw_id`` and
+    with a compact ``link:``, every link bank's link entry and link-rod parts."""
     split = crank.split if crank.split is not None else [0.0] * len(crank.banks)
+    rotation = crank.row_rotation or [0.0] * len(crank.throws)
     spacing = crank.spacing or 0.0
+    link = crank.link
+    n_banks = len(crank.banks)
+    master = link.master - 1 if link is not None else -1
+    rod = link.overrides(ROD_KEYS) if link is not None else {}
     cylinders = []
     for t, throw in enumerate(crank.throws):
         for j, bank in enumerate(crank.banks):
             # values already read and checked (SI): constructed, not read again
-            cylinders.append(
-                CylinderSpec.model_construct(
-                    throw=throw + split[j], bank=bank, z=t * spacing + j * crank.bank_stagger
+            values: dict[str, Any] = {
+                "throw": throw + split[j],
+                "bank": bank + rotation[t] if rotation[t] else bank,
+                "z": t * spacing + j * crank.bank_stagger,
+                "throw_id": t + 1,
+            }
+            if link is not None and j != master:
+                k = j if j < master else j - 1
+                angles = link.pin_angles
+                values["link"] = LinkSpec.model_construct(
+                    master=t * n_banks + master + 1,
+                    pin_radius=link.pin_radius,
+                    pin_angle=angles[k] if angles is not None else bank - crank.banks[master],
+                    length=link.length,
                 )
-            )
+                values.update(rod)
+            cylinders.append(CylinderSpec.model_construct(**values))
     return cylinders
+
+
+def _entry_path(
+    prefix: tuple[str | int, ...] | None,
+    cylinders: list[CylinderSpec],
+    i: int,
+    *keys: str,
+) -> tuple[str | int, ...]:
+    """Where the file gives cylinder ``i``'s ``keys``: its entry of the explicit form; in
+    the compact form, a link cylinder's link fields and rod parts in ``crank: link:``
+    (``pin_angle`` in ``pin_angles``), anything else at ``crank``."""
+    if prefix is not None:
+        return (*prefix, i, *keys)
+    if cylinders[i].link is None:
+        return ("crank",)
+    rest = keys[1:] if keys[:1] == ("link",) else keys
+    if rest[:1] == ("pin_angle",):
+        return ("crank", "link", "pin_angles")
+    if rest and (rest[0] in ROD_KEYS or keys[:1] == ("link",)):
+        return ("crank", "link", *rest)
+    return ("crank", "link")
 
 
 def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
@@ -235,7 +279,9 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
     section_problems, problems = problems, []
     cylinders, prefix = cylinder_entries(spec)
     n = len(cylinders)
-    sharing = _rods_per_throw(spec, cylinders)
+    entry = functools.partial(_entry_path, prefix, cylinders)
+    throws = throw_index(doc, cylinders, prefix)
+    sharing = rods_per_throw(throws).tolist()
     if n > 256:
         too_many = LayoutError(
             f"{n} cylinders",
@@ -246,15 +292,17 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         raise_all([too_many, *section_problems])
 
     def where(i: int, key: str) -> tuple[Location, str]:
-        if prefix is not None and getattr(cylinders[i], key, None) is not None:
-            path = (*prefix, i, key)
+        if getattr(cylinders[i], key, None) is not None and (
+            prefix is not None or cylinders[i].link is not None
+        ):
+            path = entry(i, key)
             return doc.location(path), dotted_path(path)
         section = layout_field(key).place  # geometry or masses
         return doc.location((section, key)), f"{section}.{key}"
 
     geometry = spec.geometry
     impossible: dict[tuple[Location, str, str], list[int]] = {}
-    masters = _link_masters(spec, doc, cylinders)
+    masters = _link_masters(doc, cylinders, entry)
     values: dict[str, list[float]] = {k: [] for k in CYLINDER_FIELDS}
     part_rows: list[tuple[float, ...]] = []
     for i, cyl in enumerate(cylinders):
@@ -275,7 +323,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
             impossible.setdefault(_geometry_problem(doc, cylinders, prefix, i), []).append(i + 1)
         try:
             rec, rot, dinertia, record = _cylinder_masses(
-                spec, doc, cyl, length, i, where, sharing[i]
+                spec, doc, cyl, length, i, where, sharing[i], entry
             )
         except LayoutError as exc:  # reported with every other problem below
             problems.append(exc)
@@ -307,7 +355,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
     links = None
     links_checked = not problems
     if links_checked:
-        links = _collect(problems, lambda: _links(doc, cylinders, masters, arrays))
+        links = _collect(problems, lambda: _links(doc, cylinders, masters, arrays, entry))
         links_checked = not problems
     z = arrays["z"]
     reference_z = spec.reference_z if spec.reference_z is not None else 0.5 * (z.min() + z.max())
@@ -336,6 +384,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         mass_parts=_mass_parts(part_rows) if part_rows else None,
         sections={},
         links=links,
+        throw_index=throws,
         **arrays,
     )
     built: dict[str, Any] = {}
@@ -521,19 +570,6 @@ def _gas(
     )
 
 
-def _rods_per_throw(spec: LayoutSpec, cylinders: list[CylinderSpec]) -> list[int]:
-    """How many rods share each cylinder's crank throw.
-
-    In the compact form the rods of one entry of ``throws`` share it (split pins included);
-    in the explicit form cylinders with the same throw angle and the same ``z`` do.
-    """
-    if spec.crank is not None:
-        per_throw = len(spec.crank.banks)
-        return [per_throw] * len(cylinders)
-    keys = [(round(cyl.throw_angle % 360.0, 9) % 360.0, round(cyl.z, 12)) for cyl in cylinders]
-    return [keys.count(key) for key in keys]
-
-
 def _cylinder_masses(
     spec: LayoutSpec,
     doc: SourceDocument,
@@ -541,19 +577,20 @@ def _cylinder_masses(
     length: float,
     i: int,
     where: Any,
-    sharing: int,
+    sharing: float,
+    entry: Callable[..., tuple[str | int, ...]],
 ) -> tuple[float, float, float, tuple[float, ...] | None]:
     """Reciprocating mass, rotating mass, conrod inertia correction of one cylinder, and
     its parts (the fields of :class:`~balance.core.masses.MassParts`; None for lumped masses).
 
-    ``crank_unbalance`` is per throw: each of the ``sharing`` rods on a throw carries its
-    share.
+    ``crank_unbalance`` is per throw: each of the ``sharing`` rods on a throw
+    (:func:`balance.core.throws.rods_per_throw`) carries its share.
     """
     masses = spec.masses
     part_over = cyl.overrides(PART_KEYS)
     lumped_over = cyl.overrides(LUMPED_KEYS)
     if cyl.link is not None:
-        _check_link_masses(spec, doc, cyl, i, where)
+        _check_link_masses(spec, doc, cyl, i, where, entry)
     if not masses.by_part:
         if part_over:
             key = next(iter(part_over))
@@ -589,7 +626,7 @@ def _cylinder_masses(
         float(cg),
         math.nan if inertia is None else float(inertia),
         float(parts["crank_unbalance"] or 0.0),
-        float(sharing),
+        sharing,
         float(lumped_over.get("reciprocating", math.nan)),
         float(lumped_over.get("rotating", math.nan)),
     )
@@ -611,29 +648,31 @@ _SHARED = (
 
 
 def _link_masters(
-    spec: LayoutSpec, doc: SourceDocument, cylinders: list[CylinderSpec]
+    doc: SourceDocument,
+    cylinders: list[CylinderSpec],
+    entry: Callable[..., tuple[str | int, ...]],
 ) -> list[int]:
     """Index of each cylinder's master (-1 for none), with every check that needs the
-    other cylinders: the master exists, is not itself a link cylinder, and shares throw and
-    z; a link cylinder gives no crank radius or conrod length of its own."""
+    other cylinders: the master exists, is not itself a link cylinder, and shares throw
+    and z (and so its crank throw, :mod:`balance.io.layout_throws`); a link cylinder gives
+    no crank radius or conrod length of its own."""
     n = len(cylinders)
     out = [-1] * n
     for i, cyl in enumerate(cylinders):
         if cyl.link is None:
             continue
-        at = ("cylinders", i, "link")
         k = cyl.link.master
         if k > n:
             raise _link_error(
                 doc,
-                (*at, "master"),
+                entry(i, "link", "master"),
                 f"master {k} is not a cylinder of this layout (cylinder {i + 1})",
                 f"the number of the cylinder whose rod carries this link rod, 1 to {n}",
             )
         if k == i + 1:
             raise _link_error(
                 doc,
-                (*at, "master"),
+                entry(i, "link", "master"),
                 f"cylinder {i + 1} names itself as its master",
                 "name the cylinder whose rod carries this link rod",
             )
@@ -641,7 +680,7 @@ def _link_masters(
         if master.link is not None:
             raise _link_error(
                 doc,
-                (*at, "master"),
+                entry(i, "link", "master"),
                 f"cylinder {k} is itself a link cylinder (its rod hangs on cylinder "
                 f"{master.link.master}'s); cylinder {i + 1} cannot hang on it",
                 "a master's rod runs on the crank pin: name a cylinder without a link entry",
@@ -653,7 +692,7 @@ def _link_masters(
             key = "throw" if cyl.throw is not None else "tdc"
             raise _link_error(
                 doc,
-                ("cylinders", i, key),
+                entry(i, key),
                 f"cylinder {i + 1} hangs on cylinder {k}'s rod but its throw is "
                 f"{throw_here:.6g} deg, the master's {throw_master:.6g} deg",
                 _SHARED,
@@ -661,7 +700,7 @@ def _link_masters(
         if abs(cyl.z - master.z) > 1e-12:
             raise _link_error(
                 doc,
-                ("cylinders", i, "z"),
+                entry(i, "z"),
                 f"cylinder {i + 1} hangs on cylinder {k}'s rod but its z is "
                 f"{cyl.z * 1e3:.6g} mm, the master's {master.z * 1e3:.6g} mm",
                 _SHARED,
@@ -670,7 +709,7 @@ def _link_masters(
             if getattr(cyl, key) is not None:
                 raise _link_error(
                     doc,
-                    ("cylinders", i, key),
+                    entry(i, key),
                     f"'{key}' on link cylinder {i + 1}: its crank radius is its master's "
                     f"(cylinder {k})",
                     "leave it out; a link piston's actual stroke is in the analysis' "
@@ -679,7 +718,7 @@ def _link_masters(
         if cyl.conrod_length is not None:
             raise _link_error(
                 doc,
-                ("cylinders", i, "conrod_length"),
+                entry(i, "conrod_length"),
                 f"'conrod_length' on link cylinder {i + 1}",
                 "give the link rod's length as link.length (geometry.conrod_length and "
                 "conrod_length are master rods' lengths)",
@@ -689,10 +728,14 @@ def _link_masters(
 
 
 def _check_link_masses(
-    spec: LayoutSpec, doc: SourceDocument, cyl: CylinderSpec, i: int, where: Any
+    spec: LayoutSpec,
+    doc: SourceDocument,
+    cyl: CylinderSpec,
+    i: int,
+    where: Any,
+    entry: Callable[..., tuple[str | int, ...]],
 ) -> None:
     """A link cylinder's masses are given by part, its link rod's in its own entry."""
-    at = ("cylinders", i)
     for key in LUMPED_KEYS:
         if getattr(cyl, key) is not None:
             loc, name = where(i, key)
@@ -707,8 +750,8 @@ def _check_link_masses(
     if not spec.masses.by_part:
         raise LayoutError(
             f"cylinder {i + 1} has a link rod, but the engine's masses are lumped",
-            doc.location((*at, "link")),
-            field=dotted_path((*at, "link")),
+            doc.location(entry(i, "link")),
+            field=dotted_path(entry(i, "link")),
             valid="give masses by part (piston_group, conrod, conrod_cg_to_big_end) and each "
             "link rod's conrod and conrod_cg_to_big_end in its cylinder's entry",
         )
@@ -716,16 +759,16 @@ def _check_link_masses(
         if getattr(cyl, key) is None:
             raise LayoutError(
                 f"link cylinder {i + 1} gives no '{key}' of its link rod",
-                doc.location(at),
-                field=dotted_path((*at, key)),
+                doc.location(entry(i)),
+                field=dotted_path(entry(i, key)),
                 valid="give the link rod's conrod (mass) and conrod_cg_to_big_end (its centre "
                 "of gravity from the link pin) in this cylinder's entry",
             )
     if spec.masses.conrod_inertia is not None and cyl.conrod_inertia is None:
         raise LayoutError(
             f"link cylinder {i + 1} gives no conrod_inertia of its link rod",
-            doc.location(at),
-            field=dotted_path((*at, "conrod_inertia")),
+            doc.location(entry(i)),
+            field=dotted_path(entry(i, "conrod_inertia")),
             valid="the engine-wide conrod_inertia is the master rods'; give the link rod's in "
             "this cylinder's entry (or leave conrod_inertia out everywhere)",
         )
@@ -736,6 +779,7 @@ def _links(
     cylinders: list[CylinderSpec],
     masters: list[int],
     arrays: dict[str, FloatArray],
+    entry: Callable[..., tuple[str | int, ...]],
 ) -> Links | None:
     """The :class:`~balance.core.engine.Links` of the file (None without link entries),
     with the link rods' reach checked: a link rod must be longer than its link pin's
@@ -767,7 +811,7 @@ def _links(
             across = reach[row] * link.length if math.isfinite(reach[row]) else math.inf
             raise _link_error(
                 doc,
-                ("cylinders", j, "link", "length"),
+                entry(j, "link", "length"),
                 f"link rod of cylinder {j + 1} ({link.length * 1e3:.6g} mm) cannot reach its "
                 f"piston: its link pin swings {across * 1e3:.6g} mm across the bore axis",
                 "length must exceed the link pin's largest distance from the bore axis "
@@ -780,11 +824,15 @@ def _links(
 
 def _pitch(spec: LayoutSpec, z: FloatArray, bank: FloatArray) -> float:
     """The layout's ``pitch``, else the bore pitch (docs/conventions.md, "Normalisation and
-    ``pitch``"): the compact form's ``spacing`` is the bore pitch of each of its banks."""
+    ``pitch``"): the compact form's ``spacing`` is the bore pitch of each of its banks
+    (unless ``row_rotation`` turns the rows: then its rows' banks are banks of their own,
+    as in the expansion)."""
     if spec.pitch is not None:
         return float(spec.pitch)
-    if spec.crank is not None and len(spec.crank.throws) > 1 and spec.crank.spacing:
-        return float(spec.crank.spacing)
+    crank = spec.crank
+    turned = crank is not None and any(crank.row_rotation or ())
+    if crank is not None and len(crank.throws) > 1 and crank.spacing and not turned:
+        return float(crank.spacing)
     return bore_pitch(z, bank)
 
 

@@ -53,9 +53,11 @@ from balance.io.units import UnitProblem, parse_quantity, registry
 
 __all__ = [
     "LAYOUT_HINTS",
+    "THROW_ID_VALID",
     "BalanceFactorSpec",
     "BalanceSpec",
     "CoreSpec",
+    "CrankLinkSpec",
     "CrankSpec",
     "CylinderSpec",
     "FieldProblem",
@@ -422,10 +424,36 @@ class LinkSpec(Strict):
         return self
 
 
-class CylinderSpec(TableSpec, rows=entry_fields(), entry=True):
-    """One cylinder of the explicit form (``throw`` or ``tdc``, ``bank``, ``z``), with
-    optional overrides of ``geometry:`` and ``masses:`` and an articulated rod's ``link``."""
+#: What a cylinder's ``throw_id`` may be.
+THROW_ID_VALID = (
+    "the number of the crank throw this cylinder's rod runs on, a whole number from 1, e.g. "
+    "'throw_id: 2' (rods with one throw_id share a throw)"
+)
 
+
+def _throw_id(value: Any) -> int | None:
+    """A cylinder's ``throw_id``: a whole number from 1, as written (no unit)."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        shown = f"'{value}'" if isinstance(value, str) else type(value).__name__
+        raise FieldProblem(f"throw_id is {shown}", THROW_ID_VALID)
+    if value != value or value != int(value) or value < 1 or value > 1_000_000:
+        raise FieldProblem(f"throw_id is {value:g}", THROW_ID_VALID)
+    return int(value)
+
+
+class CylinderSpec(TableSpec, rows=entry_fields(), entry=True):
+    """One cylinder of the explicit form (``throw`` or ``tdc``, ``bank``, ``z``, optional
+    ``throw_id``), with optional overrides of ``geometry:`` and ``masses:`` and an
+    articulated rod's ``link``.
+
+    ``throw_id`` names the crank throw the rod runs on: rods with one ``throw_id`` share
+    the throw's ``crank_unbalance`` (docs/layout-format.md, "Explicit form"); without it
+    (on every cylinder), rods at one throw angle and ``z`` share a throw.
+    """
+
+    throw_id: Annotated[int | None, BeforeValidator(_throw_id)] = None
     link: LinkSpec | None = None
 
     @model_validator(mode="after")
@@ -453,8 +481,54 @@ class CylinderSpec(TableSpec, rows=entry_fields(), entry=True):
         return self.bank - self.tdc
 
 
+class CrankLinkSpec(
+    TableSpec, rows=tuple(f for f in placed(MASSES) if f.group == "rod"), entry=True
+):
+    """The compact form's ``link:``: on every throw one bank's rod is the master rod and
+    every other bank's rod a link rod hung on it (a radial row; docs/layout-format.md,
+    "Articulated rods").
+
+    ``master`` is the master bank's number (1-based, in the order of ``banks``);
+    ``pin_radius`` and ``length`` are every link rod's (:class:`LinkSpec`); ``pin_angles``
+    one link-pin angle per bank other than the master's, in bank order (default: each
+    bank's angle less the master bank's); ``conrod``, ``conrod_cg_to_big_end`` (from the
+    link pin) and the optional ``conrod_inertia`` describe every link rod.  Each link
+    cylinder of the expansion is the explicit form's link cylinder with these values.
+    """
+
+    master: int = 1
+    pin_radius: Length
+    pin_angles: list[Angle] | None = Field(default=None, min_length=1, max_length=63)
+    length: Length
+
+    @model_validator(mode="after")
+    def _check(self) -> CrankLinkSpec:
+        if self.master < 1:
+            raise FieldProblem(
+                f"master is {self.master}",
+                "the number (1-based, in the order of banks) of the bank whose rod is the "
+                "master rod on every throw, e.g. 'master: 1'",
+                ("master",),
+            )
+        positive(self.pin_radius, "pin_radius", allow_zero=True)
+        positive(self.length, "length")
+        for key in ("conrod", "conrod_cg_to_big_end"):
+            if getattr(self, key) is None:
+                raise FieldProblem(
+                    f"missing '{key}'",
+                    "give the link rods' conrod (mass) and conrod_cg_to_big_end (their centre "
+                    "of gravity from the link pin), e.g. '{conrod: 0.7 kg, "
+                    "conrod_cg_to_big_end: 80 mm}'",
+                )
+        self.check_bounds()
+        return self
+
+
 class CrankSpec(Strict):
-    """Compact form: throws, spacing and banks, expanded to the explicit cylinder list."""
+    """Compact form: throws, spacing and banks, expanded to the explicit cylinder list; with
+    ``row_rotation``, each throw's banks turned by its own angle (the rows of a two-row
+    radial); with ``link``, every bank's rod but the master bank's hangs on the master rod of
+    its throw."""
 
     throws: list[Angle] = Field(min_length=1, max_length=256)
     spacing: OptLength = None
@@ -462,6 +536,8 @@ class CrankSpec(Strict):
     bank_count: int | None = Field(default=None, ge=1, le=64)
     split: list[Angle] | None = None
     bank_stagger: Length = 0.0
+    row_rotation: list[Angle] | None = None
+    link: CrankLinkSpec | None = None
 
     @model_validator(mode="after")
     def _check(self) -> CrankSpec:
@@ -484,7 +560,55 @@ class CrankSpec(Strict):
                 "give one split angle per bank",
                 ("split",),
             )
+        if self.row_rotation is not None and len(self.row_rotation) != len(self.throws):
+            raise FieldProblem(
+                f"row_rotation has {len(self.row_rotation)} entries for {len(self.throws)} throws",
+                "give one angle per throw, added to every bank angle of that throw's rods "
+                "(a two-row radial: [0 deg, 360/14 deg])",
+                ("row_rotation",),
+            )
+        if self.link is not None:
+            self._check_link(self.link)
         return self
+
+    def _check_link(self, link: CrankLinkSpec) -> None:
+        """A compact ``link:`` fits the banks: a master bank and link banks, all on the
+        master's pin."""
+        n = len(self.banks)
+        if n < 2:
+            raise FieldProblem(
+                "link with a single bank",
+                "a link rod hangs on another bank's master rod: give two or more banks "
+                "(banks or bank_count)",
+                ("link",),
+            )
+        if link.master > n:
+            raise FieldProblem(
+                f"master is {link.master}, but there are {n} banks",
+                f"the number of the master rod's bank, 1 to {n} in the order of banks",
+                ("link", "master"),
+            )
+        if link.pin_angles is not None and len(link.pin_angles) != n - 1:
+            raise FieldProblem(
+                f"pin_angles has {len(link.pin_angles)} entries for {n - 1} link banks",
+                "give one link-pin angle per bank other than the master's, in bank order "
+                "(or leave pin_angles out: each bank's angle less the master bank's)",
+                ("link", "pin_angles"),
+            )
+        if self.bank_stagger != 0:
+            raise FieldProblem(
+                "bank_stagger with link",
+                "a link rod hangs on its master rod, in the master rod's plane: leave "
+                "bank_stagger out (or 0 mm)",
+                ("bank_stagger",),
+            )
+        if self.split is not None and len(set(self.split)) > 1:
+            raise FieldProblem(
+                "split pins with link",
+                "a link rod hangs on its master rod, on the master's pin: give every bank "
+                "the same split (or leave split out)",
+                ("split",),
+            )
 
 
 def _speed_ratio(value: Any) -> int:
@@ -793,7 +917,11 @@ LAYOUT_HINTS = Hints(
         "firing_order": "a list of cylinder numbers, e.g. [1, 3, 4, 2]",
         "master": "the number (1-based, in file order) of the cylinder whose rod carries this "
         "link rod, e.g. 'master: 1'",
-        "link": "a mapping {master: 1, pin_radius: 46 mm, pin_angle: 72 deg, length: 230 mm}",
+        "link": "a mapping {master: 1, pin_radius: 46 mm, pin_angle: 72 deg, length: 230 mm} "
+        "(in crank: {master: 1, pin_radius: 46 mm, length: 230 mm, conrod: 0.7 kg, "
+        "conrod_cg_to_big_end: 80 mm})",
+        "pin_angles": "a list of angles, one per bank other than the master's, e.g. "
+        "[72 deg, 144 deg, 216 deg, 288 deg]",
     },
     nouns={
         "cylinders": ("cylinder", "cylinders"),

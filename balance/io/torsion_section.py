@@ -154,10 +154,10 @@ def _expand(section: Any, train: TorsionTrain) -> dict[str, Any]:
     for m in train.masses:
         entry: dict[str, Any] = {"name": m.name}
         if m.inertia is not None:
-            entry["inertia"] = written(m.inertia, "inertia")
+            entry["inertia"] = written(m.inertia, "inertia", exact=True)
         else:
             assert m.crank_inertia is not None
-            entry["crank_inertia"] = written(m.crank_inertia, "inertia")
+            entry["crank_inertia"] = written(m.crank_inertia, "inertia", exact=True)
         if m.cylinders:
             entry["cylinders"] = list(m.cylinders)
         if m.damping:
@@ -167,9 +167,9 @@ def _expand(section: Any, train: TorsionTrain) -> dict[str, Any]:
             if m.shaft.damping:
                 shaft["damping"] = f"{exact_number(m.shaft.damping)} N m s/rad"
             if m.shaft.diameter is not None:
-                shaft["diameter"] = written(m.shaft.diameter, "length")
+                shaft["diameter"] = written(m.shaft.diameter, "length", exact=True)
             if m.shaft.bore:
-                shaft["bore"] = written(m.shaft.bore, "length")
+                shaft["bore"] = written(m.shaft.bore, "length", exact=True)
             entry["shaft"] = shaft
         masses.append(entry)
     out: dict[str, Any] = {"masses": masses}
@@ -177,14 +177,14 @@ def _expand(section: Any, train: TorsionTrain) -> dict[str, Any]:
         out["dampers"] = [
             {
                 "at": d.at,
-                "inertia": written(d.inertia, "inertia"),
+                "inertia": written(d.inertia, "inertia", exact=True),
                 **({"stiffness": f"{exact_number(d.stiffness)} N m/rad"} if d.stiffness else {}),
                 **({"damping": f"{exact_number(d.damping)} N m s/rad"} if d.damping else {}),
             }
             for d in train.dampers
         ]
     if train.loss_factor:
-        out["loss_factor"] = written(train.loss_factor, "fraction")
+        out["loss_factor"] = written(train.loss_factor, "fraction", exact=True)
     return out
 
 
