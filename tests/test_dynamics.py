@@ -529,8 +529,11 @@ def test_a_square_power_law_is_the_propeller(problem):
     law = periodic_motion(
         inertia, slope, torque, 4 * math.pi, PowerLaw(c * speed * speed, speed, 2.0)
     )
-    np.testing.assert_allclose(law.speed, prop.speed, rtol=1e-10)
-    assert law.mean_speed == pytest.approx(speed, rel=1e-10)
+    # both paths end in the closed-form periodic solve, whose rounding reaches 1e-10 of the
+    # energy where exp of the load's periodic integral spans decades (hypothesis found a
+    # cycle at 1.05e-10; crank_motion.NEWTON_FLOOR)
+    np.testing.assert_allclose(law.speed, prop.speed, rtol=1e-9)
+    assert law.mean_speed == pytest.approx(speed, rel=1e-9)
 
 
 @settings(max_examples=20, deadline=None)

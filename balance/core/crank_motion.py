@@ -90,9 +90,10 @@ NEWTON_STEPS = 100
 #: Relative change of the energy below which the power law's Newton iteration has converged.
 NEWTON_TOLERANCE = 1e-14
 #: Relative change below which a step that is not at least halved from the one before means
-#: the iteration has reached the rounding of the linear solve (1e-14 to 2e-12 on the cycles
-#: hypothesis found): converged as far as floating point allows.
-NEWTON_FLOOR = 1e-9
+#: the iteration has reached the rounding of the closed-form linear solve (1e-14 on most
+#: cycles; up to 2e-10 where the exponential of the load's periodic integral spans decades,
+#: on cycles hypothesis found): converged as far as floating point allows.
+NEWTON_FLOOR = 1e-8
 
 
 # --------------------------------------------------------------------------- the bodies
