@@ -118,7 +118,7 @@ def test_random_layout_proposals_cancel_orders_one_to_three(layout, per_throw):
     residual = _time_domain_residual(layout, balanced.proposal)
     f1 = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
     f1 += float(np.sum(layout.rotating_mass * layout.crank_radius) * layout.speed**2)
-    # lever arms are resolved to 1e-12 m: pins closer than that share a throw (throw_groups),
+    # lever arms are resolved to 1e-12 m: pins closer than that share a throw (crank_pins),
     # so a per-throw counterweight may sit up to 1e-12 m from a pin's plane
     lever = float(np.ptp(layout.z)) + float(np.max(np.abs(layout.z - layout.reference_z)))
     m1 = f1 * (lever + 1e-12)

@@ -508,7 +508,7 @@ def test_cylinder_numbering(layout, seed):
 
 
 def test_a_pin_whose_rods_differ_in_z_below_rounding_keeps_its_plane_when_renumbered():
-    """Rods within 1e-12 m of one plane share a pin (``throw_groups``); the pin's plane is
+    """Rods within 1e-12 m of one plane share a pin (``crank_pins``); the pin's plane is
     the least of theirs, not the last cylinder's.  Hypothesis found this numbering
     dependence (z = 0, 0, 0, 3.7e-13 m: main loads 18.75 N against 18.7499999998595 and
     18.75000000014045 N when cylinder 4 came last)."""

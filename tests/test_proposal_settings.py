@@ -321,6 +321,28 @@ crank: {throws: [0], banks: [-45 deg, 45 deg]}
 """
 
 
+def test_staggered_rods_on_one_throw_count_as_that_throws_rods(tmp_path):
+    """Rods staggered side by side on one pin (``bank_stagger``: two planes, one throw, one
+    angle, as on a real L-twin) are that pin's two rods for the one-cylinder convention:
+    100 % of one cylinder is 50 % of each, the same counterweights and residual, and the
+    equivalents say 2 rods per throw (counting planes gave 1 rod per throw and took 100 % of
+    one cylinder for 100 % of each: a counterweight of 2.2 kg instead of 1.7 kg)."""
+    staggered = V_TWIN.replace(
+        "banks: [-45 deg, 45 deg]}", "banks: [-45 deg, 45 deg], bank_stagger: 24 mm}"
+    )
+    path = _write(tmp_path, staggered, "staggered.yaml")
+    each = _proposal_json(str(path), "--balance-factor", "50%")
+    one = _proposal_json(
+        str(path), "--balance-factor", "100%", "--balance-factor-of", "one-cylinder"
+    )
+    assert each["counterweights"] == one["counterweights"]
+    assert each["residual"] == one["residual"]
+    assert one["balance_factor"] == 0.5 and one["balance_factor_one_cylinder"] == 1.0
+    assert one["balance_factor_convention"].endswith(
+        "(= 50 % of each cylinder's: 2 rods per throw)"
+    )
+
+
 def test_the_layout_file_says_the_convention(tmp_path):
     """``balance_factor: {of: one-cylinder, value: 100 %}`` in the file is the command
     line's --balance-factor 100% --balance-factor-of one-cylinder; a bare value keeps its

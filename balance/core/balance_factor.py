@@ -14,14 +14,13 @@ rotating masses, as a share of a reference mass.  Texts and workshops use two re
   cancelled by a counterweight of one cylinder's reciprocating mass) mean this.
 
 The two agree wherever every throw carries one rod (singles, inline engines, split pins); on
-a 90° V-twin's common pin 100 % ``one-cylinder`` is 50 % ``each-cylinder``.  A throw is what
-the counterweights of the ``per-throw`` strategy are grouped by
-(:func:`balance.core.balancing.throw_groups`).
+a 90° V-twin's common pin 100 % ``one-cylinder`` is 50 % ``each-cylinder``.  The rods of
+a pin are those of one throw at one throw angle (:func:`balance.core.throws.rods_per_pin`):
+rods staggered side by side on one pin count, split pins do not.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -124,16 +123,14 @@ class FactorEquivalents:
     rods: tuple[int, ...]
 
     @classmethod
-    def of(
-        cls, factor: BalanceFactor, rods: Sequence[int] | NDArray[np.integer]
-    ) -> FactorEquivalents:
+    def of(cls, factor: BalanceFactor, rods: ArrayLike) -> FactorEquivalents:
         """The equivalents of ``factor`` on an engine with ``rods`` per throw.
 
         Parameters
         ----------
         factor : BalanceFactor
             The factor.
-        rods : sequence of int
+        rods : array_like of int
             Per cylinder (or per throw), the number of rods on its throw.
 
         Returns

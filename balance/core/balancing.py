@@ -40,7 +40,7 @@ from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
 from balance.core.phasors import Phasors, rounding_threshold
 from balance.core.speed import speed_squared
-from balance.core.throws import crank_pins
+from balance.core.throws import crank_pins, rods_per_pin
 
 __all__ = [
     "DEFAULT_ORDERS",
@@ -53,9 +53,7 @@ __all__ = [
     "group_least",
     "proposal_phasors",
     "propose",
-    "rods_per_throw",
     "shaft_roll_phasors",
-    "throw_groups",
 ]
 
 ComplexArray = NDArray[np.complex128]
@@ -184,39 +182,19 @@ def _deg(z: complex) -> float:
     return 0.0 if value >= 360.0 or abs(z) == 0 else value + 0.0
 
 
-def throw_groups(layout: Engine) -> NDArray[np.intp]:
-    """Index of the crank pin each cylinder's rod is on:
-    :func:`balance.core.throws.crank_pins`.
-
-    Rods whose pins are at the same angle and the same axial position share a pin (on one
-    crank throw); split pins and staggered rods are separate planes.
-
-    Parameters
-    ----------
-    layout : Engine
-        The engine (its throws and ``z``).
-
-    Returns
-    -------
-    ndarray of int
-        Per cylinder, the number of its pin, from 0.
-    """
-    return crank_pins(layout)
-
-
 def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float64]:
-    """The least member value of each group of :func:`throw_groups`.
+    """The least member value of each group of :func:`~balance.core.throws.crank_pins`.
 
-    The rods of a pin agree only to the rounding of :func:`throw_groups`; taking the
-    least of them, rather than the first or last, keeps the pin where it is whatever the
-    cylinders' numbering.
+    The rods of a pin agree only to the rounding of
+    :func:`~balance.core.throws.crank_pins`; taking the least of them, rather than the first
+    or last, keeps the pin where it is whatever the cylinders' numbering.
 
     Parameters
     ----------
     values : array_like
         One value per cylinder (a throw's plane [m] or angle [rad]).
     groups : ndarray of int
-        The pin of each cylinder (:func:`throw_groups`).
+        The pin of each cylinder (:func:`~balance.core.throws.crank_pins`).
 
     Returns
     -------
@@ -226,23 +204,6 @@ def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float
     out = np.full(int(groups.max()) + 1, np.inf)
     np.minimum.at(out, groups, np.asarray(values, dtype=np.float64))
     return out
-
-
-def rods_per_throw(layout: Engine) -> NDArray[np.intp]:
-    """How many rods share each cylinder's throw (:func:`throw_groups`).
-
-    Parameters
-    ----------
-    layout : Engine
-        The engine.
-
-    Returns
-    -------
-    ndarray of int
-        Per cylinder, the number of rods on its throw (its own included).
-    """
-    groups = throw_groups(layout)
-    return np.asarray(np.bincount(groups)[groups], dtype=np.intp)
 
 
 def _counterweight_targets(
@@ -397,7 +358,7 @@ def propose(
         if isinstance(balance_factor, int | float)
         else balance_factor
     )
-    rods = rods_per_throw(layout)
+    rods = rods_per_pin(layout)
     equivalents = FactorEquivalents.of(factor, rods) if factor is not None else None
 
     ff = {k: complex(force_forward[i]) for i, k in enumerate(ks)}
@@ -422,7 +383,7 @@ def propose(
             for plane_z, value in _planes_for(force, moment, z_ref, z_min, z_max):
                 counterweights.append(Counterweight(plane_z, value, radius))
         else:
-            groups = throw_groups(layout)
+            groups = crank_pins(layout)
             throw_planes = group_least(z, groups)
             # listed along the crank (z), throws in one plane by their angle
             for g in np.lexsort((np.arange(throw_planes.size), throw_planes)):

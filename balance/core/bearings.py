@@ -65,12 +65,12 @@ from balance.core._numerics import (
     series_on_grid,
     series_stats,
 )
-from balance.core.balancing import Proposal, group_least, throw_groups
+from balance.core.balancing import Proposal, group_least
 from balance.core.engine import Engine
 from balance.core.gas import cylinder_pressure, periodic_tables, piston_gas_force
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 from balance.core.speed import speed_squared
-from balance.core.throws import crank_throws, throw_spans
+from balance.core.throws import crank_pins, crank_throws, throw_spans
 from balance.core.torque import engine_pressure_tables
 
 __all__ = [
@@ -273,7 +273,7 @@ def pin_groups(engine: Engine) -> tuple[NDArray[np.intp], FloatArray, tuple[tupl
     ----------
     engine : Engine
         The engine (throws, ``z`` and crank throws,
-        :func:`balance.core.balancing.throw_groups`).
+        :func:`balance.core.throws.crank_pins`).
 
     Returns
     -------
@@ -284,7 +284,7 @@ def pin_groups(engine: Engine) -> tuple[NDArray[np.intp], FloatArray, tuple[tupl
     cylinders : tuple of tuple of int
         Cylinder numbers (1-based) on each pin.
     """
-    group = throw_groups(engine)
+    group = crank_pins(engine)
     n = int(group.max()) + 1
     z = group_least(engine.z, group)
     cylinders = tuple(tuple(int(i) + 1 for i in np.flatnonzero(group == g)) for g in range(n))

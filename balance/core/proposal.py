@@ -24,7 +24,6 @@ from balance.core.balancing import (
     Proposal,
     proposal_phasors,
     propose,
-    rods_per_throw,
     shaft_roll_phasors,
 )
 from balance.core.catalogue import Output
@@ -33,6 +32,7 @@ from balance.core.phasors import Phasors, cancel_to_zero, phase_deg, rounding_th
 from balance.core.proposal_notes import cancel_roll_notes, factor_note, orders_left
 from balance.core.result import FreeForces, Result
 from balance.core.speed import speed_squared
+from balance.core.throws import rods_per_pin
 
 __all__ = [
     "OUTPUTS",
@@ -554,7 +554,7 @@ def factor_study(layout: Engine, factors: ArrayLike | None = None) -> FactorStud
         horizontal_peak=study["horizontal_peak"],
         moment_peak=study["moment_peak"],
         optimal=optimal_balance_factor(layout, g1, pins),
-        rods=FactorEquivalents.of(BalanceFactor(0.0), rods_per_throw(layout)).rods,
+        rods=FactorEquivalents.of(BalanceFactor(0.0), rods_per_pin(layout)).rods,
     )
 
 

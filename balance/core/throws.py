@@ -36,6 +36,7 @@ __all__ = [
     "default_throws",
     "first_appearance",
     "pin_keys",
+    "rods_per_pin",
     "rods_per_throw",
     "throw_spans",
 ]
@@ -141,6 +142,27 @@ def rods_per_throw(throws: ArrayLike) -> FloatArray:
     index = np.asarray(throws, dtype=np.intp)
     counts = np.bincount(index)
     return np.asarray(counts[index], dtype=np.float64)
+
+
+def rods_per_pin(engine: Engine) -> FloatArray:
+    """How many rods share each cylinder's crank pin as the balance factor's one-cylinder
+    convention counts them: the rods of one throw at one throw angle, so that rods
+    staggered side by side on one pin are that pin's rods and split pins are pins of their
+    own (docs/theory.md, "The balance factor").
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine: its throws (:func:`crank_throws`) and throw angles.
+
+    Returns
+    -------
+    ndarray
+        Per cylinder, the number of rods on its pin [1].
+    """
+    keys = np.stack([crank_throws(engine), pin_keys(engine.throw, engine.z)[:, 0]], axis=-1)
+    _, inverse = np.unique(keys, axis=0, return_inverse=True)
+    return rods_per_throw(inverse.ravel())
 
 
 def crank_pins(engine: Engine) -> IndexArray:
