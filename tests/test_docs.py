@@ -191,6 +191,7 @@ OPTIONAL_TESTS = {
     "tests/test_sweep.py::test_zarr_write_that_fails_keeps_the_old_store": "zarr",
     "tests/test_sweep.py::test_sweep_refuses_to_replace_a_directory_that_is_not_a_store": "zarr",
     "tests/test_outputs_cli.py::test_sweep_summary_speed_in_rpm_and_attributes": "zarr",
+    "tests/test_output.py::test_terminated_zarr_sweep_keeps_the_old_store": "zarr",
     "tests/test_report.py::test_report_renders_in_a_headless_browser": "playwright",
 }
 

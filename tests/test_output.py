@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import needs
 
 from balance.core.errors import InputError
 from balance.io import atomic
@@ -131,6 +132,7 @@ def test_a_run_started_with_sigint_ignored_finishes_its_write(tmp_path):
     assert os.listdir(target.parent) == ["result.nc"]
 
 
+@needs("zarr", "zarr")
 def test_terminated_zarr_sweep_keeps_the_old_store(tmp_path):
     """SIGTERM while a Zarr store is written (its chunks by zarr's thread pool): the run
     stops at the next chunk, when no thread writes, and leaves nothing behind."""
