@@ -162,14 +162,15 @@ DEV_ONLY = {"sphinx", "myst-parser", "numpydoc", "playwright", "dask", "zarr", "
 
 def test_the_test_extra_is_only_what_the_tests_need():
     """``test`` installs pytest and its plugins (``-n`` and ``--mpl`` of addopts),
-    hypothesis and mpmath, none of Sphinx, Playwright, Dask, Zarr, mypy or ruff; ``dev`` is
+    hypothesis, mpmath and scipy (the torsion validation's independent references), none of
+    Sphinx, Playwright, Dask, Zarr, mypy or ruff; ``dev`` is
     ``test`` with ``docs``, ``zarr``, ``distributed``, Playwright, ruff and mypy.  The
     README's set-up commands stay two, and .ci/run runs its test command as written."""
     import tomllib
 
     extras = tomllib.loads(PYPROJECT.read_text())["project"]["optional-dependencies"]
     test = _requirement_names(extras["test"])
-    assert test == {"pytest", "pytest-xdist", "pytest-mpl", "hypothesis", "mpmath"}
+    assert test == {"pytest", "pytest-xdist", "pytest-mpl", "hypothesis", "mpmath", "scipy"}
     assert not test & DEV_ONLY
     assert "balance[test,docs,zarr,distributed]" in extras["dev"]
     assert {"playwright", "ruff", "mypy", "types-PyYAML"} <= _requirement_names(extras["dev"])

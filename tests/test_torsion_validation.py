@@ -485,3 +485,27 @@ def test_vector_sums_at_major_orders_are_plain_sums(layout, majors):
     for k in majors:
         i = int(np.flatnonzero(t.orders == k)[0])
         np.testing.assert_allclose(t.vector_sums[:, i], plain[0], rtol=1e-9, atol=1e-12)
+
+
+def test_the_diesels_synthesis_is_the_sampled_half_range():
+    """The built-in MWM six over its 200 speeds: the synthesised half range of every
+    section's torque and of the free-end angle is never below that of a sampling of the
+    same series at 8192 points a cycle, and above it by no more than the sampling's step
+    allows.  With two Newton steps only, an asymmetric extreme between two samples was
+    under-refined: the synthesis fell 2.7e-4 short of the sampling."""
+    engine = load_layout("inline-6-diesel-torsion")
+    t = analysed(engine).part("torsion")
+    h = np.rint(2 * np.asarray(t.orders)).astype(int)  # harmonics of the 720 deg cycle
+    n = 1 << 13
+    series = [
+        (t.section_torque[j], t.section_torque_synthesis[j]) for j in range(len(t.section_torque))
+    ]
+    series.append((t.free_end, t.free_end_synthesis))
+    for x, found in series:
+        spectrum = np.zeros((x.shape[1], n // 2 + 1), dtype=np.complex128)
+        spectrum[:, h] = x.T * (n / 2)
+        f = np.fft.irfft(spectrum, n=n, axis=-1)
+        sampled = 0.5 * (f.max(axis=1) - f.min(axis=1))
+        slack = (2 * math.pi / n) ** 2 / 8 * (np.abs(x.T) @ (h * h).astype(float))
+        assert np.all(found >= sampled * (1 - 1e-12))
+        assert np.all(found <= sampled + slack + 1e-12 * sampled)
