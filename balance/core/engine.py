@@ -19,6 +19,7 @@ from balance.core.balance_factor import BalanceFactor
 from balance.core.errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover (annotations only: gas loads when used)
+    from balance.core.crankshafts import Crankshafts
     from balance.core.gas import GasInput
     from balance.core.masses import MassParts
 
@@ -258,6 +259,10 @@ class Engine:
         the compact form's entry of ``throws``); rods on one throw share its
         ``crank_unbalance``.  None: rods at one throw angle and ``z`` share a throw
         (:func:`balance.core.throws.crank_throws`, the one rule of the core).
+    crankshafts : Crankshafts or None
+        Several crankshafts geared together and the crankshaft of each cylinder
+        (:class:`balance.core.crankshafts.Crankshafts`); None for one crankshaft on the
+        frame's ``z`` axis.
     """
 
     name: str
@@ -287,6 +292,7 @@ class Engine:
     sections: Mapping[str, Any] = field(default_factory=dict, repr=False)
     links: Links | None = field(default=None, repr=False)
     throw_index: NDArray[np.intp] | None = field(default=None, repr=False)
+    crankshafts: Crankshafts | None = field(default=None, repr=False)
 
     def section(self, name: str) -> Any:
         """What the layout's section ``name`` says (None when it has none)."""
@@ -336,6 +342,7 @@ class Engine:
         parts = self.mass_parts.reordered(idx) if self.mass_parts is not None else None
         links = self.links.reordered(idx) if self.links is not None else None
         throws = self.throw_index[idx] if self.throw_index is not None else None
+        shafts = self.crankshafts.reordered(idx) if self.crankshafts is not None else None
         return replace(
             self,
             firing_order=None,
@@ -343,5 +350,6 @@ class Engine:
             mass_parts=parts,
             links=links,
             throw_index=throws,
+            crankshafts=shafts,
             **arrays,
         )

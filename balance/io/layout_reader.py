@@ -350,7 +350,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
                 valid="the crank slider exists only while conrod_length > crank_radius + |offset|",
             )
         )
-    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
+    arrays: dict[str, Any] = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
     # the link rods' reach needs sound master geometry and masses: checked once they are
     links = None
     links_checked = not problems
