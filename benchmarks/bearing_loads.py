@@ -10,14 +10,14 @@ import sys
 import time
 
 from balance.core.analysis import compute
-from balance.core.result import Request
 from balance.io.layout_file import load_layout
+from balance.io.request import build_request
 
 name = sys.argv[1] if len(sys.argv) > 1 else "v12-60"
 runs = int(sys.argv[2]) if len(sys.argv) > 2 else 200
 engine = load_layout(name)
-plain = Request(orders=tuple(range(1, 9)))
-with_bearings = Request(orders=tuple(range(1, 9)), bearings=True)
+plain = build_request(engine, 8)  # the default analysis: proposal, torque, cylinders
+with_bearings = build_request(engine, 8, bearings=True)
 for _ in range(5):
     compute(engine, plain)
     compute(engine, with_bearings)

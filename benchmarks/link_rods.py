@@ -7,8 +7,8 @@ Run from the repository root:
     python benchmarks/link_rods.py [ROUNDS] --write-docs # and rewrite its section of
                                                          # docs/benchmarks.md
 
-Timed: ``balance.core.analysis.compute(engine, Request())`` (orders 1-8, moments, roll, the
-proposal, each cylinder's stroke and TDC) of
+Timed: ``balance.core.analysis.compute(engine, build_request(engine))`` (orders 1-8,
+moments, roll, the proposal, each cylinder's stroke and TDC) of
 
 * ``radial-9``: the built-in radial with master and link rods;
 * the same engine with every rod, as it is, on the crank pin (the link cylinders made plain
@@ -36,7 +36,7 @@ import numpy as np
 
 import balance
 from balance.core.analysis import compute
-from balance.core.result import Request
+from balance.io.request import build_request
 
 ROOT = Path(__file__).resolve().parent.parent
 BEGIN = "<!-- link-rods -->"
@@ -55,14 +55,15 @@ def engines() -> dict[str, balance.api.Engine]:
 
 
 def measure(rounds: int) -> dict[str, list[float]]:
-    request = Request()
     table = engines()
-    for engine in table.values():
-        compute(engine, request)  # warm up: imports and caches
+    requests = {name: build_request(engine) for name, engine in table.items()}
+    for name, engine in table.items():
+        compute(engine, requests[name])  # warm up: imports and caches
     times: dict[str, list[float]] = {name: [] for name in table}
     for _ in range(rounds):
         for name, engine in table.items():
-            seconds = timeit.timeit(lambda e=engine: compute(e, request), number=CALLS)
+            request = requests[name]
+            seconds = timeit.timeit(lambda e=engine, q=request: compute(e, q), number=CALLS)
             times[name].append(seconds / CALLS)
     return times
 

@@ -56,11 +56,11 @@ def real_engine() -> list[tuple[str, float]]:
     """The sweep of ``balance mounts inline-4-mounts``: the phasors of the real engine
     (its analysis once, at the layout speed), then :func:`speed_sweep` over 200 speeds."""
     from balance.core.analysis import compute
-    from balance.core.result import Request
     from balance.io.layout_file import load_layout
+    from balance.io.request import build_request
 
     engine = load_layout("inline-4-mounts")
-    request = Request(orders=tuple(range(1, ORDERS + 1)), mounts=True)
+    request = build_request(engine, ORDERS)  # its mounts: section turns the mounts on
     base = compute(engine, request).part("mounts").response
     assert base is not None
     speeds = np.linspace(800, 8000, SPEEDS) * np.pi / 30
