@@ -6,7 +6,7 @@ the count of instructions executed (valgrind's callgrind) does not depend on the
 load.  Each workload is run twice under callgrind, once in full and once stopping before
 the part measured, and the difference is what the part costs::
 
-    python benchmarks/instructions.py PYTHON [PYTHON ...]
+    python benchmarks/instructions.py [--only W1,W2] PYTHON [PYTHON ...]
 
 where each ``PYTHON`` is an interpreter that imports the version of balance to measure
 (for instance ``/path/to/old-venv/bin/python`` and ``.venv/bin/python``).  It prints one
@@ -28,11 +28,74 @@ WORKLOADS = {
     "v12-sweep": "V12 per-cylinder grid, orders 1-8 (24 960 variants beyond the first 40)",
     "i4-analyse": "inline-4 analyse loop, orders 1-2 (40 variants)",
     "v12-analyse": "V12 analyse loop, orders 1-8 (40 variants)",
+    "v12-default": "V12 default analysis with its Dataset, `balance.analyse` (20 calls)",
+    "v12-bearings": "V12 default analysis with bearing loads, `compute` (20 calls)",
+    "mounts": "inline-4-mounts analysis with the mounts, `compute` (20 calls)",
+    "mounts-sweep": "inline-4-mounts speed sweep, 200 speeds x 8 orders (20 calls)",
 }
+#: How many of the measured part a full run does (the figure is per one of them).
+CALLS = {
+    "i4-analyse": 40,
+    "v12-analyse": 40,
+    "v12-default": 20,
+    "v12-bearings": 20,
+    "mounts": 20,
+    "mounts-sweep": 20,
+}
+
+
+def _request(engine, **sections):
+    """The default request at orders 1-8 with ``sections`` on, in this version's API
+    (``build_request`` since the concern sections, ``Request(...)`` before)."""
+    try:
+        from balance.io.request import build_request
+    except ImportError:  # a version before the sections
+        from balance.core.result import Request
+
+        return Request(orders=tuple(range(1, 9)), **sections)
+    return build_request(engine, 8, **sections)
+
+
+def run_section(workload: str, full: bool) -> None:
+    """The workloads of one layout's analysis with a section, and the mount sweep."""
+    import numpy as np
+
+    import balance
+    from balance.core.analysis import compute
+
+    calls = range(CALLS[workload] if full else 0)
+    if workload == "v12-default":
+        layout = balance.load_layout("v12-60")
+        balance.analyse(layout)
+        for _ in calls:
+            balance.analyse(layout)
+        return
+    if workload == "v12-bearings":
+        layout = balance.load_layout("v12-60")
+        request = _request(layout, bearings=True)
+    else:
+        layout = balance.load_layout("inline-4-mounts")
+        request = _request(layout, mounts=True)
+    result = compute(layout, request)
+    if workload != "mounts-sweep":
+        for _ in calls:
+            compute(layout, request)
+        return
+    from balance.core.mounts import speed_sweep
+
+    # the sweep's base: the mounts part's response since the sections, the part before
+    base = result.part("mounts").response if hasattr(result, "part") else result.mounts
+    speeds = np.linspace(800, 8000, 200) * np.pi / 30
+    speed_sweep(base, speeds)
+    for _ in calls:
+        speed_sweep(base, speeds)
 
 
 def run(workload: str, full: bool) -> None:
     """The workload: with ``full`` False it stops before the part measured."""
+    if workload in ("v12-default", "v12-bearings", "mounts", "mounts-sweep"):
+        run_section(workload, full)
+        return
     import numpy as np
 
     import balance
@@ -99,19 +162,25 @@ def main() -> None:
     if sys.argv[1:2] == ["--run"]:
         run(sys.argv[2], sys.argv[3] == "1")
         return
-    pythons = sys.argv[1:]
+    args = sys.argv[1:]
+    workloads = dict(WORKLOADS)
+    if args[:1] == ["--only"]:
+        workloads = {name: WORKLOADS[name] for name in args[1].split(",")}
+        args = args[2:]
+    pythons = args
     if not pythons:
         raise SystemExit(__doc__)
-    print("| interpreter | " + " | ".join(WORKLOADS) + " |")
-    print("|---|" + "---:|" * len(WORKLOADS))
+    print("| interpreter | " + " | ".join(workloads) + " |")
+    print("|---|" + "---:|" * len(workloads))
     for python in pythons:
         cells = []
-        for workload in WORKLOADS:
+        for workload in workloads:
             part = instructions(python, workload, True) - instructions(python, workload, False)
-            per = 40 if workload.endswith("-analyse") else 1
-            cells.append(f"{part / per / 1e6:.2f} × 10⁶" + (" per variant" if per > 1 else ""))
+            per = CALLS.get(workload, 1)
+            unit = " per variant" if workload.endswith("-analyse") else " per call"
+            cells.append(f"{part / per / 1e6:.2f} × 10⁶" + (unit if per > 1 else ""))
         print(f"| `{python}` | " + " | ".join(cells) + " |")
-    for workload, what in WORKLOADS.items():
+    for workload, what in workloads.items():
         print(f"\n{workload}: {what}", end="")
     print()
 

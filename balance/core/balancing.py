@@ -358,8 +358,10 @@ def propose(
         if isinstance(balance_factor, int | float)
         else balance_factor
     )
-    rods = rods_per_pin(layout)
-    equivalents = FactorEquivalents.of(factor, rods) if factor is not None else None
+    rods = rods_per_pin(layout) if factor is not None else None  # only a factor needs them
+    equivalents = (
+        FactorEquivalents.of(factor, rods) if factor is not None and rods is not None else None
+    )
 
     ff = {k: complex(force_forward[i]) for i, k in enumerate(ks)}
     fb = {k: complex(force_backward[i]) for i, k in enumerate(ks)}
@@ -373,7 +375,7 @@ def propose(
 
     counterweights: list[Counterweight] = []
     if 1 in wanted:
-        shares = cylinder_shares(factor, rods) if factor is not None else None
+        shares = cylinder_shares(factor, rods) if factor is not None and rods is not None else None
         targets = _counterweight_targets(layout, first_order, shares)
         scale_f = float(np.sum(np.abs(targets)))
         scale_m = float(np.sum(np.abs(targets * lever)))

@@ -178,7 +178,9 @@ def balance_engine(
         roll=picked.roll,
     )
     after = residual(layout, proposal, p)
-    kept = residual(layout, proposal, picked)  # at the orders to cancel, which the notes speak of
+    # at the orders to cancel, which the notes speak of: the residual's own entries where
+    # they are among its orders (each order's sum is formed and cleaned on its own)
+    kept = after.at(needed) if source is free else residual(layout, proposal, picked)
     head = factor_note(proposal, picked, kept)
     notes = ([head] if head else []) + list(proposal.notes) + cancel_roll_notes(proposal, kept)
     proposal = replace(proposal, notes=tuple(notes))
