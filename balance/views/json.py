@@ -186,7 +186,12 @@ def merge(out: dict[str, Any], block: dict[str, Any]) -> None:
         here = out.get(key)
         if isinstance(value, dict) and isinstance(here, dict):
             merge(here, value)
-        elif _entries(value) and _entries(here) and len(value) == len(here):
+        elif (
+            isinstance(here, list)
+            and _entries(value)
+            and _entries(here)
+            and len(value) == len(here)
+        ):
             for mine, theirs in zip(here, value, strict=True):  # one entry per cylinder
                 merge(mine, theirs)
         else:
