@@ -277,3 +277,33 @@ def test_layout_expand_keeps_crossheads_true(tmp_path):
     assert "crossheads: true" in out.stdout
     again = _write(tmp_path, out.stdout)
     assert layout_from_text(again.read_text()).section("crossheads").all()
+
+
+def test_only_the_cylinders_that_give_a_crosshead_have_guide_forces():
+    text = SIX.format(offset="0 mm", inertia="", gas="").replace("  crosshead: 2600 kg\n", "")
+    text = text.replace(
+        "crank: {throws: [0, 120, 240, 180, 300, 60], spacing: 1020 mm}",
+        "cylinders:\n"
+        + "".join(
+            f"  - {{throw: {t}, z: {i * 1020} mm{', crosshead: 2600 kg' if i == 0 else ''}}}\n"
+            for i, t in enumerate([0, 120, 240, 180, 300, 60])
+        ),
+    )
+    engine = layout_from_text(text)
+    guide = _guide(engine)
+    assert guide.crossheads.tolist() == [True] + [False] * 5
+    assert np.all(guide.guide_force[1:] == 0) and np.all(np.isnan(guide.maximum[1:]))
+    one = _guide(_six(text=ONE))  # cylinder 1 alone, its own slider mass
+    assert guide.maximum[0] == pytest.approx(one.maximum[0], rel=1e-12)
+
+
+def test_a_four_stroke_with_gas_has_half_orders_and_its_h_type_is_the_roll():
+    text = SIX.replace("cycle: two-stroke", "cycle: four-stroke")
+    engine = _six(gas=GAS, text=text)
+    result = _result(engine, "1-6")
+    guide = result.part("guide_forces")
+    assert guide.orders.tolist() == [k / 2 for k in range(1, 13)]
+    assert guide.orders.tolist() == result.roll_orders.tolist()
+    scale = np.max(np.abs(result.roll))
+    assert np.allclose(guide.h_type, result.roll, rtol=0, atol=1e-9 * scale)
+    assert abs(guide.h_type[0]) > 1e-3 * scale  # a half order is there
