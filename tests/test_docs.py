@@ -121,13 +121,15 @@ def test_every_plot_kind_is_documented_under_its_file_name():
 
 
 def test_every_json_block_is_documented():
-    """Every top-level key of an analysis's JSON (with gas, bearings and mounts) is named in
-    the schema of docs/cli.md, and the schema names nothing the program does not write."""
+    """Every top-level key of an analysis's JSON (with gas, bearings, mounts and crossheads) is
+    named in the schema of docs/cli.md, and the schema names nothing the program does not
+    write."""
     block = _text().split("## JSON output", 1)[1].split("```text", 1)[1].split("```", 1)[0]
     documented = set(re.findall(r'^  "(\w+)":', block, re.M))
     gas = to_dict(balance.compute_result("inline-4-gas", [1, 2]))
     mounted = to_dict(balance.compute_result("inline-4-mounts", [1, 2], bearings=True))
-    written = set(gas) | set(mounted) | {"balance_factor_study"}
+    crosshead = to_dict(balance.compute_result("marine-crosshead-6", [1, 2]))
+    written = set(gas) | set(mounted) | set(crosshead) | {"balance_factor_study"}
     assert documented == written, documented ^ written
     assert "not yet produced" not in _text() and "refuses a `gas:`" not in _text()
 

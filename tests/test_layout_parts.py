@@ -208,7 +208,7 @@ def test_a_row_s_kind_is_what_the_schema_reads_and_expand_writes():
         assert own["msg"].endswith("3 has no unit"), own
         assert own["ctx"]["error"].suggestion.endswith(likely[row.kind]), row.name
         checked += 1
-    assert checked == 13  # geometry 5, masses 7, z
+    assert checked == 15  # geometry 5, masses 9 (piston_rod and crosshead too), z
     assert layout_fields.written(0.086, layout_field("stroke").kind) == "86 mm"
     assert layout_fields.written(-0.0, layout_field("bank").kind) == "0 deg"
     assert layout_fields.written(0.5, "fraction") == "50 %"

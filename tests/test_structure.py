@@ -16,7 +16,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "balance"
 TESTS = Path(__file__).resolve().parent
 
 #: Concerns beyond the free forces, as their names appear in identifiers.
-CONCERNS = ("bearing", "mount", "torsion", "dynamic", "crankshaft")
+CONCERNS = ("bearing", "mount", "torsion", "dynamic", "crankshaft", "crosshead")
 #: The files (modules) of the package whose identifiers may name one concern: its physics
 #: (one or two core modules), its reader, its views, the command line, and one more.
 MAX_FILES_PER_CONCERN = 6

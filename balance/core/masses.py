@@ -26,6 +26,8 @@ PART_FIELDS = (
     "conrod_cg_to_big_end",
     "conrod_inertia",
     "crank_unbalance",
+    "piston_rod",
+    "crosshead",
 )
 
 
@@ -37,6 +39,8 @@ def two_mass_split(
     crank_unbalance: ArrayLike,
     rods_per_throw: ArrayLike,
     conrod_length: ArrayLike,
+    piston_rod: ArrayLike = 0.0,
+    crosshead: ArrayLike = 0.0,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""Lumped reciprocating and rotating masses and the conrod inertia correction.
 
@@ -56,11 +60,14 @@ def two_mass_split(
         How many conrods share the throw (the unbalance is shared among them) [1].
     conrod_length : array_like
         Centre-to-centre length :math:`l` [m].
+    piston_rod, crosshead : array_like
+        A crosshead engine's piston rod and crosshead [kg] (0 for a trunk piston): they
+        reciprocate with the piston group.
 
     Returns
     -------
     reciprocating, rotating : ndarray
-        :math:`m_{rec} = m_p + m_c a/l` and
+        :math:`m_{rec} = m_p + m_{pr} + m_{xh} + m_c a/l` and
         :math:`m_{rot} = m_c (1 - a/l) + u/n_{throw}` [kg].
     inertia_correction : ndarray
         :math:`\Delta I = I_c - m_c\, a (l - a)` [kg m²]; 0 where no inertia is given.
@@ -83,7 +90,12 @@ def two_mass_split(
     inertia = np.asarray(conrod_inertia, dtype=np.float64)
     small_end = m_c * a / length
     big_end = m_c - small_end
-    reciprocating = np.asarray(piston_group, dtype=np.float64) + small_end
+    slider = (
+        np.asarray(piston_group, dtype=np.float64)
+        + np.asarray(piston_rod, dtype=np.float64)
+        + np.asarray(crosshead, dtype=np.float64)
+    )
+    reciprocating = slider + small_end
     rotating = big_end + np.asarray(crank_unbalance, dtype=np.float64) / np.asarray(
         rods_per_throw, dtype=np.float64
     )
@@ -96,7 +108,8 @@ class MassParts:
     """The parts behind a by-part layout's lumped masses, one entry per cylinder.
 
     ``reciprocating_given`` and ``rotating_given`` hold a cylinder's lumped override
-    (which wins over its parts) and NaN elsewhere.
+    (which wins over its parts) and NaN elsewhere; ``piston_rod`` and ``crosshead`` a
+    crosshead engine's (0 for a trunk piston).
     """
 
     piston_group: FloatArray
@@ -107,6 +120,8 @@ class MassParts:
     rods_per_throw: FloatArray
     reciprocating_given: FloatArray
     rotating_given: FloatArray
+    piston_rod: FloatArray
+    crosshead: FloatArray
 
     def lumped(
         self, conrod_length: ArrayLike, parts: Mapping[str, ArrayLike] | None = None
@@ -133,6 +148,8 @@ class MassParts:
         return replace(
             self,
             piston_group=self.piston_group * f3,
+            piston_rod=self.piston_rod * f3,
+            crosshead=self.crosshead * f3,
             conrod=self.conrod * f3,
             conrod_cg_to_big_end=self.conrod_cg_to_big_end * factor,
             conrod_inertia=self.conrod_inertia * factor**5,

@@ -64,6 +64,9 @@ STROKE_RANGE = (5e-3, 4.0)
 #: conrod's small-end share add to that; the bounds leave a factor of about 4 below and
 #: 15 above, and a gram-kilogram slip (x or / 1000) falls outside them.
 RECIPROCATING_DENSITY_RANGE = (100.0, 20_000.0)
+#: The upper bound for a crosshead cylinder [kg/m^3], whose slider adds piston rod and
+#: crosshead to the piston (together about two to four times its mass; docs/crossheads.md).
+SLIDER_DENSITY_MAX = 60_000.0
 #: Crank speed [rpm] above which a warning is given: Formula One engines, the fastest
 #: car engines built, peaked near 20 000 rpm.
 MAX_SPEED_RPM = 25_000.0
@@ -326,7 +329,9 @@ def _reciprocating(engine: Engine) -> PlausibilityWarning | None:
     mass = np.asarray(engine.reciprocating_mass, dtype=np.float64)
     density = mass / bore**3
     low, high = RECIPROCATING_DENSITY_RANGE
-    found = _outside(density, low, high)
+    sliders = engine.section("crossheads")  # crosshead cylinders: a heavier slider
+    top = high if sliders is None else np.where(sliders, SLIDER_DENSITY_MAX, high)
+    found = _outside(density, low, top)
     if found is None:
         return None
     i, which, excess = found
@@ -335,7 +340,8 @@ def _reciprocating(engine: Engine) -> PlausibilityWarning | None:
         _field(mass, i, "masses.reciprocating", "reciprocating"),
         f"reciprocating mass {_mass(mass[i])} on a bore of {_length(bore)}{_also(which)}: "
         f"{density[i] / 1e3:.3g} g per cm^3 of bore cubed, outside {low / 1e3:g} to "
-        f"{high / 1e3:g} g/cm^3 (pistons alone weigh about 0.4-1.3 g/cm^3); check the "
+        f"{float(np.broadcast_to(top, density.shape)[i]) / 1e3:g} g/cm^3 (pistons alone "
+        "weigh about 0.4-1.3 g/cm^3); check the "
         "units of the masses and of the bore (g or kg? mm or m?)",
         excess,
     )

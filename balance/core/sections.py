@@ -9,7 +9,8 @@ A section says
 - its name: the key of :attr:`balance.core.result.Request.sections` and of
   :attr:`balance.core.result.Result.parts`, the keyword of :func:`balance.analyse` and the
   flag of the command line;
-- which section of the layout file turns it on (``gas:``, ``bearings:``, ``mounts:``) and
+- which section of the layout file turns it on (``gas:``, ``bearings:``, ``mounts:``; crosshead
+  cylinders, ``crossheads``) and
   whether it is computed unless turned off;
 - the options it takes (what a request may set besides turning it on);
 - where its computation is: a function ``part(engine, request, result, **options)`` that
@@ -88,6 +89,13 @@ SECTIONS: tuple[Section, ...] = (
         outputs="balance.core.torque:OUTPUTS",
         layout_key="gas",
         default=True,
+    ),
+    Section(
+        "guide_forces",
+        "Guide forces and guide-force moments (crosshead engines)",
+        part="balance.core.crosshead:guide_force_part",
+        outputs="balance.core.crosshead:OUTPUTS",
+        layout_key="crossheads",
     ),
     Section(
         "dynamics",

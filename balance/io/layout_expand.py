@@ -64,6 +64,8 @@ def expand_layout(source: str | Path) -> str:
         out["source"] = spec.source
     out["speed"] = written(spec.speed, "speed", exact=True)
     out["cycle"] = spec.cycle
+    if spec.crossheads:  # docs/crossheads.md
+        out["crossheads"] = True
     geometry: dict[str, str] = {}
     g = spec.geometry
     if g.stroke is not None:

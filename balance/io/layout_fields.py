@@ -185,6 +185,9 @@ FIELDS: tuple[LayoutField, ...] = (
     LayoutField(
         "crank_unbalance", "mass", MASSES, "parts.crank_unbalance", _NON_NEGATIVE, group="part"
     ),
+    # a crosshead engine's slider (docs/crossheads.md): with the piston group it reciprocates
+    LayoutField("piston_rod", "mass", MASSES, "parts.piston_rod", _NON_NEGATIVE, group="part"),
+    LayoutField("crosshead", "mass", MASSES, "parts.crosshead", _NON_NEGATIVE, group="part"),
     LayoutField("reference_z", "length", ENGINE, "reference_z", per_cylinder=False),
 )
 

@@ -392,6 +392,13 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         from balance.core.speed_model import Flywheel
 
         built["flywheel"] = Flywheel(spec.flywheel.inertia, spec.flywheel.speed_fluctuation)
+    # crosshead cylinders turn the guide-force section on (docs/crossheads.md)
+    crossheads = [
+        spec.crossheads or cyl.crosshead is not None or spec.masses.crosshead is not None
+        for cyl in cylinders
+    ]
+    if any(crossheads):
+        built["crossheads"] = np.asarray(crossheads)
     for key, section in sections.items():  # each on the engine read from the rest
         value = _collect(problems, functools.partial(_section, doc, key, section, engine))
         if value is not None:
@@ -629,8 +636,10 @@ def _cylinder_masses(
         sharing,
         float(lumped_over.get("reciprocating", math.nan)),
         float(lumped_over.get("rotating", math.nan)),
+        float(parts["piston_rod"] or 0.0),
+        float(parts["crosshead"] or 0.0),
     )
-    rec_split, rot_split, dinertia = two_mass_split(*record[:6], length)
+    rec_split, rot_split, dinertia = two_mass_split(*record[:6], length, *record[8:])
     rec = record[6] if not math.isnan(record[6]) else float(rec_split)
     rot = record[7] if not math.isnan(record[7]) else float(rot_split)
     return rec, rot, float(dinertia), record

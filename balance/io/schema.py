@@ -364,6 +364,16 @@ class MassesSpec(TableSpec, rows=placed(MASSES)):
         parts = given & set(PART_KEYS)
         if lumped and parts:
             first = sorted(parts)[0]
+            slider = sorted(parts & {"piston_rod", "crosshead"})
+            if slider:  # a crosshead engine's parts (docs/crossheads.md)
+                raise FieldProblem(
+                    f"'{slider[0]}' given together with lumped masses",
+                    "with lumped masses write 'crossheads: true' at the top of the file "
+                    "(reciprocating then includes piston rod and crosshead), or give the "
+                    "masses by part (piston_group, piston_rod, crosshead, conrod, "
+                    "conrod_cg_to_big_end)",
+                    (slider[0],),
+                )
             raise FieldProblem(
                 f"'{first}' given together with lumped masses",
                 "give either reciprocating and rotating, or the parts (piston_group, conrod, "
@@ -853,6 +863,8 @@ class LayoutSpec(Strict):
     reference_z: OptLength = None
     pitch: OptLength = None
     firing_order: list[int] | None = None
+    # every cylinder a crosshead cylinder, with lumped masses (docs/crossheads.md)
+    crossheads: bool = False
     balance: BalanceSpec | None = None
     gas: GasSpec | None = None
     flywheel: FlywheelSpec | None = None

@@ -1,7 +1,8 @@
 """CSV view of a :class:`~balance.core.result.Result`: one row per order (no xarray).
 
 The columns are the per-order outputs of the catalogue (:data:`balance.core.catalogue.BASE`),
-each read through its getter.
+each read through its getter, and those a section's views add (``csv_columns``,
+:mod:`balance.views.sections`).
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import math
 from typing import TYPE_CHECKING
 
 from balance.core.catalogue import BASE
+from balance.views.sections import views_of
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
@@ -62,6 +64,11 @@ def to_csv(result: Result) -> str:
         roll_at = {float(k): i for i, k in enumerate(result.roll_orders)}
         roll_amplitude = values["roll_amplitude"].get(result)
         roll_phase = values["roll_phase"].get(result)
+    # the sections' columns by order (views.sections: a views module's csv_columns)
+    extra: list[tuple[str, dict[float, float]]] = []
+    for _, views in views_of(result):
+        extra += getattr(views, "csv_columns", lambda result: [])(result)
+    header += [name for name, _ in extra]
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(header)
@@ -72,5 +79,6 @@ def to_csv(result: Result) -> str:
             row += [_cell(float(roll_amplitude[at])), _cell(float(roll_phase[at]))]
         elif result.roll is not None:
             row += ["", ""]
+        row += [_cell(column.get(float(k), math.nan)) for _, column in extra]
         writer.writerow(row)
     return buffer.getvalue()

@@ -171,8 +171,9 @@ def to_dict(result: Result) -> dict[str, Any]:
 
 
 def merge(out: dict[str, Any], block: dict[str, Any]) -> None:
-    """Add a section's JSON block to ``out``: its new keys at the end, and its objects
-    under a key ``out`` has (``accuracy``) merged into that object, key by key.
+    """Add a section's JSON block to ``out``: its new keys at the end, its objects under a
+    key ``out`` has (``accuracy``) merged into that object, key by key, and its list of
+    objects under a key whose list is as long (``cylinders``) merged entry by entry.
 
     Parameters
     ----------
@@ -182,10 +183,23 @@ def merge(out: dict[str, Any], block: dict[str, Any]) -> None:
         What a section adds (its views module's ``json_block``).
     """
     for key, value in block.items():
-        if isinstance(value, dict) and isinstance(out.get(key), dict):
-            merge(out[key], value)
+        here = out.get(key)
+        if isinstance(value, dict) and isinstance(here, dict):
+            merge(here, value)
+        elif (
+            isinstance(here, list)
+            and _entries(value)
+            and _entries(here)
+            and len(value) == len(here)
+        ):
+            for mine, theirs in zip(here, value, strict=True):  # one entry per cylinder
+                merge(mine, theirs)
         else:
             out[key] = value
+
+
+def _entries(value: Any) -> bool:
+    return isinstance(value, list) and all(isinstance(v, dict) for v in value)
 
 
 def _warnings_json(result: Result) -> list[dict[str, str]]:

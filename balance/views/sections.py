@@ -32,6 +32,7 @@ __all__ = ["VIEWS", "view", "views_of"]
 VIEWS: dict[str, str] = {
     "cylinders": "balance.views.cylinders",
     "torque": "balance.views.torque",
+    "guide_forces": "balance.views.crosshead",
     "dynamics": "balance.views.dynamics",
     "proposal": "balance.views.proposal",
     "factor_study": "balance.views.factor_study",
