@@ -62,7 +62,7 @@ def test_the_slider_is_piston_group_rod_and_crosshead():
     engine = _six()
     a, length = 0.9, 2.46
     assert engine.reciprocating_mass == pytest.approx(2200 + 1500 + 2600 + 3600 * a / length)
-    assert engine.section("crossheads").tolist() == [True] * 6
+    assert np.asarray(engine.section("crossheads")).tolist() == [True] * 6
 
 
 def test_h_type_of_an_even_six_is_only_orders_6_12_18_and_six_times_one_cylinder_s():
@@ -242,7 +242,7 @@ crank: {{throws: [0, 120, 240, 180, 300, 60], spacing: 1020 mm}}
 
 def test_lumped_masses_with_crossheads_true_turn_the_section_on(tmp_path):
     engine = layout_from_text(LUMPED.format(flag="crossheads: true", extra=""))
-    assert engine.section("crossheads").all()
+    assert np.asarray(engine.section("crossheads")).all()
     assert _guide(engine).h_type[5] != 0
     plain = layout_from_text(LUMPED.format(flag="", extra=""))
     assert plain.section("crossheads") is None
@@ -276,7 +276,7 @@ def test_layout_expand_keeps_crossheads_true(tmp_path):
     assert out.exit_code == 0, out.stderr
     assert "crossheads: true" in out.stdout
     again = _write(tmp_path, out.stdout)
-    assert layout_from_text(again.read_text()).section("crossheads").all()
+    assert np.asarray(layout_from_text(again.read_text()).section("crossheads")).all()
 
 
 def test_only_the_cylinders_that_give_a_crosshead_have_guide_forces():
@@ -295,6 +295,12 @@ def test_only_the_cylinders_that_give_a_crosshead_have_guide_forces():
     assert np.all(guide.guide_force[1:] == 0) and np.all(np.isnan(guide.maximum[1:]))
     one = _guide(_six(text=ONE))  # cylinder 1 alone, its own slider mass
     assert guide.maximum[0] == pytest.approx(one.maximum[0], rel=1e-12)
+    # renumbered, the crosshead cylinder keeps its crosshead and its guide force
+    order = [3, 0, 5, 1, 4, 2]
+    moved = _guide(engine.reordered(order))
+    assert moved.crossheads.tolist() == guide.crossheads[order].tolist()
+    assert moved.maximum[1] == guide.maximum[0]
+    assert np.all(np.isnan(np.delete(moved.maximum, 1)))
 
 
 def test_a_four_stroke_with_gas_has_half_orders_and_its_h_type_is_the_roll():

@@ -29,6 +29,7 @@ __all__ = [
     "BalanceSettings",
     "Engine",
     "Links",
+    "PerCylinder",
     "ShaftPosition",
     "bore_pitch",
 ]
@@ -200,6 +201,29 @@ CYLINDER_FIELDS = (
 
 
 @dataclass(frozen=True, eq=False)
+class PerCylinder:
+    """A layout section's value that holds one entry per cylinder (the crosshead cylinders
+    of ``crossheads``), renumbered with the cylinders by :meth:`Engine.reordered`.
+
+    It reads as its array (``numpy.asarray(value)``).
+
+    Attributes
+    ----------
+    values : ndarray
+        One entry per cylinder, in cylinder order.
+    """
+
+    values: NDArray[Any]
+
+    def __array__(self, dtype: Any = None, copy: Any = None) -> NDArray[Any]:
+        return np.asarray(self.values, dtype=dtype)
+
+    def reordered(self, idx: NDArray[np.intp]) -> PerCylinder:
+        """The entries of the renumbered cylinders (``idx``: the old index of each new one)."""
+        return PerCylinder(self.values[np.asarray(idx, dtype=np.intp)])
+
+
+@dataclass(frozen=True, eq=False)
 class Engine:
     """An engine as a table of cylinders (SI units, angles in radians).
 
@@ -343,6 +367,11 @@ class Engine:
         links = self.links.reordered(idx) if self.links is not None else None
         throws = self.throw_index[idx] if self.throw_index is not None else None
         shafts = self.crankshafts.reordered(idx) if self.crankshafts is not None else None
+        # a section's value with one entry per cylinder is renumbered with the cylinders
+        sections = {
+            key: value.reordered(idx) if hasattr(value, "reordered") else value
+            for key, value in self.sections.items()
+        }
         return replace(
             self,
             firing_order=None,
@@ -351,5 +380,6 @@ class Engine:
             links=links,
             throw_index=throws,
             crankshafts=shafts,
+            sections=sections,
             **arrays,
         )

@@ -24,7 +24,7 @@ from typing import Any, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from balance.core.engine import CYLINDER_FIELDS, Engine, Links, bore_pitch
+from balance.core.engine import CYLINDER_FIELDS, Engine, Links, PerCylinder, bore_pitch
 from balance.core.errors import LayoutError, LayoutErrors, Location, raise_all
 from balance.core.gas import GasInput, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
@@ -398,7 +398,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         for cyl in cylinders
     ]
     if any(crossheads):
-        built["crossheads"] = np.asarray(crossheads)
+        built["crossheads"] = PerCylinder(np.asarray(crossheads))
     for key, section in sections.items():  # each on the engine read from the rest
         value = _collect(problems, functools.partial(_section, doc, key, section, engine))
         if value is not None:
