@@ -577,14 +577,25 @@ class Phasors:
 
     def magnitude(self, quantity: Quantity) -> FloatArray:
         """:math:`|P^{+}|` and :math:`|P^{-}|` of ``quantity``, shape ``(..., K, 2)``."""
-        forward, backward = self._computed(quantity)
-        return np.abs(np.stack([forward, backward], axis=-1))
+        return np.stack(self._magnitudes(quantity), axis=-1)
 
     def peak(self, quantity: Quantity) -> FloatArray:
         r"""Peak of ``quantity`` over a revolution, per order: :math:`|P^{+}| + |P^{-}|`
         [N or N m].  The one place where a peak is formed."""
-        forward, backward = self._computed(quantity)
-        return np.asarray(np.abs(forward) + np.abs(backward), dtype=np.float64)
+        forward, backward = self._magnitudes(quantity)
+        return np.asarray(forward + backward, dtype=np.float64)
+
+    def _magnitudes(self, quantity: Quantity) -> tuple[FloatArray, FloatArray]:
+        """:math:`|P^{+}|` and :math:`|P^{-}|`, formed once per bundle (a Dataset or a
+        sweep's chunk reads the magnitudes and the peaks, each also normalised)."""
+        cache: dict[str, tuple[FloatArray, FloatArray]] | None = self.__dict__.get("_abs")
+        if cache is None:
+            cache = {}
+            object.__setattr__(self, "_abs", cache)  # a frozen bundle's private memo
+        if quantity not in cache:
+            forward, backward = self._computed(quantity)
+            cache[quantity] = (np.abs(forward), np.abs(backward))
+        return cache[quantity]
 
     def phase(self, quantity: Quantity) -> FloatArray:
         """Phases of :math:`P^{+}` and :math:`P^{-}` at crank angle 0 [deg], shape
