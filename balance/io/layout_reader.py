@@ -193,7 +193,7 @@ def cylinder_entries(
         return list(spec.cylinders), ("cylinders",)
     cylinders: list[CylinderSpec] = []
     for block, path in blocks(spec):  # several blocks: docs/layout-format.md, "Several ..."
-        cylinders += expand_block(spec, block, path, len(cylinders), _expand_crank)
+        cylinders += expand_block(spec, block, path, len(cylinders), _expand_crank, CylinderSpec)
     return cylinders, None
 
 

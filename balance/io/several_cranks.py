@@ -26,7 +26,7 @@ import difflib
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, TypeAlias
 
 import numpy as np
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
@@ -39,7 +39,11 @@ from balance.io.yamlsource import SourceDocument, dotted_path
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.engine import Engine
-    from balance.io.schema import CrankSpec, CylinderSpec, LayoutSpec
+
+# balance.io.schema's models (it imports this module's, so they are not imported here)
+CrankSpec: TypeAlias = Any
+CylinderSpec: TypeAlias = Any
+LayoutSpec: TypeAlias = Any
 
 __all__ = [
     "CrankshaftSpec",
@@ -177,11 +181,9 @@ def blocks(spec: LayoutSpec) -> list[tuple[CrankSpec, Path]]:
         ``[(crank, ("crank",))]`` for one mapping, ``(block, ("crank", b))`` for each block
         of a list; empty for the explicit form.
     """
-    from balance.io.schema import CrankSpec
-
     if spec.crank is None:
         return []
-    if isinstance(spec.crank, CrankSpec):
+    if not isinstance(spec.crank, list):
         return [(spec.crank, ("crank",))]
     return [(block, ("crank", b)) for b, block in enumerate(spec.crank)]
 
@@ -201,6 +203,7 @@ def expand_block(
     path: Path,
     start: int,
     plain: Callable[[CrankSpec], list[CylinderSpec]],
+    make: Any,
 ) -> list[CylinderSpec]:
     """The cylinders of one block of the compact form.
 
@@ -221,14 +224,14 @@ def expand_block(
         The number of cylinders of the blocks before it.
     plain : callable
         The expansion of a block of one crankshaft (the reader's).
+    make : type of pydantic model
+        The model of a cylinder's entry (:class:`balance.io.schema.CylinderSpec`).
 
     Returns
     -------
     list of CylinderSpec
         Throw-major, each with its throw's ``throw_id`` (from 1 in the block).
     """
-    from balance.io.schema import CylinderSpec
-
     if block.opposed is None:
         made = plain(block)
         if block.crankshaft is not None or block.z0:
@@ -250,7 +253,7 @@ def expand_block(
             z = t * spacing + block.z0 if block.z0 else t * spacing
             for k, name in enumerate((a, b)):
                 made.append(
-                    CylinderSpec.model_construct(
+                    make.model_construct(
                         throw=throw,
                         bank=bank[k],
                         z=z,
