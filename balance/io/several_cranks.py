@@ -415,7 +415,7 @@ def resolve(
         else:
             of_cylinder.append(index.get(c.crankshaft, -1))
     for k, s in enumerate(shafts):
-        if k not in of_cylinder:
+        if k not in of_cylinder and not errors:
             errors.append(
                 _error(
                     doc,
@@ -651,7 +651,7 @@ def check_bores(
         miss = abs(float(u[0] * d[1] - u[1] * d[0]))
         r = arrays["crank_radius"]
         stroke = 2.0 * max(float(r[i]), float(r[j]))
-        path = _where(cylinders, prefix, j, "opposed")
+        path = _where(cylinders, prefix, i if cylinders[i].opposed else j, "opposed")
         if miss > BORE_LINE * stroke:
             errors.append(
                 _error(
