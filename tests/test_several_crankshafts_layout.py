@@ -394,3 +394,19 @@ def test_the_command_line_refuses_with_exit_2(tmp_path: Path):
     lines = [line for line in out.output.splitlines() if line.strip()]
     assert len(lines) == 1, out.output
     assert "bad.yaml:12:" in lines[0] and "did you mean 'b'?" in lines[0]
+
+
+def test_torsion_and_the_dynamic_speed_model_are_refused_with_several_crankshafts(tmp_path):
+    from balance.api import analyse
+    from balance.core.errors import InputError
+
+    engine = layout_from_text(JUMO)
+    with pytest.raises(InputError, match=r"^torsion: .* one crankshaft; this engine has 2"):
+        analyse(engine, torsion=True)
+    with pytest.raises(InputError, match=r"^speed_model: 'dynamic' is for one crankshaft"):
+        analyse(engine, speed_model="dynamic")
+    path = tmp_path / "jumo.yaml"
+    path.write_text(JUMO, encoding="utf-8")
+    out = runner.invoke(app, ["analyse", str(path), "--speed-model", "dynamic"])
+    assert out.exit_code == 2
+    assert "speed_model: 'dynamic' is for one crankshaft" in out.output

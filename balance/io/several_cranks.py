@@ -54,6 +54,7 @@ __all__ = [
     "check_bores",
     "check_opposed_block",
     "expand_block",
+    "refuse_unsupported",
     "resolve",
 ]
 
@@ -709,3 +710,39 @@ def attach(engine: Engine, plan: Plan | None) -> Engine:
         output_rotation=plan.output_rotation,
     )
     return dataclasses.replace(engine, crankshafts=shafts)
+
+
+def refuse_unsupported(engine: Engine, sections: Any, speed_model: str | None) -> None:
+    """Refuse what is not computed for several crankshafts in this version: the torsional
+    analysis and the dynamic speed model (docs/layout-format.md, "Several crankshafts").
+
+    Parameters
+    ----------
+    engine : Engine
+        The engine analysed.
+    sections : collection of str
+        The sections asked for.
+    speed_model : str or None
+        The speed model asked for (``"dynamic"`` is refused).
+
+    Raises
+    ------
+    InputError
+        Naming the setting, for an engine with several crankshafts.
+    """
+    if engine.crankshafts is None:
+        return
+    from balance.core.errors import InputError
+
+    count = engine.crankshafts.count
+    if "torsion" in sections:
+        raise InputError(
+            f"torsion: the torsional analysis is for one crankshaft; this engine has {count} "
+            "(several crankshafts are analysed without it: leave the torsion setting and the "
+            "layout's torsion: section out)"
+        )
+    if speed_model == "dynamic":
+        raise InputError(
+            f"speed_model: 'dynamic' is for one crankshaft; this engine has {count}: use the "
+            "constant speed model (and leave the layout's dynamics: section out)"
+        )
