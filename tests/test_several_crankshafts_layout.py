@@ -410,3 +410,54 @@ def test_torsion_and_the_dynamic_speed_model_are_refused_with_several_crankshaft
     out = runner.invoke(app, ["analyse", str(path), "--speed-model", "dynamic"])
     assert out.exit_code == 2
     assert "speed_model: 'dynamic' is for one crankshaft" in out.output
+
+
+# --- layout expand ---------------------------------------------------------------------------
+
+TDC_LAYOUT = explicit(
+    H16,
+    [
+        "crankshaft: lower, tdc: 30 deg, bank: -90 deg, z: 0 mm",
+        "crankshaft: upper, tdc: 210 deg, bank: 90 deg, z: 0 mm",
+        "crankshaft: lower, throw: 180 deg, bank: 90 deg, z: 80 mm",
+        "crankshaft: upper, throw: 180 deg, bank: -90 deg, z: 80 mm",
+    ],
+)
+
+
+@pytest.mark.parametrize(
+    "text", [JUMO, DELTIC, H16, TDC_LAYOUT], ids=["jumo", "deltic", "h16", "tdc"]
+)
+def test_expand_writes_the_same_engine_and_is_a_fixed_point(tmp_path: Path, text: str):
+    from balance.io.layout_file import expand_layout
+
+    path = tmp_path / "layout.yaml"
+    path.write_text(text, encoding="utf-8")
+    once = expand_layout(path)
+    again = tmp_path / "expanded.yaml"
+    again.write_text(once, encoding="utf-8")
+    assert "\nopposed" not in once and "crankshafts:" in once and "output:" in once
+    same_engine(load_layout(path), load_layout(again))
+    twice = expand_layout(again)
+    assert twice.split("\n", 1)[1] == once.split("\n", 1)[1]  # the header names the file
+
+
+def test_expand_comments_the_drawn_pin_and_the_tdc(tmp_path: Path):
+    from balance.io.layout_file import expand_layout
+
+    path = tmp_path / "jumo.yaml"
+    path.write_text(JUMO, encoding="utf-8")
+    text = expand_layout(path)
+    # the exhaust piston of the first bore: its pin drawn at 191 deg at theta = 0, its
+    # inner dead centre 11 deg before the intake piston's (349 deg)
+    assert "# cylinder 2: alpha(0) 191 deg, TDC at crank angle 349 deg" in text
+    assert "# cylinder 3: alpha(0) 120 deg, TDC at crank angle 240 deg" in text
+    assert "crankshaft: exhaust, opposed: 1}" in text
+    path = tmp_path / "h16.yaml"
+    path.write_text(H16, encoding="utf-8")
+    text = expand_layout(path)
+    # upper shaft turns the other way, phase 90: cylinder 9's pin (throw 0) drawn at 90 deg;
+    # bank -90: TDC at -(-90 - 90) - 0 = 180 deg
+    assert "# cylinder 9: alpha(0) 90 deg, TDC at crank angle 180 deg" in text
+    # cylinder 11 (throw 180): alpha(0) = 90 - 180 = -90 = 270 deg
+    assert "# cylinder 11: alpha(0) 270 deg, TDC at crank angle 0 deg" in text

@@ -54,6 +54,7 @@ __all__ = [
     "check_bores",
     "check_opposed_block",
     "expand_block",
+    "expand_part",
     "refuse_unsupported",
     "resolve",
 ]
@@ -746,3 +747,63 @@ def refuse_unsupported(engine: Engine, sections: Any, speed_model: str | None) -
             f"speed_model: 'dynamic' is for one crankshaft; this engine has {count}: use the "
             "constant speed model (and leave the layout's dynamics: section out)"
         )
+
+
+def expand_part(
+    spec: LayoutSpec, engine: Engine
+) -> tuple[dict[str, Any], list[dict[str, Any]], list[str]]:
+    """What ``layout expand`` writes of the crankshafts: the ``crankshafts`` and ``output``
+    sections, each cylinder's ``crankshaft`` and ``opposed``, and per cylinder a comment
+    with its drawn pin position at crank angle 0, :math:`\\alpha(0) = \\varphi_s +
+    \\sigma_s \\text{throw}`, and its TDC crank angle :math:`\\sigma_s (\\text{bank} -
+    \\varphi_s) - \\text{throw}` (engine frame, degrees, modulo 360).
+
+    Parameters
+    ----------
+    spec : LayoutSpec
+        The validated file.
+    engine : Engine
+        The engine it gives.
+
+    Returns
+    -------
+    dict
+        The top-level keys to write (empty without ``crankshafts:``).
+    list of dict
+        Per cylinder, the keys to add to its entry (empty dicts without).
+    list of str
+        Per cylinder, its comment (empty strings without).
+    """
+    from balance.io.layout_fields import written
+
+    shafts = engine.crankshafts
+    n = engine.n_cylinders
+    if shafts is None or spec.crankshafts is None:
+        return {}, [{} for _ in range(n)], ["" for _ in range(n)]
+    top: dict[str, Any] = {
+        "crankshafts": [
+            {
+                "name": s.name,
+                "x": written(s.x, "length", exact=True),
+                "y": written(s.y, "length", exact=True),
+                "rotation": s.rotation,
+                "phase": written(s.phase, "angle", exact=True),
+            }
+            for s in spec.crankshafts
+        ],
+        "output": {"rotation": "same" if shafts.output_rotation > 0 else "opposite"},
+    }
+    rows: list[dict[str, Any]] = []
+    notes = []
+    for i in range(n):
+        k = int(shafts.of_cylinder[i])
+        row: dict[str, Any] = {"crankshaft": shafts.names[k]}
+        if shafts.opposed[i] >= 0:
+            row["opposed"] = int(shafts.opposed[i]) + 1
+        rows.append(row)
+        sigma = float(shafts.rotation[k])
+        phase, throw = spec.crankshafts[k].phase, math.degrees(float(engine.throw[i]))
+        drawn = (phase + sigma * throw) % 360.0
+        tdc = (sigma * (math.degrees(float(engine.bank[i])) - phase) - throw) % 360.0
+        notes.append(f"alpha(0) {drawn:.6g} deg, TDC at crank angle {tdc:.6g} deg")
+    return top, rows, notes
