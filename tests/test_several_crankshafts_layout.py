@@ -56,8 +56,8 @@ DELTIC = (
     + f"""\
 crankshafts:
   - {{name: A, x: {-SIDE / 2!r} mm}}
-  - {{name: B, x: {SIDE / 2!r} mm, phase: 20 deg}}
-  - {{name: C, y: {DELTIC_AXES["C"][1]!r} mm, rotation: opposite, phase: 40 deg}}
+  - {{name: B, x: {SIDE / 2!r} mm, phase: 200 deg}}
+  - {{name: C, y: {DELTIC_AXES["C"][1]!r} mm, rotation: opposite, phase: 270 deg}}
 crank:
   - {{throws: [0, 120, 240], spacing: 200 mm, opposed: [A, B]}}
   - {{throws: [0, 120, 240], spacing: 200 mm, opposed: [B, C]}}
@@ -461,3 +461,54 @@ def test_expand_comments_the_drawn_pin_and_the_tdc(tmp_path: Path):
     assert "# cylinder 9: alpha(0) 90 deg, TDC at crank angle 180 deg" in text
     # cylinder 11 (throw 180): alpha(0) = 90 - 180 = -90 = 270 deg
     assert "# cylinder 11: alpha(0) 270 deg, TDC at crank angle 0 deg" in text
+
+
+# --- warnings ----------------------------------------------------------------------------------
+
+
+def rules(text: str) -> dict[str, object]:
+    from balance.core.plausibility import check_engine
+
+    return {w.rule: w for w in check_engine(layout_from_text(text))}
+
+
+def test_a_sound_opposed_piston_engine_has_no_warning_of_its_crankshafts():
+    for text in (JUMO, DELTIC, H16):
+        found = rules(text)
+        assert not {"shared_bore", "opposed_phase", "crankshaft_position"} & set(found), found
+
+
+def test_the_missing_180_degrees_of_a_piston_facing_the_other_way_is_warned():
+    w = rules(JUMO.replace("phase: 191 deg", "phase: 11 deg"))["opposed_phase"]
+    assert w.field == "crankshafts[2].phase"
+    assert w.message == (
+        "cylinder 2 reaches its inner dead centre 169° after cylinder 1: the 180° of a "
+        "piston facing the other way missing from `phase`?"
+    )
+    assert w.excess == pytest.approx(169 / 40)
+    # 40 degrees apart is still an opposed-piston engine's lead; 41 is warned
+    assert "opposed_phase" not in rules(JUMO.replace("phase: 191 deg", "phase: 220 deg"))
+    assert "opposed_phase" in rules(JUMO.replace("phase: 191 deg", "phase: 221 deg"))
+
+
+def test_an_undeclared_shared_bore_and_a_far_axis_are_warned(tmp_path: Path):
+    w = rules(TWO + cyls(A0, B0))["shared_bore"]
+    assert (w.field, w.message) == (
+        "cylinders[2].opposed",
+        "cylinders 1 and 2 share a bore: declare `opposed`?",
+    )
+    far = rules(TWO.replace("y: 1000 mm", "y: 10 m") + cyls(A0 + ", opposed: 2", B0))
+    w = far["crankshaft_position"]
+    assert w.field == "crankshafts[2].y" and "'b' is 10 m from the origin" in w.message
+    assert w.excess == pytest.approx(10 / (50 * 0.16))
+    assert "crankshaft_position" not in rules(
+        TWO.replace("y: 1000 mm", "y: 8 m") + cyls(A0 + ", opposed: 2", B0)
+    )
+    # through the command line: on stderr, and silenced by --quiet
+    path = tmp_path / "shared.yaml"
+    path.write_text(TWO + cyls(A0, B0), encoding="utf-8")
+    out = runner.invoke(app, ["analyse", str(path)])
+    assert out.exit_code == 0, out.output
+    assert "cylinders 1 and 2 share a bore: declare `opposed`?" in out.stderr
+    quiet = runner.invoke(app, ["--quiet", "analyse", str(path)])
+    assert "share a bore" not in quiet.stderr

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeAlias
 import numpy as np
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from balance.core.crankshafts import Crankshafts
+from balance.core.crankshafts import BORE_LINE, Crankshafts, bore_lines
 from balance.core.errors import LayoutError
 from balance.io.problems import FieldProblem
 from balance.io.units import parse_quantity
@@ -64,8 +64,6 @@ Path = tuple[str | int, ...]
 SPEED_KEYS = ("speed_ratio", "speed", "ratio", "gear_ratio")
 #: How far apart two crankshafts' axes must be [m].
 SAME_AXIS = 1e-9
-#: How far two opposed pistons' bore lines may lie apart, per stroke [1].
-BORE_LINE = 1e-6
 _SENSE = {"same": 1.0, "opposite": -1.0}
 # the blocks of balance.io.schema's models, which imports this module's
 _Length = Annotated[float, BeforeValidator(lambda value: parse_quantity(value, "length"))]
@@ -637,20 +635,11 @@ def check_bores(
         One per bore that cannot be.
     """
     errors = []
+    shafts = _core(plan)
     for i, j in enumerate(plan.opposed):
         if j < i:
             continue
-        a, b = plan.of_cylinder[i], plan.of_cylinder[j]
-        bank = float(arrays["bank"][i])
-        u = np.array([math.sin(bank), math.cos(bank)])
-
-        def point(k: int, s: int) -> Any:
-            side = float(arrays["bank"][k]) + plan.rotation[s] * math.pi / 2
-            along = np.array([math.sin(side), math.cos(side)])
-            return np.array([plan.x[s], plan.y[s]]) + float(arrays["offset"][k]) * along
-
-        d = point(j, b) - point(i, a)
-        miss = abs(float(u[0] * d[1] - u[1] * d[0]))
+        miss, distance = bore_lines(shafts, i, j, arrays["bank"], arrays["offset"])
         r = arrays["crank_radius"]
         stroke = 2.0 * max(float(r[i]), float(r[j]))
         path = _where(cylinders, prefix, i if cylinders[i].opposed else j, "opposed")
@@ -666,8 +655,6 @@ def check_bores(
                 )
             )
             continue
-        axes = np.array([plan.x[b] - plan.x[a], plan.y[b] - plan.y[a]])
-        distance = float(u @ axes)
         reach = sum(float(arrays["conrod_length"][k] + r[k]) for k in (i, j))
         if distance <= reach:
             errors.append(
@@ -700,7 +687,11 @@ def attach(engine: Engine, plan: Plan | None) -> Engine:
     """
     if plan is None:
         return engine
-    shafts = Crankshafts(
+    return dataclasses.replace(engine, crankshafts=_core(plan))
+
+
+def _core(plan: Plan) -> Crankshafts:
+    return Crankshafts(
         names=tuple(plan.names),
         x=np.asarray(plan.x, dtype=np.float64),
         y=np.asarray(plan.y, dtype=np.float64),
@@ -710,7 +701,6 @@ def attach(engine: Engine, plan: Plan | None) -> Engine:
         opposed=np.asarray(plan.opposed, dtype=np.intp),
         output_rotation=plan.output_rotation,
     )
-    return dataclasses.replace(engine, crankshafts=shafts)
 
 
 def refuse_unsupported(engine: Engine, sections: Any, speed_model: str | None) -> None:
