@@ -512,3 +512,47 @@ def test_an_undeclared_shared_bore_and_a_far_axis_are_warned(tmp_path: Path):
     assert "cylinders 1 and 2 share a bore: declare `opposed`?" in out.stderr
     quiet = runner.invoke(app, ["--quiet", "analyse", str(path)])
     assert "share a bore" not in quiet.stderr
+
+
+# --- sweep and tolerance fields ----------------------------------------------------------------
+
+
+def test_a_varied_crankshaft_is_the_hand_edited_file():
+    from balance.io.fields import parse_field
+    from balance.studies.changes import apply_changes
+
+    base = layout_from_text(JUMO)
+    changes = []
+    for text, value in (("crankshafts.exhaust.phase", 200.0), ("crankshafts.exhaust.y", 1.0)):
+        field = parse_field(text, base)
+        changes.append((field, field.to_layout_units(value)))
+    varied = apply_changes(base, changes)
+    edited = layout_from_text(JUMO.replace("y: 945 mm, phase: 191 deg", "y: 1 m, phase: 200 deg"))
+    same_engine(varied, edited)
+    assert parse_field("crankshafts.exhaust.phase", base).name == "shaft2_phase"
+    # a grid of values: the crankshafts' arrays gain the grid's axes, crankshafts last
+    field = parse_field("crankshafts.exhaust.x", base)
+    grid = apply_changes(base, [(field, np.array([[0.0], [0.01], [0.02]]))])
+    assert grid.crankshafts.x.tolist() == [[0.0, 0.0], [0.0, 0.01], [0.0, 0.02]]
+    assert grid.crankshafts.y.tolist() == base.crankshafts.y.tolist()
+    # a tolerance study adds its scatter
+    moved = apply_changes(base, [(field, 0.001)], add=True)
+    assert moved.crankshafts.x.tolist() == [0.0, 0.001]
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("crankshafts.exhuast.phase", "no crankshaft is named 'exhuast'; did you mean 'exhaust'?"),
+        ("crankshafts.exhaust.speed_ratio", "valid: crankshafts.exhaust.phase"),
+    ],
+)
+def test_a_crankshaft_field_that_is_none_is_refused(text, words):
+    from balance.core.errors import InputError
+    from balance.io.fields import parse_field
+
+    with pytest.raises(InputError, match="^vary: ") as info:
+        parse_field(text, layout_from_text(JUMO))
+    assert words in str(info.value)
+    with pytest.raises(InputError, match="has no crankshafts: section"):
+        parse_field("crankshafts.a.phase", load_layout("inline-4"))

@@ -46,6 +46,7 @@ CylinderSpec: TypeAlias = Any
 LayoutSpec: TypeAlias = Any
 
 __all__ = [
+    "SHAFT_FIELDS",
     "CrankshaftSpec",
     "OutputSpec",
     "Plan",
@@ -57,6 +58,8 @@ __all__ = [
     "expand_part",
     "refuse_unsupported",
     "resolve",
+    "shaft_changed",
+    "shaft_field",
 ]
 
 Path = tuple[str | int, ...]
@@ -797,3 +800,87 @@ def expand_part(
         tdc = (sigma * (math.degrees(float(engine.bank[i])) - phase) - throw) % 360.0
         notes.append(f"alpha(0) {drawn:.6g} deg, TDC at crank angle {tdc:.6g} deg")
     return top, rows, notes
+
+
+#: The crankshaft fields a sweep or a tolerance study may vary, and their unit kinds.
+SHAFT_FIELDS = {"phase": "angle", "x": "length", "y": "length"}
+
+
+def shaft_field(name: str, engine: Engine, option: str) -> tuple[str, str, str, str]:
+    """Read a crankshaft field of a study, ``crankshafts.NAME.phase`` (or ``.x``, ``.y``).
+
+    Parameters
+    ----------
+    name : str
+        The field as written.
+    engine : Engine
+        The layout.
+    option : str
+        The option or parameter it was given to, for the message.
+
+    Returns
+    -------
+    tuple of str
+        The field's dimension name (``shaft2_phase``), the engine attribute it sets
+        (``shaft.1.phase``: crankshaft 2's phase), its unit kind and its key.
+
+    Raises
+    ------
+    InputError
+        For a layout without crankshafts, an unknown crankshaft or key.
+    """
+    import difflib
+
+    from balance.core.errors import InputError
+
+    shafts = engine.crankshafts
+    if shafts is None:
+        raise InputError(
+            f"{option}: '{name}': the layout has no crankshafts: section (one crankshaft)"
+        )
+    shaft, _, key = name.removeprefix("crankshafts.").rpartition(".")
+    if shaft not in shafts.names:
+        hint = difflib.get_close_matches(shaft, shafts.names, n=1)
+        more = f"did you mean '{hint[0]}'? " if hint else ""
+        raise InputError(
+            f"{option}: '{name}': no crankshaft is named '{shaft}'; {more}crankshafts: "
+            f"{', '.join(shafts.names)}"
+        )
+    if key not in SHAFT_FIELDS:
+        raise InputError(
+            f"{option}: '{name}' is not a field of a crankshaft a study varies; valid: "
+            f"{', '.join(f'crankshafts.{shaft}.{k}' for k in SHAFT_FIELDS)}"
+        )
+    k = shafts.names.index(shaft)
+    return f"shaft{k + 1}_{key}", f"shaft.{k}.{key}", SHAFT_FIELDS[key], key
+
+
+def shaft_changed(shafts: Crankshafts, attribute: str, value: Any, add: bool) -> Crankshafts:
+    """The crankshafts with one crankshaft's ``phase``, ``x`` or ``y`` set (or, with
+    ``add``, changed by ``value``); the cylinders' throws and banks are the engine's.
+
+    Parameters
+    ----------
+    shafts : Crankshafts
+        The engine's crankshafts.
+    attribute : str
+        ``shaft.K.KEY`` (:func:`shaft_field`).
+    value : array_like
+        The value [rad or m]: a number, or an array over a grid with a trailing axis of
+        size one; the crankshaft arrays then have the grid's axes and the crankshafts last.
+    add : bool
+        Add the value to the crankshaft's instead of setting it.
+
+    Returns
+    -------
+    Crankshafts
+    """
+    _, index, key = attribute.split(".")
+    k = int(index)
+    base = np.asarray(getattr(shafts, key), dtype=np.float64)
+    v = np.asarray(value, dtype=np.float64)
+    v = v[..., 0] if v.ndim and v.shape[-1] == 1 else v
+    new = np.array(np.broadcast_to(base, (*v.shape, base.shape[-1])), dtype=np.float64)
+    new[..., k] = base[..., k] + v if add else v
+    updates: dict[str, Any] = {key: new}
+    return dataclasses.replace(shafts, **updates)
