@@ -551,7 +551,7 @@ def test_a_crankshaft_field_that_is_none_is_refused(text, words):
     from balance.core.errors import InputError
     from balance.io.fields import parse_field
 
-    with pytest.raises(InputError, match="^vary: ") as info:
+    with pytest.raises(InputError, match=r"^vary: ") as info:
         parse_field(text, layout_from_text(JUMO))
     assert words in str(info.value)
     with pytest.raises(InputError, match="has no crankshafts: section"):
