@@ -13,6 +13,11 @@ The layout reader (:mod:`balance.io.layout_reader`) calls this module at four po
   and rods are known;
 - :func:`attach` gives the engine its :class:`~balance.core.crankshafts.Crankshafts`.
 
+Beside the reader: :func:`expand_part` is what ``layout expand`` writes of the crankshafts,
+:func:`refuse_unsupported` refuses the analyses not made for several crankshafts (the
+torsional analysis, the dynamic speed model), and :func:`shaft_field` and
+:func:`shaft_changed` are the studies' fields ``crankshafts.NAME.phase``, ``.x``, ``.y``.
+
 A file without ``crankshafts:`` gives no :class:`Plan` and an engine without crankshafts
 (one crankshaft on the ``z`` axis), exactly as before.  The format, its angle rules and every
 refusal are in docs/layout-format.md, "Several crankshafts"; the angles in
