@@ -186,10 +186,50 @@ def random_layouts(draw: Any) -> dict[str, Any]:
         tdc = False
     else:
         data["cylinders"], tdc = _explicit(draw, crank, masses, link_rod, radius)
+    shafts = not crank["link"] and draw(st.integers(0, 3)) == 0
+    if shafts:  # the same rows again on a second crankshaft
+        n = _second_crankshaft(draw, data)
     if draw(st.booleans()):
         data["firing_order"] = draw(st.permutations(list(range(1, n + 1))))
     _sections(draw, data, n, by_part, tdc)
+    if shafts:  # neither the torsional analysis nor the speed model with several crankshafts
+        for key in ("torsion", "dynamics", "flywheel"):
+            data.pop(key, None)
     return data
+
+
+def _second_crankshaft(draw: Any, data: dict[str, Any]) -> int:
+    """The layout's cylinders again on a second crankshaft (docs/layout-format.md, "Several
+    crankshafts"), which may turn the other way and have a phase: a second block of the
+    compact form (perhaps moved by ``z0``), or every entry again with ``crankshaft: b`` (a
+    ``tdc`` read in that shaft's sense); the number of cylinders."""
+    data["crankshafts"] = [
+        {"name": "a"},
+        {
+            "name": "b",
+            "x": _mm(draw(st.floats(-500, 500))),
+            "y": _mm(draw(st.floats(300, 900))),
+            "rotation": draw(st.sampled_from(["same", "opposite"])),
+            "phase": _deg(draw(_angle)),
+        },
+    ]
+    if draw(st.booleans()):
+        data["output"] = {"rotation": draw(st.sampled_from(["same", "opposite"]))}
+    if "crank" in data:
+        block = data["crank"]
+        second = {**copy.deepcopy(block), "crankshaft": "b"}
+        if draw(st.booleans()):
+            second["z0"] = _mm(draw(st.floats(-50, 50)))
+        data["crank"] = [{**block, "crankshaft": "a"}, second]
+    else:
+        rows = data["cylinders"]
+        data["cylinders"] = rows + [{**copy.deepcopy(row), "crankshaft": "b"} for row in rows]
+    return len(data["cylinders"]) if "cylinders" in data else _count(data)
+
+
+def _count(data: dict[str, Any]) -> int:
+    """The number of cylinders of a compact form of blocks."""
+    return sum(len(b["throws"]) * len(b.get("banks", [0])) for b in data["crank"])
 
 
 def _explicit(

@@ -175,7 +175,13 @@ def test_the_schema_s_models_are_the_table_s_rows():
     assert list(schema.GeometrySpec.model_fields) == names(layout_fields.GEOMETRY)
     assert list(schema.MassesSpec.model_fields) == names(layout_fields.MASSES)
     entry = [f.name for f in layout_fields.entry_fields()]
-    assert list(schema.CylinderSpec.model_fields) == [*entry, "throw_id", "link"]
+    assert list(schema.CylinderSpec.model_fields) == [
+        *entry,
+        "throw_id",
+        "link",
+        "crankshaft",
+        "opposed",
+    ]
     # the defaults: the row's where it is given engine-wide, None for an override
     assert schema.GeometrySpec.model_fields["offset"].default == 0.0
     assert schema.GeometrySpec.model_fields["conrod_length"].is_required()

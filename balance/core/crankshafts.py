@@ -21,7 +21,15 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Crankshafts"]
+__all__ = [
+    "BORE_LINE",
+    "MAX_AXIS_STROKES",
+    "MAX_OPPOSED_LAG",
+    "Crankshafts",
+    "bore_lines",
+    "layout_warnings",
+    "tdc_angles",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -80,3 +88,168 @@ class Crankshafts:
             opposed=opposed.astype(np.intp),
             output_rotation=self.output_rotation,
         )
+
+
+#: Largest distance of a crankshaft's axis from the frame's origin, in strokes, before the
+#: ``crankshaft_position`` warning (a unit slip: 945 m for 945 mm).
+MAX_AXIS_STROKES = 50.0
+#: Largest lag between the inner dead centres of an opposed bore's pistons [deg] before the
+#: ``opposed_phase`` warning.
+MAX_OPPOSED_LAG = 40.0
+#: How far two bore lines may lie apart and still be one bore, per stroke [1].
+BORE_LINE = 1e-6
+
+
+def bore_lines(
+    shafts: Crankshafts, i: int, j: int, bank: FloatArray, offset: FloatArray
+) -> tuple[float, float]:
+    """How far apart the bore lines of cylinders ``i`` and ``j`` lie, and how far apart
+    their crankshafts' axes are along cylinder ``i``'s bore.
+
+    A cylinder's bore line passes through its crankshaft's axis moved by its ``offset``
+    towards the side its pin moves to after top dead centre (the engine-frame direction
+    ``bank + sigma 90 deg``) and runs along its ``bank``.
+
+    Parameters
+    ----------
+    shafts : Crankshafts
+        The crankshafts and each cylinder's.
+    i, j : int
+        The two cylinders (0-based).
+    bank : ndarray
+        Bank angle of each cylinder [rad].
+    offset : ndarray
+        Offset of each cylinder [m].
+
+    Returns
+    -------
+    miss : float
+        Distance of ``j``'s bore line from ``i``'s [m] (0 for one line).
+    along : float
+        Distance from ``i``'s crankshaft axis to ``j``'s along ``i``'s bank [m].
+    """
+    a, b = int(shafts.of_cylinder[i]), int(shafts.of_cylinder[j])
+
+    def point(k: int, s: int) -> complex:
+        side = float(bank[k]) + float(shafts.rotation[s]) * np.pi / 2
+        axis = complex(float(shafts.y[s]), float(shafts.x[s]))
+        return axis + float(offset[k]) * complex(np.cos(side), np.sin(side))
+
+    u = complex(np.cos(float(bank[i])), np.sin(float(bank[i])))  # y + i x, as in the frame
+    d = (point(j, b) - point(i, a)) / u
+    axes = complex(float(shafts.y[b] - shafts.y[a]), float(shafts.x[b] - shafts.x[a])) / u
+    return abs(d.imag), axes.real
+
+
+def tdc_angles(shafts: Crankshafts, throw: FloatArray, bank: FloatArray) -> FloatArray:
+    """The crank angle at which each cylinder reaches its (inner) top dead centre,
+    :math:`\\sigma_s (\\text{bank} - \\varphi_s) - \\text{throw}`, in [0, 2 pi) (rod
+    geometry aside: an offset or a link rod moves it slightly).
+
+    Parameters
+    ----------
+    shafts : Crankshafts
+        The crankshafts and each cylinder's.
+    throw, bank : ndarray
+        Throw and bank angle of each cylinder [rad].
+
+    Returns
+    -------
+    ndarray
+        Per cylinder [rad].
+    """
+    s = shafts.of_cylinder
+    angle = shafts.rotation[s] * (bank - shafts.phase[s]) - throw
+    return np.asarray(np.mod(angle, 2 * np.pi), dtype=np.float64)
+
+
+def layout_warnings(
+    shafts: Crankshafts,
+    throw: FloatArray,
+    bank: FloatArray,
+    z: FloatArray,
+    crank_radius: FloatArray,
+    offset: FloatArray,
+) -> list[tuple[str, str, str, float]]:
+    """What looks wrong in an engine's crankshafts, at most one per rule: a shared bore
+    not declared ``opposed`` (``shared_bore``), an opposed bore whose pistons reach their
+    inner dead centres more than :data:`MAX_OPPOSED_LAG` apart (``opposed_phase``), a
+    crankshaft axis farther than :data:`MAX_AXIS_STROKES` strokes from the origin
+    (``crankshaft_position``).
+
+    Parameters
+    ----------
+    shafts : Crankshafts
+        The crankshafts and each cylinder's.
+    throw, bank : ndarray
+        Throw and bank angle of each cylinder [rad].
+    z : ndarray
+        Axial position of each cylinder [m].
+    crank_radius, offset : ndarray
+        Crank radius and offset of each cylinder [m].
+
+    Returns
+    -------
+    list of (str, str, str, float)
+        Per warning its rule, the layout field, the message and how far beyond its
+        threshold the value is (a factor of at least 1).
+    """
+    found: list[tuple[str, str, str, float]] = []
+    n = throw.size
+    stroke = 2.0 * crank_radius
+    shared = None
+    for i in range(n):
+        for j in range(i + 1, n):
+            if shared is not None:
+                break
+            if shafts.of_cylinder[i] == shafts.of_cylinder[j] or shafts.opposed[i] == j:
+                continue
+            apart = abs(np.mod(bank[j] - bank[i], 2 * np.pi) - np.pi)
+            if abs(z[i] - z[j]) > 1e-12 or apart > 1e-9:
+                continue
+            miss, _ = bore_lines(shafts, i, j, bank, offset)
+            if miss <= BORE_LINE * max(stroke[i], stroke[j]):
+                shared = (
+                    "shared_bore",
+                    f"cylinders[{j + 1}].opposed",
+                    f"cylinders {i + 1} and {j + 1} share a bore: declare `opposed`?",
+                    1.0,
+                )
+    if shared is not None:
+        found.append(shared)
+    tdc = np.degrees(tdc_angles(shafts, throw, bank))
+    worst = None
+    for i in range(n):
+        j = int(shafts.opposed[i])
+        if j <= i:
+            continue
+        lag = float(np.mod(tdc[j] - tdc[i], 360.0))
+        gap = min(lag, 360.0 - lag)
+        if gap > MAX_OPPOSED_LAG and (worst is None or gap > worst[0] + 1e-9):
+            worst = (gap, i, j, lag)
+    if worst is not None:
+        gap, i, j, lag = worst
+        when = f"{lag:.0f}° after" if lag <= 180.0 else f"{360.0 - lag:.0f}° before"
+        found.append(
+            (
+                "opposed_phase",
+                f"crankshafts[{int(shafts.of_cylinder[j]) + 1}].phase",
+                f"cylinder {j + 1} reaches its inner dead centre {when} cylinder {i + 1}: "
+                "the 180° of a piston facing the other way missing from `phase`?",
+                gap / MAX_OPPOSED_LAG,
+            )
+        )
+    reach = MAX_AXIS_STROKES * float(np.max(stroke))
+    distance = np.hypot(shafts.x, shafts.y)
+    k = int(np.argmax(distance))
+    if distance[k] > reach:
+        found.append(
+            (
+                "crankshaft_position",
+                f"crankshafts[{k + 1}].y",
+                f"crankshaft '{shafts.names[k]}' is {distance[k]:.6g} m from the origin, "
+                f"more than {MAX_AXIS_STROKES:g} strokes; check x, y and their unit",
+                float(distance[k] / reach),
+            )
+        )
+    return found

@@ -322,6 +322,18 @@ class Engine:
         """What the layout's section ``name`` says (None when it has none)."""
         return self.sections.get(name)
 
+    def arrangement_warnings(self) -> list[tuple[str, str, str, float]]:
+        """What looks wrong in the arrangement of several crankshafts (none for one):
+        per warning its rule, field, message and excess
+        (:func:`balance.core.crankshafts.layout_warnings`)."""
+        if self.crankshafts is None:
+            return []
+        from balance.core.crankshafts import layout_warnings
+
+        return layout_warnings(
+            self.crankshafts, self.throw, self.bank, self.z, self.crank_radius, self.offset
+        )
+
     def with_section(self, name: str, value: Any) -> Engine:
         """The same engine with the layout section ``name`` given (or replaced) as ``value``."""
         return replace(self, sections={**self.sections, name: value})

@@ -20,7 +20,14 @@ rule                         warns when
 ``conrod_inertia``           the conrod's inertia about its CG above :math:`m l^2`
 ``counterweight_radius``     the counterweight radius larger than the stroke
 ``speed``                    the crank speed above :data:`MAX_SPEED_RPM`
+``shared_bore``              two cylinders on different crankshafts in one bore, not
+                             declared ``opposed``
+``opposed_phase``            an opposed bore's inner dead centres more than 40 deg apart
+``crankshaft_position``      a crankshaft's axis more than 50 strokes from the origin
 ===========================  ==============================================================
+
+The last three are an engine's with several crankshafts (docs/layout-format.md, "Several
+crankshafts"), from :meth:`Engine.arrangement_warnings`.
 """
 
 from __future__ import annotations
@@ -80,6 +87,9 @@ RULES = (
     "reciprocating_mass",
     "conrod_inertia",
     "counterweight_radius",
+    "shared_bore",
+    "opposed_phase",
+    "crankshaft_position",
 )
 
 
@@ -136,6 +146,7 @@ def check_engine(
         _reciprocating(engine),
         _conrod_inertia(engine),
         _counterweight(engine, stroke, counterweight_radius),
+        *(PlausibilityWarning(*w) for w in engine.arrangement_warnings()),
     ]
     return tuple(w for w in found if w is not None)
 

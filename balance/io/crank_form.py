@@ -96,6 +96,11 @@ def crank_form(engine: Engine, field: str) -> CrankForm:
     except OSError:
         raise InputError(f"{field}: cannot read the layout file {engine.path}") from None
     form, throw, bank, z = _read(engine.path, stat.st_mtime_ns, stat.st_size)
+    if isinstance(form, str):
+        raise InputError(
+            f"{field}: layout '{engine.name}' gives {form} in crank:; vary "
+            "cylinders[N].z or cylinders[N].bank of its expansion (balance layout expand)"
+        )
     if form is None:
         raise InputError(
             f"{field}: layout '{engine.name}' gives its cylinders one by one (no crank: "
@@ -118,15 +123,21 @@ def crank_form(engine: Engine, field: str) -> CrankForm:
 @lru_cache(maxsize=16)
 def _read(
     path: str, mtime: int, size: int
-) -> tuple[CrankForm | None, FloatArray, FloatArray, FloatArray]:
+) -> tuple[CrankForm | str | None, FloatArray, FloatArray, FloatArray]:
     """The compact form of the file at ``path`` and the throws, banks and positions its
-    engine has (cached by the file's modification time and size)."""
+    engine has (cached by the file's modification time and size); what it gives instead
+    where the compact form is several blocks, an opposed block or a block moved by ``z0``
+    (docs/layout-format.md, "Several crankshafts")."""
     from balance.io.layout_reader import build_layout, read_document
 
     spec, engine = build_layout(read_document(path))
     crank = spec.crank
     if crank is None:
         return None, engine.throw, engine.bank, engine.z
+    if isinstance(crank, list):
+        return "several blocks", engine.throw, engine.bank, engine.z
+    if crank.opposed is not None or crank.z0:
+        return "an opposed block or z0", engine.throw, engine.bank, engine.z
     n_banks = len(crank.banks)
     count = len(crank.throws) * n_banks
     form = CrankForm(

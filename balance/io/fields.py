@@ -385,6 +385,8 @@ class Field:
         v = np.asarray(values, dtype=np.float64)
         if self.attribute.startswith(("crank.", "balance.")):
             return v
+        if self.attribute.startswith("shaft."):  # a crankshaft's phase [rad], x or y [m]
+            return np.radians(v) if self.kind == "angle" else v
         if self.kind == "angle":
             return np.radians(v)
         to_attribute = layout_field(self.key).to_attribute
@@ -394,7 +396,8 @@ class Field:
 def _valid_fields() -> str:
     return (
         f"valid: {', '.join(ENGINE_FIELDS)}, crank.spacing, crank.bank_stagger, "
-        "crank.banks[N], crank.v_angle, balance.balance_factor, or cylinders[N].FIELD with "
+        "crank.banks[N], crank.v_angle, balance.balance_factor, crankshafts.NAME.phase (.x, "
+        ".y), or cylinders[N].FIELD with "
         f"FIELD one of {', '.join(CYLINDER_FIELDS)}"
     )
 
@@ -481,6 +484,11 @@ def parse_field(text: str, layout: Engine, option: str = "vary") -> Field:
         return Field(name, f"cylinder{number}_{key}", attribute, kind, key, number - 1)
     if name.startswith("crank."):
         return _crank_field(name, name[len("crank.") :], layout, option)
+    if name.startswith("crankshafts."):  # docs/layout-format.md, "Several crankshafts"
+        from balance.io.several_cranks import shaft_field
+
+        dim, attribute, kind, key = shaft_field(name, layout, option)
+        return Field(name, dim, attribute, kind, key)
     if name.startswith("balance."):
         key = name[len("balance.") :]
         if key not in BALANCE_FIELDS:

@@ -25,6 +25,7 @@ from balance.io.layout_fields import layout_field, written
 from balance.io.layout_reader import build_layout, cylinder_entries, read_document
 from balance.io.layout_sections import section_keys, section_reader
 from balance.io.schema import CoreSpec, GasSpec
+from balance.io.several_cranks import expand_part
 
 __all__ = ["expand_layout"]
 
@@ -78,6 +79,8 @@ def expand_layout(source: str | Path) -> str:
     geometry["offset"] = _written("offset", g.offset)
     out["geometry"] = geometry
     out["masses"] = _fields_dict(spec.masses.model_dump(exclude_none=True))
+    shafts, shaft_rows, notes = expand_part(spec, layout)  # several crankshafts
+    out.update(shafts)
     entries = []
     assert layout.throw_index is not None
     for i, cyl in enumerate(cylinders):
@@ -88,11 +91,13 @@ def expand_layout(source: str | Path) -> str:
             "bank": _written("bank", cyl.bank),
             "z": _written("z", cyl.z),
             "throw_id": cyl.throw_id
-            if cyl.throw_id is not None
+            if cyl.throw_id is not None and not shafts
             else int(layout.throw_index[i]) + 1,
+            **shaft_rows[i],
         }
         over = cyl.model_dump(
-            exclude_none=True, exclude={"throw", "tdc", "bank", "z", "throw_id", "link"}
+            exclude_none=True,
+            exclude={"throw", "tdc", "bank", "z", "throw_id", "link", "crankshaft", "opposed"},
         )
         entry.update(_fields_dict(over))
         if cyl.link is not None:
@@ -130,7 +135,8 @@ def expand_layout(source: str | Path) -> str:
         pass
 
     def _flow_dict(dumper: yaml.SafeDumper, data: dict[str, Any]) -> Any:
-        flow = ("throw_id" in data or "master" in data or "speed_ratio" in data) and all(
+        keys = ("throw_id", "master", "speed_ratio", "rotation")
+        flow = any(k in data for k in keys) and all(
             not isinstance(v, list) and (not isinstance(v, dict) or "master" in v)
             for v in data.values()
         )
@@ -153,7 +159,7 @@ def expand_layout(source: str | Path) -> str:
         header
         + "\n"
         + dumped(keys[:at])
-        + _cylinders_text(out["cylinders"])
+        + _cylinders_text(out["cylinders"], notes=notes)
         + dumped(keys[at + 1 :])
         + _link_comments(layout)
     )
@@ -169,11 +175,16 @@ def _flow(value: Any) -> str:
     return text.strip()[1:-1]
 
 
-def _cylinders_text(entries: list[dict[str, Any]], width: int = 100) -> str:
+def _cylinders_text(
+    entries: list[dict[str, Any]], width: int = 100, notes: list[str] | None = None
+) -> str:
     """The ``cylinders:`` list, one flow mapping per cylinder, broken between its keys (a
-    link entry kept whole) where a line would pass ``width`` columns."""
+    link entry kept whole) where a line would pass ``width`` columns; a cylinder's note
+    (``notes``) as a comment on the line before it."""
     lines = ["cylinders:"]
-    for entry in entries:
+    for k, entry in enumerate(entries):
+        if notes and notes[k]:
+            lines.append(f"# cylinder {k + 1}: {notes[k]}")
         items = [f"{k}: {_flow(v)}" for k, v in entry.items()]
         line = "- {"
         for j, item in enumerate(items):

@@ -36,6 +36,7 @@ from balance.io.layouts import layout_path
 from balance.io.located import problem_error, validate
 from balance.io.problems import FieldProblem, FieldProblems
 from balance.io.schema import LAYOUT_HINTS, CrankSpec, CylinderSpec, LayoutSpec, LinkSpec
+from balance.io.several_cranks import attach, blocks, check_bores, expand_block, resolve
 from balance.io.traces import read_pressure_trace
 from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
 
@@ -190,9 +191,10 @@ def cylinder_entries(
     """
     if spec.cylinders is not None:
         return list(spec.cylinders), ("cylinders",)
-    crank = spec.crank
-    assert crank is not None
-    return _expand_crank(crank), None
+    cylinders: list[CylinderSpec] = []
+    for block, path in blocks(spec):  # several blocks: docs/layout-format.md, "Several ..."
+        cylinders += expand_block(spec, block, path, len(cylinders), _expand_crank, CylinderSpec)
+    return cylinders, None
 
 
 def _expand_crank(crank: CrankSpec) -> list[CylinderSpec]:
@@ -240,14 +242,15 @@ def _entry_path(
     (``pin_angle`` in ``pin_angles``), anything else at ``crank``."""
     if prefix is not None:
         return (*prefix, i, *keys)
+    block = cylinders[i]._block  # ("crank",), or ("crank", b) for several blocks
     if cylinders[i].link is None:
-        return ("crank",)
+        return block
     rest = keys[1:] if keys[:1] == ("link",) else keys
     if rest[:1] == ("pin_angle",):
-        return ("crank", "link", "pin_angles")
+        return (*block, "link", "pin_angles")
     if rest and (rest[0] in ROD_KEYS or keys[:1] == ("link",)):
-        return ("crank", "link", *rest)
-    return ("crank", "link")
+        return (*block, "link", *rest)
+    return (*block, "link")
 
 
 def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
@@ -280,7 +283,9 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
     cylinders, prefix = cylinder_entries(spec)
     n = len(cylinders)
     entry = functools.partial(_entry_path, prefix, cylinders)
-    throws = throw_index(doc, cylinders, prefix)
+    shafts, found = resolve(doc, spec, cylinders, prefix)  # None: one crankshaft
+    raise_all(found + section_problems if found else [])
+    throws = throw_index(doc, cylinders, prefix, shafts.of_cylinder if shafts else None)
     sharing = rods_per_throw(throws).tolist()
     if n > 256:
         too_many = LayoutError(
@@ -353,6 +358,8 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
     arrays: dict[str, Any] = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
     # the link rods' reach needs sound master geometry and masses: checked once they are
     links = None
+    if shafts is not None and not problems:
+        problems += check_bores(doc, shafts, cylinders, prefix, arrays)
     links_checked = not problems
     if links_checked:
         links = _collect(problems, lambda: _links(doc, cylinders, masters, arrays, entry))
@@ -387,6 +394,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         throw_index=throws,
         **arrays,
     )
+    engine = attach(engine, shafts)  # before the sections, which read it
     built: dict[str, Any] = {}
     if spec.flywheel is not None and gas is None:  # a crank that coasts (docs/dynamics.md)
         from balance.core.speed_model import Flywheel
@@ -838,7 +846,8 @@ def _pitch(spec: LayoutSpec, z: FloatArray, bank: FloatArray) -> float:
     as in the expansion)."""
     if spec.pitch is not None:
         return float(spec.pitch)
-    crank = spec.crank
+    given = blocks(spec)
+    crank = given[0][0] if len(given) == 1 else None
     turned = crank is not None and any(crank.row_rotation or ())
     if crank is not None and len(crank.throws) > 1 and crank.spacing and not turned:
         return float(crank.spacing)

@@ -19,6 +19,7 @@ A link cylinder on another throw than its master is refused with the other link 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -40,8 +41,12 @@ def throw_index(
     doc: SourceDocument,
     cylinders: list[CylinderSpec],
     prefix: tuple[str | int, ...] | None,
+    shafts: Sequence[int] | None = None,
 ) -> NDArray[np.intp]:
     """The crank throw of each cylinder, numbered from 0 in the order of first appearance.
+
+    With several crankshafts a throw is on one of them: labels and pins are those of each
+    crankshaft (throws of two crankshafts are never one throw, even at one ``z``).
 
     Parameters
     ----------
@@ -51,6 +56,8 @@ def throw_index(
         The file's cylinders (:func:`balance.io.layout_reader.cylinder_entries`).
     prefix : tuple or None
         The path of the entries in the file (``("cylinders",)``), None for the compact form.
+    shafts : sequence of int, optional
+        Each cylinder's crankshaft (0-based) when the file has several; None for one.
 
     Returns
     -------
@@ -67,8 +74,12 @@ def throw_index(
     unlabelled = [i for i, label in enumerate(labels) if label is None]
     throw = np.asarray([math.radians(c.throw_angle) for c in cylinders], dtype=np.float64)
     z = np.asarray([c.z for c in cylinders], dtype=np.float64)
+    shaft = list(shafts) if shafts is not None else [0] * len(cylinders)
     if len(unlabelled) == len(cylinders):
-        return default_throws(throw, z)
+        if shafts is None:
+            return default_throws(throw, z)
+        keys = pin_keys(throw, z).tolist()
+        return first_appearance([f"{s} {a!r} {p!r}" for s, (a, p) in zip(shaft, keys, strict=True)])
     if unlabelled:
         i = unlabelled[0]
         j = next(k for k, label in enumerate(labels) if label is not None)
@@ -79,9 +90,12 @@ def throw_index(
             field=dotted_path(path),
             valid=_NONE_OR_ALL,
         )
-    index = first_appearance([int(label or 0) for label in labels])
-    _check_pins(doc, cylinders, prefix, index, pin_keys(throw, z))
-    _check_stretches(doc, cylinders, prefix, index, np.round(z, 12))
+    if shafts is None:
+        index = first_appearance([int(label or 0) for label in labels])
+    else:
+        index = first_appearance([f"{s} {label}" for s, label in zip(shaft, labels, strict=True)])
+    _check_pins(doc, cylinders, prefix, index, pin_keys(throw, z), shaft)
+    _check_stretches(doc, cylinders, prefix, index, np.round(z, 12), shaft)
     return index
 
 
@@ -89,6 +103,11 @@ def _path(prefix: tuple[str | int, ...] | None, i: int, key: str) -> tuple[str |
     """A cylinder's key in the explicit form; in the compact form the crank's key that
     places the rods (the labels are the entries of ``throws``)."""
     return (*prefix, i, key) if prefix is not None else ("crank", key)
+
+
+def _block(cylinders: list[CylinderSpec], i: int) -> tuple[str | int, ...]:
+    """The compact block that gives cylinder ``i`` (``("crank",)`` or ``("crank", b)``)."""
+    return cylinders[i]._block
 
 
 def _members(index: NDArray[np.intp], t: int) -> str:
@@ -102,11 +121,12 @@ def _check_pins(
     prefix: tuple[str | int, ...] | None,
     index: NDArray[np.intp],
     keys: NDArray[np.float64],
+    shaft: list[int],
 ) -> None:
-    """Two throws with rods at one pin (one angle, one plane) are refused."""
-    seen: dict[tuple[float, float], int] = {}
+    """Two throws with rods at one pin (one angle, one plane, one crankshaft) are refused."""
+    seen: dict[tuple[float, ...], int] = {}
     for i, key in enumerate(map(tuple, keys.tolist())):
-        first = seen.setdefault(key, i)
+        first = seen.setdefault((shaft[i], *key), i)
         if index[first] == index[i]:
             continue
         a, b = cylinders[first], cylinders[i]
@@ -121,7 +141,7 @@ def _check_pins(
                 "rods at one throw angle and z share the pin and its throw: give them one throw_id"
             )
         else:
-            path = ("crank", "throws", int(b.throw_id or 1) - 1)
+            path = (*_block(cylinders, i), "throws", int(b.throw_id or 1) - 1)
             message = (
                 f"throws {a.throw_id} and {b.throw_id} put rods at one pin ({where}): "
                 f"cylinders {first + 1} and {i + 1}"
@@ -139,12 +159,16 @@ def _check_stretches(
     prefix: tuple[str | int, ...] | None,
     index: NDArray[np.intp],
     z: NDArray[np.float64],
+    shaft: list[int],
 ) -> None:
-    """A rod of one throw strictly between the first and last rod of another is refused."""
+    """A rod of one throw strictly between the first and last rod of another throw of its
+    crankshaft is refused."""
+    on = np.asarray(shaft)
     for t in range(int(index.max()) + 1):
         own = index == t
         lo, hi = float(z[own].min()), float(z[own].max())
-        inside = np.flatnonzero(~own & (z > lo) & (z < hi))
+        same = on == on[own][0]
+        inside = np.flatnonzero(~own & same & (z > lo) & (z < hi))
         if inside.size == 0:
             continue
         i = int(inside[0])
@@ -161,7 +185,7 @@ def _check_stretches(
                 "throw's rod between them: check these cylinders' throw_id"
             )
         else:
-            path = ("crank", "bank_stagger")
+            path = (*_block(cylinders, int(np.flatnonzero(own)[0])), "bank_stagger")
             message = (
                 f"the rods of throw {label} ({span}) reach past throw "
                 f"{cylinders[i].throw_id}'s (z {z[i] * 1e3:.6g} mm)"

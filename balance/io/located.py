@@ -191,7 +191,8 @@ def _value_at(data: Any, path: Path) -> Any:
 
 def _clean_loc(raw: Any) -> Path:
     loc = tuple(p for p in raw if isinstance(p, str | int))
-    return tuple(p for p in loc if not (isinstance(p, str) and p.startswith("function-")))
+    # a validator's name, and the tag of a union's member (``crank:``'s ``<block>``)
+    return tuple(p for p in loc if not (isinstance(p, str) and (p.startswith(("function-", "<")))))
 
 
 def _model_at(model: type[BaseModel], path: Path) -> type[BaseModel] | None:

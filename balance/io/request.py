@@ -136,6 +136,9 @@ def build_request(
     speed_model = wanted.get("dynamics", {}).get("speed_model")
     if speed_model is None and "dynamics" in engine.sections:
         speed_model = "dynamic"
+    from balance.io.several_cranks import refuse_unsupported
+
+    refuse_unsupported(engine, wanted, speed_model)  # several crankshafts
     if speed_model == "dynamic" and model in ("series", "textbook"):
         raise InputError(
             f"model: {model!r} with the dynamic speed model, which samples the exact "

@@ -29,7 +29,15 @@ import typing
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    model_validator,
+)
 
 from balance.core.balance_factor import CONVENTIONS, BalanceFactor
 from balance.core.engine import STRATEGIES, BalanceSettings, ShaftPosition
@@ -49,6 +57,7 @@ from balance.io.layout_fields import (
 from balance.io.limits import MAX_ORDER
 from balance.io.located import Hints
 from balance.io.problems import FieldProblem
+from balance.io.several_cranks import CrankshaftSpec, OutputSpec, check_opposed_block
 from balance.io.units import UnitProblem, parse_quantity, registry
 
 __all__ = [
@@ -465,6 +474,12 @@ class CylinderSpec(TableSpec, rows=entry_fields(), entry=True):
 
     throw_id: Annotated[int | None, BeforeValidator(_throw_id)] = None
     link: LinkSpec | None = None
+    # several crankshafts (docs/layout-format.md, "Several crankshafts"; the throw from
+    # tdc on a shaft of another sense or phase; the compact block giving the cylinder)
+    crankshaft: str | None = Field(default=None, min_length=1, max_length=100)
+    opposed: int | None = Field(default=None, ge=1, le=256)
+    _shaft_throw: float | None = None
+    _block: tuple[str | int, ...] = ("crank",)
 
     @model_validator(mode="after")
     def _check(self) -> CylinderSpec:
@@ -485,9 +500,12 @@ class CylinderSpec(TableSpec, rows=entry_fields(), entry=True):
 
     @property
     def throw_angle(self) -> float:
-        """Throw angle [deg], from ``throw`` or from ``bank - tdc``."""
+        """Throw angle [deg], from ``throw`` or from ``bank - tdc`` (on a crankshaft of
+        another sense or phase ``sigma (bank - phase) - tdc``)."""
         if self.throw is not None:
             return self.throw
+        if self._shaft_throw is not None:
+            return self._shaft_throw
         return self.bank - self.tdc
 
 
@@ -548,9 +566,17 @@ class CrankSpec(Strict):
     bank_stagger: Length = 0.0
     row_rotation: list[Angle] | None = None
     link: CrankLinkSpec | None = None
+    # a block of several crankshafts (docs/layout-format.md, "Several crankshafts")
+    crankshaft: str | None = Field(default=None, min_length=1, max_length=100)
+    opposed: list[Annotated[str, Field(min_length=1, max_length=100)]] | None = Field(
+        default=None, min_length=2, max_length=2
+    )
+    z0: Length = 0.0
 
     @model_validator(mode="after")
     def _check(self) -> CrankSpec:
+        if self.opposed is not None:
+            check_opposed_block(self)
         if self.bank_count is not None:
             if "banks" in self.model_fields_set:
                 raise FieldProblem(
@@ -847,6 +873,18 @@ class FlywheelSpec(Strict):
         return self
 
 
+def _blocks(value: Any) -> str:
+    """Which form ``crank:`` takes: one block (a mapping) or a list of blocks."""
+    return "<blocks>" if isinstance(value, list) else "<block>"
+
+
+CrankForm = Annotated[
+    Annotated[CrankSpec, Tag("<block>")]
+    | Annotated[list[CrankSpec], Tag("<blocks>"), Field(min_length=1, max_length=64)],
+    Discriminator(_blocks),
+]
+
+
 class LayoutSpec(Strict):
     """A whole layout file but its concern sections (:mod:`balance.io.layout_sections`),
     which their own models read."""
@@ -859,7 +897,7 @@ class LayoutSpec(Strict):
     geometry: GeometrySpec
     masses: MassesSpec
     cylinders: list[CylinderSpec] | None = Field(default=None, min_length=1, max_length=256)
-    crank: CrankSpec | None = None
+    crank: CrankForm | None = None
     reference_z: OptLength = None
     pitch: OptLength = None
     firing_order: list[int] | None = None
@@ -868,6 +906,8 @@ class LayoutSpec(Strict):
     balance: BalanceSpec | None = None
     gas: GasSpec | None = None
     flywheel: FlywheelSpec | None = None
+    crankshafts: list[CrankshaftSpec] | None = Field(default=None, min_length=1, max_length=64)
+    output: OutputSpec | None = None
 
     @model_validator(mode="after")
     def _check(self) -> LayoutSpec:

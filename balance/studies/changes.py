@@ -102,6 +102,11 @@ def apply_changes(
         attribute = field.attribute
         if attribute.startswith("crank."):
             continue  # set above
+        if attribute.startswith("shaft."):  # a crankshaft's phase, x or y
+            from balance.io.several_cranks import shaft_changed
+
+            new[_SHAFTS] = shaft_changed(current(_SHAFTS), attribute, value, add)
+            continue
         if attribute.startswith("balance."):
             settings = engine.balance if engine.balance is not None else BalanceSettings()
             key = attribute.removeprefix("balance.")
@@ -195,6 +200,8 @@ LINK_GEOMETRY = frozenset(
 )
 #: Rod parts whose engine-wide value the layout file gives the master rods only.
 _ROD_PARTS = frozenset(f.attribute for f in FIELDS if f.group == "rod")
+#: The :class:`Engine` attribute that holds several crankshafts.
+_SHAFTS = "crankshafts"
 
 
 def _check_link_fields(engine: Engine, fields: Sequence[Field]) -> None:
