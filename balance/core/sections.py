@@ -90,6 +90,13 @@ SECTIONS: tuple[Section, ...] = (
         default=True,
     ),
     Section(
+        "crankshafts",
+        "Several crankshafts",
+        part="balance.core.geared:geared_part",
+        outputs="balance.core.geared:OUTPUTS",
+        default=True,
+    ),
+    Section(
         "dynamics",
         "Variable crank speed",
         part="balance.core.dynamics:dynamics_part",

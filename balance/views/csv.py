@@ -12,6 +12,7 @@ import math
 from typing import TYPE_CHECKING
 
 from balance.core.catalogue import BASE
+from balance.views.sections import views_of
 
 if TYPE_CHECKING:  # pragma: no cover
     from balance.core.result import Result
@@ -27,7 +28,8 @@ def to_csv(result: Result) -> str:
     """Per-order table: forward and backward magnitude and phase, peak, normalised peak.
 
     Columns carry their units in brackets, e.g. ``force_forward_magnitude [N]``.  Roll is
-    joined on the same order where the roll orders match the orders.
+    joined on the same order where the roll orders match the orders.  A section whose
+    views define ``csv_columns`` adds its columns after these (:mod:`balance.views.sections`).
 
     Parameters
     ----------
@@ -62,6 +64,12 @@ def to_csv(result: Result) -> str:
         roll_at = {float(k): i for i, k in enumerate(result.roll_orders)}
         roll_amplitude = values["roll_amplitude"].get(result)
         roll_phase = values["roll_phase"].get(result)
+    extra: list[tuple[str, list[float]]] = []
+    for _, views in views_of(result):
+        columns = getattr(views, "csv_columns", None)
+        if columns is not None:
+            extra += columns(result)
+    header += [name for name, _ in extra]
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(header)
@@ -72,5 +80,6 @@ def to_csv(result: Result) -> str:
             row += [_cell(float(roll_amplitude[at])), _cell(float(roll_phase[at]))]
         elif result.roll is not None:
             row += ["", ""]
+        row += [_cell(values_[i]) for _, values_ in extra]
         writer.writerow(row)
     return buffer.getvalue()

@@ -5,6 +5,8 @@ named in :data:`VIEWS`.  Such a module may define
 
 - ``json_block(result) -> dict``: the keys it adds to the analysis JSON;
 - ``tables(result) -> list``: its rich renderables in the table view;
+- ``csv_columns(result) -> list``: the ``(header, values)`` columns it adds to the
+  per-order CSV, one value per order;
 - ``REPORT_TITLE`` and ``report_section(result, figures) -> str``: its section of the HTML
   design review (with ``REPORT_ABSENT``, what the review says where the result lacks it);
 - ``report_columns(result) -> list``: the ``(header, cells)`` columns it adds to the
@@ -32,6 +34,7 @@ __all__ = ["VIEWS", "view", "views_of"]
 VIEWS: dict[str, str] = {
     "cylinders": "balance.views.cylinders",
     "torque": "balance.views.torque",
+    "crankshafts": "balance.views.crankshafts",
     "dynamics": "balance.views.dynamics",
     "proposal": "balance.views.proposal",
     "factor_study": "balance.views.factor_study",
