@@ -233,9 +233,11 @@ def geared_free_forces(
         For link rods with several crank axes (not in this version).
     """
     if layout.has_links:
-        raise InputError("links: link rods with several crankshafts are not in this version")
+        raise InputError("links: articulated rods on several crankshafts is not in this version")
     if layout.gas is not None:
-        raise InputError("gas: gas forces with several crankshafts are not in this version")
+        raise InputError(
+            "gas: the torque with gas forces with several crankshafts is not in this version"
+        )
     table = layout.axis_table()
     n_axes = len(table.names)
     throw = layout.forward_throw()
