@@ -233,17 +233,50 @@ def test_what_is_not_in_this_version_is_refused_in_one_line(settings, message):
     assert "\n" not in text and "--" not in text
 
 
-def test_gas_and_bearings_with_several_crankshafts_are_refused():
+def test_bearings_and_gas_on_opposed_pistons_are_refused():
     gas = load_layout("inline-4-gas")
-    engine = with_crankshafts(gas, [0, 0, 1, 1], x=[0.0, 0.2], y=[0.0, 0.0])
-    with pytest.raises(
-        InputError,
-        match="gas: the torque with gas forces with several crankshafts is not in this version",
-    ):
-        compute_result(engine)
+    opposed = with_crankshafts(gas, [0, 0, 1, 1], x=[0.0, 0.2], y=[0.0, 0.0])
+    opposed = replace(
+        opposed, crankshafts=replace(opposed.crankshafts, opposed=np.array([2, -1, 0, -1]))
+    )
+    with pytest.raises(InputError, match="gas: gas forces on opposed pistons is not in this"):
+        compute_result(opposed, proposal=False)
     plain = with_crankshafts(load_layout("inline-4"), [0, 0, 1, 1], x=[0.0, 0.2], y=[0.0, 0.0])
     with pytest.raises(InputError, match=r"bearings: .* with several crankshafts is not"):
         compute_result(plain, bearings=True, proposal=False)
+
+
+@pytest.mark.parametrize("sense", [1.0, -1.0])
+@pytest.mark.parametrize("output", [1.0, -1.0])
+def test_gas_torque_reaches_the_block_with_the_outputs_sign(sense, output):
+    """The gas inline-4 (no offset, two-mass rods) on two cranks on one axis geared to one
+    output: no part's angular momentum changes, so the block receives -sigma_o times the
+    output's torque whichever way the second crank turns: today's roll with gas (half
+    orders), times sigma_o.  Each shaft's mean torque is half today's."""
+    engine = replace(load_layout("inline-4-gas"), conrod_inertia_correction=np.zeros(4))
+    today = compute_result(engine, proposal=False)
+    geared = with_crankshafts(
+        engine, [0, 0, 1, 1], x=[0.0, 0.0], y=[0.0, 0.0], rotation=[1.0, sense], output=output
+    )
+    result = compute_result(geared, proposal=False)
+    np.testing.assert_array_equal(result.roll_orders, today.roll_orders)
+    scale = float(np.max(np.abs(today.roll)))
+    assert scale > 500.0  # N m
+    np.testing.assert_allclose(result.roll, output * today.roll, rtol=0, atol=1e-12 * scale)
+    part = result.part("crankshafts")
+    np.testing.assert_allclose(part.torque_mean, today.part("torque").mean / 2, rtol=1e-12)
+    assert result.part("torque").mean == today.part("torque").mean
+    np.testing.assert_allclose(
+        np.mean(result.part("torque").roll_torque),
+        -output * today.part("torque").mean,
+        rtol=1e-9,
+    )
+    # the shafts' own rolls and the gear couple add up to it
+    total = part.force.roll.sum(axis=0) + part.gear_couple
+    np.testing.assert_allclose(total, result.roll, rtol=0, atol=1e-12 * scale)
+    data = to_dict(result)
+    assert data["crankshafts"][1]["torque_mean_Nm"] == pytest.approx(part.torque_mean[1])
+    assert [e["order"] for e in data["crankshafts"][0]["torque"]][:2] == [0.5, 1]
 
 
 def test_the_default_analysis_of_several_crankshafts_has_no_proposal():

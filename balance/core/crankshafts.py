@@ -102,6 +102,8 @@ class AxisTable:
         Per axis: position [m], sense [1] and phase [rad].
     output_sense : float
         :math:`\\sigma_o`, the sense of the shaft the load is taken off [1].
+    opposed : ndarray of int
+        The cylinder (0-based) sharing each cylinder's bore, -1 where none.
     """
 
     axis: NDArray[np.intp]
@@ -115,6 +117,7 @@ class AxisTable:
     rotation: FloatArray
     phase: FloatArray
     output_sense: float
+    opposed: NDArray[np.intp]
 
 
 def axis_table(crankshafts: Crankshafts) -> AxisTable:
@@ -144,6 +147,7 @@ def axis_table(crankshafts: Crankshafts) -> AxisTable:
         rotation=np.asarray(crankshafts.rotation, dtype=np.float64),
         phase=np.asarray(crankshafts.phase, dtype=np.float64),
         output_sense=float(crankshafts.output_rotation),
+        opposed=np.asarray(crankshafts.opposed, dtype=np.intp),
     )
 
 

@@ -597,10 +597,13 @@ def dynamics_part(
     )
     if speed_model is None:
         speed_model = "dynamic" if given is not None or (figures and able) else "constant"
-    if speed_model == "dynamic" and engine.geared:  # docs/several-crankshafts.md
-        raise InputError(
-            "speed_model: the dynamic speed model with several crankshafts is not in this version"
-        )
+    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
+        if speed_model == "dynamic":
+            raise InputError(
+                "speed_model: the dynamic speed model with several crankshafts is not in this "
+                "version"
+            )
+        return result  # the constant rung's own error bound is one crankshaft's
     if load is None and given is not None:
         load = given
     torque = result.part("torque")

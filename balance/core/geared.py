@@ -26,6 +26,7 @@ analysed one axis at a time, each as a one-crank engine of the model ladder:
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
@@ -57,6 +58,7 @@ __all__ = [
     "geared_part",
     "moment_about_z",
     "torque_coefficients",
+    "with_gas",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -234,10 +236,6 @@ def geared_free_forces(
     """
     if layout.has_links:
         raise InputError("links: articulated rods on several crankshafts is not in this version")
-    if layout.gas is not None:
-        raise InputError(
-            "gas: the torque with gas forces with several crankshafts is not in this version"
-        )
     table = layout.axis_table()
     n_axes = len(table.names)
     throw = layout.forward_throw()
@@ -361,6 +359,84 @@ def geared_free_forces(
         roll_orders=orders.astype(np.float64),
     )
     return whole, parts, first
+
+
+def with_gas(
+    parts: GearedParts,
+    cylinder_torque: FloatArray,
+    cycle_deg: float,
+    roll_orders: FloatArray,
+    phasors_scale: float,
+) -> tuple[GearedParts, ComplexArray, float]:
+    r"""Each axis's torque, own roll and the engine's roll with gas forces.
+
+    Gas pressure acts on the piston and the head alike: it adds no free force (and nothing
+    to the moment about ``z``) and no angular momentum, only torque.  With :math:`M^g_s`
+    the gas part of axis ``s``'s torque, its own roll gains :math:`-\sigma_s M^g_s` and the
+    engine's roll :math:`-\sigma_o \sum_s M^g_s`: the gear couple carries the rest.
+
+    Parameters
+    ----------
+    parts : GearedParts
+        The inertia-only parts (integer orders).
+    cylinder_torque : ndarray
+        Each cylinder's torque on its crank over the cycle, in its crank's own sense, gas
+        and inertia [N m], shape (cylinders, angles) (:class:`balance.core.torque.TorqueResult`).
+    cycle_deg : float
+        The cycle [deg] the angles cover evenly.
+    roll_orders : ndarray
+        The orders to report (halves for a four-stroke).
+    phasors_scale : float
+        The largest sum of magnitudes of the torques [N m], for the rounding of the spectra.
+
+    Returns
+    -------
+    parts : GearedParts
+        With each axis's torque (and its mean) and own roll with gas, the gear couple, on
+        ``roll_orders``.
+    roll : ndarray of complex
+        The engine's roll with gas on ``roll_orders`` [N m].
+    mean : float
+        The mean torque of the output, :math:`\sum_s M_s` over the cycle [N m].
+    """
+    samples = cylinder_torque.shape[-1]
+    bins = np.round(roll_orders * cycle_deg / 360.0).astype(np.intp)
+    per_axis = np.stack([cylinder_torque[m].sum(axis=0) for m in parts.members])
+    spectrum = np.fft.fft(per_axis, axis=-1) / samples
+    total = phasors.cancel_to_zero(
+        2.0 * spectrum[:, bins % samples], phasors_scale, 8 * int(math.log2(samples)) * parts.count
+    )
+    whole = np.isin(roll_orders, parts.force.orders)
+    at = np.searchsorted(parts.force.orders, roll_orders[whole])
+
+    def on_roll_orders(values: ComplexArray) -> ComplexArray:
+        out = np.zeros(values.shape[:-1] + roll_orders.shape, dtype=np.complex128)
+        out[..., whole] = values[..., at]
+        return out
+
+    assert parts.torque is not None and parts.force.roll is not None
+    inertia = on_roll_orders(parts.torque)
+    gas = total - inertia
+    own = on_roll_orders(parts.force.roll) - parts.sense[:, None] * gas
+    gear = _clean_sum((parts.sense - parts.output_sense)[:, None] * total)
+    roll = _clean_sum(
+        np.concatenate(
+            [
+                own,
+                on_roll_orders(parts.moment_z_reciprocating + parts.moment_z_rotating)[None],
+                gear[None],
+            ]
+        )
+    )
+    new = replace(
+        parts,
+        force=replace(parts.force, roll=own),
+        torque=total,
+        gear_couple=gear,
+        roll_orders=np.asarray(roll_orders, dtype=np.float64),
+        torque_mean=per_axis.mean(axis=-1),
+    )
+    return new, roll, float(per_axis.sum(axis=0).mean())
 
 
 # --------------------------------------------------------------------------- the section
