@@ -1,8 +1,8 @@
 """Views of the ``crankshafts`` section: several crankshafts geared together
 (:mod:`balance.core.geared`, docs/several-crankshafts.md).
 
-The JSON keys are those of docs/cli.md, "Several crankshafts": the rotating masses'
-``backward`` phasors, ``moment_z`` (and its reciprocating and rotating parts),
+The JSON keys are those of docs/several-crankshafts.md, "What each crankshaft reports": the
+rotating masses' ``backward`` phasors, ``moment_z`` (and its reciprocating and rotating parts),
 ``output_rotation``, ``crankshafts`` (each one's force, own roll and torque) and
 ``gear_couple``; every cylinder entry gains ``crankshaft`` and ``opposed``.
 """
@@ -71,7 +71,7 @@ def json_block(result: Result) -> dict[str, Any]:
         ``rotating.force.backward`` (and the moment's), ``reciprocating.moment_z``,
         ``rotating.moment_z``, ``moment_z``, ``output_rotation``, ``crankshafts``,
         ``gear_couple`` and the ``cylinders`` entries with ``crankshaft`` and ``opposed``
-        (docs/cli.md, "Several crankshafts").
+        (docs/several-crankshafts.md, "What each crankshaft reports").
     """
     part = _part(result)
     orders = result.orders
