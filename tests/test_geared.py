@@ -164,6 +164,10 @@ def test_the_mounts_take_the_whole_wrench():
     first = int(np.searchsorted(orders, 1))
     assert fb[first] == free.force_backward[0]
     assert twin.phasors.rotating_force_backward != 0.0
+    # the roll they read holds the gear couple (the counter-rotating crank's -2 M_2)
+    gear = twin.part("crankshafts").gear_couple
+    assert np.max(np.abs(gear)) > 100.0
+    np.testing.assert_array_equal(roll[np.searchsorted(orders, twin.roll_orders)], twin.roll)
 
 
 def test_the_json_and_the_dataset_of_several_crankshafts():
