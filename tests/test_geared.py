@@ -219,6 +219,10 @@ def test_the_table_and_csv_show_the_crankshafts():
     assert "moment_z_amplitude [N m]" in header and "shaft2_torque_amplitude [N m]" in header
     titles = [t.title for t in render(result).renderables if isinstance(t, NumberTable)]
     assert any(title.startswith("Crankshafts: shaft1 at (-45, 0) mm same") for title in titles)
+    forces = next(t for t in render(result).renderables if isinstance(t, NumberTable))
+    rows = {row[0]: row for row in forces.rows}
+    assert rows["1 rot."][3] == "1.019e+04"  # the counter-rotating crank's masses, backward
+    assert rows["1 free"][1] == rows["1 free"][3] == "0"  # first order balanced
 
 
 @pytest.mark.parametrize(
