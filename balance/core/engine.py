@@ -349,6 +349,21 @@ class Engine:
 
         return forward_throw(self.throw, self.bank, self.axis_table())
 
+    def forward_equivalent(self) -> Engine:
+        """The one-crank engine whose cylinders are at this engine's crank angles from TDC
+        (:meth:`forward_throw`, no crankshafts): what a cylinder's reciprocating motion,
+        its forces along the bore and its torque on its crank in the crank's own sense are
+        computed on (docs/several-crankshafts.md, "The angles α and β").
+
+        Returns
+        -------
+        Engine
+            This engine itself unless :attr:`geared`.
+        """
+        if not self.geared:
+            return self
+        return replace(self, throw=self.forward_throw(), crankshafts=None)
+
     @property
     def n_cylinders(self) -> int:
         """Number of cylinders."""

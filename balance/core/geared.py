@@ -238,9 +238,10 @@ def geared_free_forces(
         raise InputError("links: articulated rods on several crankshafts is not in this version")
     table = layout.axis_table()
     n_axes = len(table.names)
-    throw = layout.forward_throw()
+    base = layout.forward_equivalent()
+    throw = base.throw
     w2 = speed_squared(layout.speed)
-    base = replace(layout, throw=throw, crankshafts=None, rotating_mass=np.zeros_like(throw))
+    base = replace(base, rotating_mass=np.zeros_like(throw))
     lever = layout.z - layout.reference_z
     amp_rot = layout.rotating_mass * layout.crank_radius
     # where each rotating mass is at theta = 0, in its axis's sense of turning

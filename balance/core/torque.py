@@ -57,7 +57,7 @@ rod and crank, torque summation, speed fluctuation and flywheel); Taylor,
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -466,14 +466,12 @@ def _geared_torque(engine: Engine, result: Any) -> Any:
     its crank angle from TDC (in its crank's own sense), the engine torque the output's
     (the sum over the shafts in their own senses), and the roll, each shaft's torque and
     own roll with gas (:func:`balance.core.geared.with_gas`)."""
-    from dataclasses import replace
-
     from balance.core.geared import with_gas
 
     table = engine.axis_table()
     if np.any(table.opposed >= 0):
         raise InputError("gas: gas forces on opposed pistons is not in this version")
-    forward = replace(engine, throw=engine.forward_throw(), crankshafts=None)
+    forward = engine.forward_equivalent()
     torque = compute_torque(forward, result.phasors.orders)
     if result.roll is None or result.shafts is None:
         return result.with_part("torque", torque)
