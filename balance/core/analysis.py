@@ -78,6 +78,8 @@ def compute_phasors(
         bound, and the link pins' phasors of an engine with link rods.
     """
     ks = _orders_array(orders)
+    if layout.geared:
+        return _geared(layout, ks, model, terms, samples, moments=moments, roll=roll)
     if model == "time":
         return _compute_time(layout, ks, samples, moments=moments, roll=roll)
     unit = free_phasors_of(
@@ -98,6 +100,29 @@ def compute_phasors(
         model=ModelRung(model, terms, 0, bound),
         link_pins=None if unit.link_pins is None else unit.link_pins.scaled(w2),
     )
+
+
+def _geared(
+    layout: Engine,
+    ks: NDArray[np.intp],
+    model: str,
+    terms: int,
+    samples: int | None,
+    *,
+    moments: bool,
+    roll: bool,
+) -> FreeForces:
+    """Several crank axes: each analysed as a one-crank engine and combined
+    (:func:`balance.core.geared.geared_free_forces`)."""
+    from balance.core.geared import geared_free_forces
+
+    def one_crank(engine: Engine) -> FreeForces:
+        return compute_phasors(
+            engine, ks, model=model, terms=terms, samples=samples, moments=moments, roll=roll
+        )
+
+    whole, parts, first = geared_free_forces(layout, one_crank, moments=moments, roll=roll)
+    return replace(first, phasors=whole, shafts=parts)
 
 
 def engine_cylinders(layout: Engine) -> dict[str, Any]:
@@ -483,6 +508,7 @@ def compute(engine: Engine, request: Request) -> Result:
         coefficients=free.coefficients,
         model=free.model,
         link_pins=free.link_pins,
+        shafts=free.shafts,
         roll_orders=ks.astype(np.float64),
         roll=free.phasors.roll,
         reference_force=f1,

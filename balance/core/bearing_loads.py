@@ -32,6 +32,7 @@ from balance.core.bearings import (
 )
 from balance.core.catalogue import Output
 from balance.core.engine import STRATEGIES, Engine
+from balance.core.errors import InputError
 from balance.core.speed import speed_squared
 
 __all__ = [
@@ -375,6 +376,11 @@ def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool
     """
     from balance.core.analysis import compute
 
+    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
+        raise InputError(
+            "bearings: the crank-pin and main-bearing loads with several crankshafts is not in "
+            "this version"
+        )
     proposal = result.part("proposal")
     loads = analysis_bearings(engine, counterweights_of(proposal.proposal if proposal else None))
     by_strategy: list[tuple[str, Bearings]] = []

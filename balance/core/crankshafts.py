@@ -25,8 +25,12 @@ __all__ = [
     "BORE_LINE",
     "MAX_AXIS_STROKES",
     "MAX_OPPOSED_LAG",
+    "AxisTable",
     "Crankshafts",
+    "axis_table",
     "bore_lines",
+    "forward_throw",
+    "is_plain",
     "layout_warnings",
     "tdc_angles",
 ]
@@ -253,3 +257,126 @@ def layout_warnings(
             )
         )
     return found
+
+
+@dataclass(frozen=True, eq=False)
+class AxisTable:
+    """Each cylinder's crank axis under generic names, for the physics modules.
+
+    Attributes
+    ----------
+    axis : ndarray of int
+        The axis (0-based crankshaft) of each cylinder.
+    sense : ndarray
+        :math:`\\sigma` of each cylinder's axis, +1.0 or -1.0 [1].
+    axis_phase : ndarray
+        Phase of each cylinder's axis [rad].
+    axis_x, axis_y : ndarray
+        Position of each cylinder's axis [m].
+    names : tuple of str
+        Name of each axis.
+    x, y, rotation, phase : ndarray
+        Per axis: position [m], sense [1] and phase [rad].
+    output_sense : float
+        :math:`\\sigma_o`, the sense of the shaft the load is taken off [1].
+    opposed : ndarray of int
+        The cylinder (0-based) sharing each cylinder's bore, -1 where none.
+    """
+
+    axis: NDArray[np.intp]
+    sense: FloatArray
+    axis_phase: FloatArray
+    axis_x: FloatArray
+    axis_y: FloatArray
+    names: tuple[str, ...]
+    x: FloatArray
+    y: FloatArray
+    rotation: FloatArray
+    phase: FloatArray
+    output_sense: float
+    opposed: NDArray[np.intp]
+
+
+def axis_table(crankshafts: Crankshafts) -> AxisTable:
+    """The per-cylinder arrays of the crankshafts, the one place they are formed.
+
+    Parameters
+    ----------
+    crankshafts : Crankshafts
+        The crankshafts and the crankshaft of each cylinder.
+
+    Returns
+    -------
+    AxisTable
+        Each cylinder's axis index, sense, phase [rad] and position [m], and the
+        per-axis values.
+    """
+    of = np.asarray(crankshafts.of_cylinder, dtype=np.intp)
+    return AxisTable(
+        axis=of,
+        sense=np.asarray(crankshafts.rotation, dtype=np.float64)[of],
+        axis_phase=np.asarray(crankshafts.phase, dtype=np.float64)[of],
+        axis_x=np.asarray(crankshafts.x, dtype=np.float64)[of],
+        axis_y=np.asarray(crankshafts.y, dtype=np.float64)[of],
+        names=crankshafts.names,
+        x=np.asarray(crankshafts.x, dtype=np.float64),
+        y=np.asarray(crankshafts.y, dtype=np.float64),
+        rotation=np.asarray(crankshafts.rotation, dtype=np.float64),
+        phase=np.asarray(crankshafts.phase, dtype=np.float64),
+        output_sense=float(crankshafts.output_rotation),
+        opposed=np.asarray(crankshafts.opposed, dtype=np.intp),
+    )
+
+
+def is_plain(crankshafts: Crankshafts | None) -> bool:
+    """Whether the crankshafts are the one-crankshaft engine of every other page: none
+    given, or one on the frame's ``z`` axis turning forward with phase 0 and the output
+    turning with it.
+
+    Parameters
+    ----------
+    crankshafts : Crankshafts or None
+        The engine's crankshafts.
+
+    Returns
+    -------
+    bool
+        True when the engine computes as one crankshaft, bit for bit.
+    """
+    if crankshafts is None:
+        return True
+    return (
+        crankshafts.count == 1
+        and float(crankshafts.x[0]) == 0.0
+        and float(crankshafts.y[0]) == 0.0
+        and float(crankshafts.rotation[0]) == 1.0
+        and float(crankshafts.phase[0]) == 0.0
+        and float(crankshafts.output_rotation) == 1.0
+    )
+
+
+def forward_throw(throw: FloatArray, bank: FloatArray, table: AxisTable) -> FloatArray:
+    r"""The throw of the forward one-crank cylinder with the same crank angle from TDC.
+
+    A cylinder on an axis of sense :math:`\sigma` and phase :math:`\varphi_s` is at
+    :math:`\beta = \theta + \text{throw} + \sigma(\varphi_s - \text{bank})` from its TDC;
+    the one-crank cylinder with throw :math:`\text{throw} + \sigma(\varphi_s - \text{bank})
+    + \text{bank}` and the same bank is at the same :math:`\beta`.  For
+    :math:`\sigma = -1` it is the cylinder's mirror image across its bore line
+    (:math:`\text{throw} - \varphi_s + 2\,\text{bank}`); for :math:`\sigma = +1` the
+    cylinder turned by :math:`\varphi_s` (:math:`\text{throw} + \varphi_s`).
+
+    Parameters
+    ----------
+    throw, bank : ndarray
+        Per cylinder [rad].
+    table : AxisTable
+        The cylinders' axes (:func:`axis_table`).
+
+    Returns
+    -------
+    ndarray
+        The equivalent throw per cylinder [rad].
+    """
+    forward = throw + table.axis_phase
+    return np.asarray(np.where(table.sense > 0, forward, throw - table.axis_phase + 2.0 * bank))

@@ -167,7 +167,7 @@ def engine_dead_centres(engine: Engine) -> tuple[FloatArray, FloatArray]:
         Crank angle in :math:`[0, 2\pi)` of each cylinder's top dead centre [rad].
     """
     return dead_centres(
-        engine.throw,
+        engine.forward_throw(),
         engine.bank,
         engine.crank_radius,
         engine.conrod_length,

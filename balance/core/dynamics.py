@@ -31,7 +31,7 @@ from balance.core.crank_motion import (
     periodic_motion,
 )
 from balance.core.engine import Engine
-from balance.core.errors import AnalysisError
+from balance.core.errors import AnalysisError, InputError
 from balance.core.gas import cycle_degrees
 from balance.core.phasors import Phasors, phase_deg
 from balance.core.plausibility import PlausibilityWarning
@@ -597,6 +597,13 @@ def dynamics_part(
     )
     if speed_model is None:
         speed_model = "dynamic" if given is not None or (figures and able) else "constant"
+    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
+        if speed_model == "dynamic":
+            raise InputError(
+                "speed_model: the dynamic speed model with several crankshafts is not in this "
+                "version"
+            )
+        return result  # the constant rung's own error bound is one crankshaft's
     if load is None and given is not None:
         load = given
     torque = result.part("torque")

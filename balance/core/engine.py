@@ -19,7 +19,7 @@ from balance.core.balance_factor import BalanceFactor
 from balance.core.errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover (annotations only: gas loads when used)
-    from balance.core.crankshafts import Crankshafts
+    from balance.core.crankshafts import AxisTable, Crankshafts
     from balance.core.gas import GasInput
     from balance.core.masses import MassParts
 
@@ -337,6 +337,68 @@ class Engine:
     def with_section(self, name: str, value: Any) -> Engine:
         """The same engine with the layout section ``name`` given (or replaced) as ``value``."""
         return replace(self, sections={**self.sections, name: value})
+
+    @property
+    def geared(self) -> bool:
+        """Whether the engine has crankshafts other than the one on the frame's ``z`` axis
+        turning forward (:func:`balance.core.crankshafts.is_plain`): then its analysis is
+        that of several crankshafts geared together."""
+        if self.crankshafts is None:
+            return False
+        from balance.core.crankshafts import is_plain
+
+        return not is_plain(self.crankshafts)
+
+    def axis_table(self) -> AxisTable:
+        """Each cylinder's crank axis: sense, phase, position
+        (:func:`balance.core.crankshafts.axis_table`; one axis at the origin without
+        crankshafts)."""
+        from balance.core.crankshafts import Crankshafts, axis_table
+
+        shafts = self.crankshafts
+        if shafts is None:
+            zero = np.zeros(1)
+            shafts = Crankshafts(
+                names=("crankshaft",),
+                x=zero,
+                y=zero,
+                rotation=np.ones(1),
+                phase=zero,
+                of_cylinder=np.zeros(self.n_cylinders, dtype=np.intp),
+                opposed=np.full(self.n_cylinders, -1, dtype=np.intp),
+            )
+        return axis_table(shafts)
+
+    def forward_throw(self) -> FloatArray:
+        """Each cylinder's throw as a one-crank cylinder at the same crank angle from TDC
+        (:func:`balance.core.crankshafts.forward_throw`); :attr:`throw` itself unless
+        :attr:`geared`.
+
+        Returns
+        -------
+        ndarray
+            The throws [rad].
+        """
+        if not self.geared:
+            return self.throw
+        from balance.core.crankshafts import forward_throw
+
+        return forward_throw(self.throw, self.bank, self.axis_table())
+
+    def forward_equivalent(self) -> Engine:
+        """The one-crank engine whose cylinders are at this engine's crank angles from TDC
+        (:meth:`forward_throw`, no crankshafts): what a cylinder's reciprocating motion,
+        its forces along the bore and its torque on its crank in the crank's own sense are
+        computed on (docs/several-crankshafts.md, "The angles α and β").
+
+        Returns
+        -------
+        Engine
+            This engine itself unless :attr:`geared`.
+        """
+        if not self.geared:
+            return self
+        return replace(self, throw=self.forward_throw(), crankshafts=None)
 
     @property
     def n_cylinders(self) -> int:

@@ -515,6 +515,9 @@ class Phasors:
     roll : ndarray of complex or None
         Roll phasors :math:`R_k` per order, shape ``(..., K)`` [N m]; None when not
         computed.
+    rotating_force_backward, rotating_moment_backward : ndarray of complex or None
+        The order-1 backward phasor of rotating masses that turn against the crank (on a
+        counter-rotating crankshaft, docs/several-crankshafts.md); None: there are none.
 
     Notes
     -----
@@ -532,6 +535,8 @@ class Phasors:
     rotating_force: ComplexArray | complex = 0j
     rotating_moment: ComplexArray | complex | None = None
     roll: ComplexArray | None = None
+    rotating_force_backward: ComplexArray | complex | None = None
+    rotating_moment_backward: ComplexArray | complex | None = None
 
     def has(self, quantity: Quantity) -> bool:
         """Whether the bundle holds ``quantity`` ('force' or 'moment')."""
@@ -552,7 +557,8 @@ class Phasors:
         return self.rotating_force if quantity == "force" else self.rotating_moment
 
     def free(self) -> Phasors:
-        r"""The whole free force and moment: the rotating masses added to order 1 forward.
+        r"""The whole free force and moment: the rotating masses added to order 1 forward
+        (and those turning backward, on a counter-rotating crankshaft, to order 1 backward).
 
         :math:`P_1^{+} + P_{rot}`; the result's rotating phasors are 0 (they are inside).
         This is the one place where "free = reciprocating + rotating at order 1" is
@@ -565,14 +571,19 @@ class Phasors:
                 return forward
             return forward + first * np.asarray(rotating)[..., None]
 
+        def zero(value: Any) -> Any:
+            return None if value is None else np.zeros_like(np.asarray(value))
+
         return replace(
             self,
             force_forward=add(self.force_forward, self.rotating_force),
             moment_forward=add(self.moment_forward, self.rotating_moment),
+            force_backward=add(self.force_backward, self.rotating_force_backward),
+            moment_backward=add(self.moment_backward, self.rotating_moment_backward),
             rotating_force=np.zeros_like(np.asarray(self.rotating_force)),
-            rotating_moment=None
-            if self.rotating_moment is None
-            else np.zeros_like(np.asarray(self.rotating_moment)),
+            rotating_moment=zero(self.rotating_moment),
+            rotating_force_backward=zero(self.rotating_force_backward),
+            rotating_moment_backward=zero(self.rotating_moment_backward),
         )
 
     def magnitude(self, quantity: Quantity) -> FloatArray:
@@ -628,6 +639,8 @@ class Phasors:
             rotating_force=times(self.rotating_force, f_scalar),
             rotating_moment=times(self.rotating_moment, f_scalar),
             roll=times(self.roll, f),
+            rotating_force_backward=times(self.rotating_force_backward, f_scalar),
+            rotating_moment_backward=times(self.rotating_moment_backward, f_scalar),
         )
 
     def __add__(self, other: Phasors) -> Phasors:
@@ -638,6 +651,9 @@ class Phasors:
         def plus(a: Any, b: Any) -> Any:
             return None if a is None or b is None else a + b
 
+        def either(a: Any, b: Any) -> Any:  # None is zero: masses that no bundle has
+            return b if a is None else a if b is None else a + b
+
         return Phasors(
             orders=self.orders,
             force_forward=plus(self.force_forward, other.force_forward),
@@ -647,6 +663,12 @@ class Phasors:
             rotating_force=plus(self.rotating_force, other.rotating_force),
             rotating_moment=plus(self.rotating_moment, other.rotating_moment),
             roll=plus(self.roll, other.roll),
+            rotating_force_backward=either(
+                self.rotating_force_backward, other.rotating_force_backward
+            ),
+            rotating_moment_backward=either(
+                self.rotating_moment_backward, other.rotating_moment_backward
+            ),
         )
 
     def at(self, orders: ArrayLike) -> Phasors:

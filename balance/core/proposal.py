@@ -28,6 +28,7 @@ from balance.core.balancing import (
 )
 from balance.core.catalogue import Output
 from balance.core.engine import Engine, ShaftPosition
+from balance.core.errors import InputError
 from balance.core.phasors import Phasors, cancel_to_zero, phase_deg, rounding_threshold, safe_ratio
 from balance.core.proposal_notes import cancel_roll_notes, factor_note, orders_left
 from balance.core.result import FreeForces, Result
@@ -322,6 +323,21 @@ def proposal_part(
     Result
         ``result`` with the ``proposal`` part added.
     """
+    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
+        given = {
+            "cancel": cancel,
+            "strategy": strategy,
+            "balance_factor": balance_factor,
+            "counterweight_radius": counterweight_radius,
+            "cancel_roll": cancel_roll,
+            "balance_factor_of": balance_factor_of,
+        }
+        for name, value in given.items():
+            if value:
+                raise InputError(
+                    f"{name}: a balancing proposal with several crankshafts is not in this version"
+                )
+        return result
     if not result.has_moments or result.roll is None:
         return result
     proposed = balance_engine(
@@ -615,6 +631,10 @@ def factor_study_part(
     Result
         ``result`` with the ``factor_study`` part (:class:`FactorStudy`) added.
     """
+    if engine.geared:
+        raise InputError(
+            "factors: the balance-factor study with several crankshafts is not in this version"
+        )
     return result.with_part("factor_study", factor_study(engine, factors))
 
 

@@ -74,12 +74,17 @@ class FreeForces:
         Engines with link rods: each cylinder's link pin moving relative to its crank pin
         (included in :attr:`phasors`), force only, shape (cylinders, orders) [N]; None
         otherwise.
+    shafts : GearedParts or None
+        An engine with several crankshafts: each one's force, own roll and torque, the
+        moment about ``z`` and the gear couple (:class:`balance.core.geared.GearedParts`);
+        None otherwise.
     """
 
     phasors: Phasors
     coefficients: ComplexArray
     model: ModelRung
     link_pins: Phasors | None = None
+    shafts: Any = None
 
 
 @dataclass(frozen=True)
@@ -196,6 +201,8 @@ class Result:
     warnings : tuple of PlausibilityWarning
         Inputs far outside piston-engine practice (:mod:`balance.core.plausibility`);
         they change no number.
+    shafts : GearedParts or None
+        An engine with several crankshafts: :attr:`FreeForces.shafts`.
     """
 
     engine: Engine
@@ -212,6 +219,7 @@ class Result:
     link_pins: Phasors | None = None
     parts: Mapping[str, Any] = field(default_factory=dict)
     warnings: tuple[PlausibilityWarning, ...] = ()
+    shafts: Any = None
 
     @property
     def orders(self) -> NDArray[np.intp]:

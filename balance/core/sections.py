@@ -98,6 +98,13 @@ SECTIONS: tuple[Section, ...] = (
         layout_key="crossheads",
     ),
     Section(
+        "crankshafts",
+        "Several crankshafts",
+        part="balance.core.geared:geared_part",
+        outputs="balance.core.geared:OUTPUTS",
+        default=True,
+    ),
+    Section(
         "dynamics",
         "Variable crank speed",
         part="balance.core.dynamics:dynamics_part",

@@ -57,7 +57,7 @@ rod and crank, torque summation, speed fluctuation and flywheel); Taylor,
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -453,10 +453,39 @@ def torque_part(engine: Engine, request: Any, result: Any) -> Any:
     section the result is returned as it is."""
     if engine.gas is None:
         return result
+    if engine.geared:
+        return _geared_torque(engine, result)
     torque = compute_torque(engine, result.phasors.orders)
     if result.roll is None:  # the roll was not asked for
         return result.with_part("torque", torque)
     return result.with_part("torque", torque, roll_orders=torque.roll_orders, roll=torque.roll)
+
+
+def _geared_torque(engine: Engine, result: Any) -> Any:
+    """Several crankshafts: each cylinder's forces and torque as the one-crank cylinder at
+    its crank angle from TDC (in its crank's own sense), the engine torque the output's
+    (the sum over the shafts in their own senses), and the roll, each shaft's torque and
+    own roll with gas (:func:`balance.core.geared.with_gas`)."""
+    from balance.core.geared import with_gas
+
+    table = engine.axis_table()
+    if np.any(table.opposed >= 0):
+        raise InputError("gas: gas forces on opposed pistons is not in this version")
+    forward = engine.forward_equivalent()
+    torque = compute_torque(forward, result.phasors.orders)
+    if result.roll is None or result.shafts is None:
+        return result.with_part("torque", torque)
+    scale = float(np.sum(np.max(np.abs(torque.cylinder_torque), axis=1)))
+    shafts, roll, _ = with_gas(
+        result.shafts, torque.cylinder_torque, torque.cycle_deg, torque.roll_orders, scale
+    )
+    mean = -table.output_sense * torque.mean
+    theta = np.radians(torque.crank_angle)
+    synthesis = mean + np.real(np.exp(1j * theta[:, None] * torque.roll_orders[None, :]) @ roll)
+    torque = replace(torque, roll=roll, roll_torque=synthesis)
+    return result.with_part(
+        "torque", torque, roll_orders=torque.roll_orders, roll=roll, shafts=shafts
+    )
 
 
 def _torque(result: Any) -> TorqueResult:

@@ -464,6 +464,10 @@ def torsion_part(
         Without a ``torsion`` section, or for one that cannot be analysed.
     """
     del request
+    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
+        raise InputError(
+            "torsion: torsional vibration with several crankshafts is not in this version"
+        )
     train = engine.section("torsion")
     if train is None:
         where = f" ({engine.path})" if engine.path else ""

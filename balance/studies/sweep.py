@@ -51,6 +51,7 @@ __all__ = [
     "DEFAULT_CHUNK_SIZE",
     "check_output",
     "chunk_slices",
+    "refuse_geared",
     "refuse_variable_speed",
     "sweep",
     "sweep_arrays",
@@ -352,6 +353,26 @@ def refuse_variable_speed(layout: Engine, study: str) -> None:
         )
 
 
+def refuse_geared(layout: Engine, study: str) -> None:
+    """Refuse a study of an engine with several crankshafts (its grid sums are one
+    crankshaft's in this version; docs/several-crankshafts.md).
+
+    Parameters
+    ----------
+    layout : Engine
+        The layout studied.
+    study : str
+        The study, as messages name it (``sweep``, ``tolerance``).
+
+    Raises
+    ------
+    InputError
+        When the layout has several crankshafts (:attr:`Engine.geared`).
+    """
+    if layout.geared:
+        raise InputError(f"{study}: a {study} with several crankshafts is not in this version")
+
+
 def _plan(
     layout: Engine,
     vary: Mapping[str, Any] | Sequence[Vary | str],
@@ -364,6 +385,7 @@ def _plan(
     if model not in kinematics.MODELS:
         raise InputError(f"model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
     refuse_variable_speed(layout, "sweep")
+    refuse_geared(layout, "sweep")
     ks = parse_orders(orders)
     varies = tuple(_as_varies(layout, vary))
     if balance_varied(varies) and not (moments and roll):

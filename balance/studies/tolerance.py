@@ -35,7 +35,7 @@ from balance.core.proposal import balance_engine
 from balance.core.speed import speed_squared
 from balance.io.fields import Scatter, parse_orders, parse_scatter
 from balance.studies.changes import LINK_GEOMETRY, Change, apply_changes
-from balance.studies.sweep import refuse_variable_speed
+from balance.studies.sweep import refuse_geared, refuse_variable_speed
 
 __all__ = ["PERCENTILES", "Scatter", "ToleranceResult", "parse_scatter", "tolerance"]
 
@@ -125,6 +125,7 @@ def tolerance(
 
     t0 = time.perf_counter()
     refuse_variable_speed(layout, "tolerance")
+    refuse_geared(layout, "tolerance")
     items = [s if isinstance(s, Scatter) else parse_scatter(s, layout) for s in scatter]
     if not items:
         raise InputError("scatter: give at least one field to scatter")

@@ -29,7 +29,8 @@ def to_csv(result: Result) -> str:
     """Per-order table: forward and backward magnitude and phase, peak, normalised peak.
 
     Columns carry their units in brackets, e.g. ``force_forward_magnitude [N]``.  Roll is
-    joined on the same order where the roll orders match the orders.
+    joined on the same order where the roll orders match the orders.  A section whose
+    views define ``csv_columns`` adds its columns after these (:mod:`balance.views.sections`).
 
     Parameters
     ----------

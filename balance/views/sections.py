@@ -5,6 +5,8 @@ named in :data:`VIEWS`.  Such a module may define
 
 - ``json_block(result) -> dict``: the keys it adds to the analysis JSON;
 - ``tables(result) -> list``: its rich renderables in the table view;
+- ``csv_columns(result) -> list``: the ``(header, values)`` columns it adds to the
+  per-order CSV, one value per order;
 - ``REPORT_TITLE`` and ``report_section(result, figures) -> str``: its section of the HTML
   design review (with ``REPORT_ABSENT``, what the review says where the result lacks it);
 - ``report_columns(result) -> list``: the ``(header, cells)`` columns it adds to the
@@ -33,6 +35,7 @@ VIEWS: dict[str, str] = {
     "cylinders": "balance.views.cylinders",
     "torque": "balance.views.torque",
     "guide_forces": "balance.views.crosshead",
+    "crankshafts": "balance.views.crankshafts",
     "dynamics": "balance.views.dynamics",
     "proposal": "balance.views.proposal",
     "factor_study": "balance.views.factor_study",

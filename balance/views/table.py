@@ -201,16 +201,19 @@ def _free_tables(result: Result) -> list[RenderableType]:
         kinds.append(("moment", "N m", "F1 a", result.reference_moment))
     for what, unit, per, reference in kinds:
         forward, backward = p.pair(what)  # type: ignore[arg-type]
-        free_forward, _ = free.pair(what)  # type: ignore[arg-type]
+        free_forward, free_backward = free.pair(what)  # type: ignore[arg-type]
         rotating = complex(p.rotating(what))  # type: ignore[arg-type]
+        # masses turning backward: on a counter-rotating crankshaft (several-crankshafts.md)
+        turning_back = getattr(p, f"rotating_{what}_backward")
+        rotating_back = 0j if turning_back is None else complex(turning_back)
         rows = []
         if 1 not in p.orders:
-            rows.append(_phasor_row("1 rot.", rotating, 0j, reference))
+            rows.append(_phasor_row("1 rot.", rotating, rotating_back, reference))
         for i, k in enumerate(p.orders):
             rows.append(_phasor_row(str(int(k)), forward[i], backward[i], reference))
             if k == 1:
-                rows.append(_phasor_row("1 rot.", rotating, 0j, reference))
-                rows.append(_phasor_row("1 free", free_forward[i], backward[i], reference))
+                rows.append(_phasor_row("1 rot.", rotating, rotating_back, reference))
+                rows.append(_phasor_row("1 free", free_forward[i], free_backward[i], reference))
         notes: tuple[str, ...] = (FREE_NOTE,) if 1 in p.orders else (FREE_NOTE.split(";")[0],)
         if what == "moment":
             notes += pitch_note(result)

@@ -1,0 +1,249 @@
+"""Views of the ``crankshafts`` section: several crankshafts geared together
+(:mod:`balance.core.geared`, docs/several-crankshafts.md).
+
+The JSON keys are those of docs/several-crankshafts.md, "What each crankshaft reports": the
+rotating masses' ``backward`` phasors, ``moment_z`` (and its reciprocating and rotating parts),
+``output_rotation``, ``crankshafts`` (each one's force, own roll and torque) and
+``gear_couple``; every cylinder entry gains ``crankshaft`` and ``opposed``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from balance.core.phasors import phase_deg, safe_ratio
+from balance.views.fitted import Column, NumberTable
+from balance.views.json import order_entries, roll_entries
+from balance.views.polar import format_number, json_number
+
+if TYPE_CHECKING:  # pragma: no cover
+    from rich.console import RenderableType
+
+    from balance.core.geared import GearedParts
+    from balance.core.result import Result
+
+__all__ = ["crankshafts_table", "csv_columns", "json_block", "tables"]
+
+
+def _part(result: Result) -> GearedParts:
+    part: GearedParts = result.part("crankshafts")
+    return part
+
+
+def _crankshaft_of(result: Result) -> list[int]:
+    """The crankshaft (0-based) of each cylinder."""
+    of = [0] * result.engine.n_cylinders
+    for s, members in enumerate(_part(result).members):
+        for i in members:
+            of[int(i)] = s
+    return of
+
+
+def _rotating_backward(result: Result, quantity: str, reference: float) -> dict[str, Any]:
+    p = result.phasors
+    forward = p.rotating(quantity)  # type: ignore[arg-type]
+    backward = getattr(p, f"rotating_{quantity}_backward")
+    peak = float(np.abs(forward) + np.abs(backward))
+    return {
+        "backward": {
+            "magnitude": json_number(np.abs(backward)),
+            "phase_deg": json_number(phase_deg(backward)),
+        },
+        "peak": json_number(peak),
+        "peak_normalised": json_number(safe_ratio(peak, reference)),
+    }
+
+
+def json_block(result: Result) -> dict[str, Any]:
+    """The section's part of the analysis JSON.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``crankshafts`` section.
+
+    Returns
+    -------
+    dict
+        ``rotating.force.backward`` (and the moment's), ``reciprocating.moment_z``,
+        ``rotating.moment_z``, ``moment_z``, ``output_rotation``, ``crankshafts``,
+        ``gear_couple`` and the ``cylinders`` entries with ``crankshaft`` and ``opposed``
+        (docs/several-crankshafts.md, "What each crankshaft reports").
+    """
+    part = _part(result)
+    orders = result.orders
+    rotating: dict[str, Any] = {
+        "force": _rotating_backward(result, "force", result.reference_force),
+        "moment_z": roll_entries(orders, part.moment_z_rotating),
+    }
+    if result.has_moments:
+        rotating["moment"] = _rotating_backward(result, "moment", result.reference_moment)
+    force = part.force.free()
+    shafts = []
+    of = _crankshaft_of(result)
+    for s, name in enumerate(part.names):
+        entry: dict[str, Any] = {
+            "name": name,
+            "x_m": json_number(part.x[s]),
+            "y_m": json_number(part.y[s]),
+            "rotation": int(part.sense[s]),
+            "phase_deg": json_number(math.degrees(float(part.phase[s]))),
+            "cylinders": [i + 1 for i, t in enumerate(of) if t == s],
+            "force": order_entries(
+                orders,
+                force.magnitude("force")[s],
+                force.phase("force")[s],
+                force.peak("force")[s],
+                safe_ratio(force.peak("force")[s], result.reference_force),
+            ),
+        }
+        for item in entry["force"]:
+            item.pop("peak_normalised")  # a shaft's force has no reference of its own
+        if part.force.roll is not None and part.torque is not None:
+            entry["roll"] = roll_entries(part.roll_orders, part.force.roll[s])
+            entry["torque"] = roll_entries(part.roll_orders, part.torque[s])
+        if part.torque_mean is not None:
+            entry["torque_mean_Nm"] = json_number(part.torque_mean[s])
+        shafts.append(entry)
+    block: dict[str, Any] = {
+        "reciprocating": {"moment_z": roll_entries(orders, part.moment_z_reciprocating)},
+        "rotating": rotating,
+        "moment_z": roll_entries(orders, part.moment_z),
+        "output_rotation": int(part.output_sense),
+        "crankshafts": shafts,
+    }
+    if part.gear_couple is not None:
+        block["gear_couple"] = roll_entries(part.roll_orders, part.gear_couple)
+    cylinders = _cylinder_entries(result, of)
+    if cylinders is not None:
+        block["cylinders"] = cylinders
+    return block
+
+
+def _cylinder_entries(result: Result, of: list[int]) -> list[dict[str, Any]] | None:
+    """The ``cylinders`` entries of the cylinders section with ``crankshaft`` (name) and
+    ``opposed`` (number or null) added; None without that section."""
+    if result.part("cylinders") is None:
+        return None
+    from balance.views.sections import view
+
+    entries: list[dict[str, Any]] = view("cylinders").json_block(result)["cylinders"]
+    names = _part(result).names
+    shafts = result.engine.crankshafts
+    opposed = shafts.opposed if shafts is not None else np.full(len(of), -1)
+    for entry, s, partner in zip(entries, of, opposed, strict=True):
+        entry["crankshaft"] = names[s]
+        entry["opposed"] = int(partner) + 1 if partner >= 0 else None
+    return entries
+
+
+def crankshafts_table(result: Result) -> NumberTable:
+    """Each crankshaft's place and sense, and per order its free-force peak, own roll and
+    torque amplitudes, with the engine's moment about ``z`` and gear couple.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``crankshafts`` section.
+
+    Returns
+    -------
+    NumberTable
+    """
+    part = _part(result)
+    peak = part.force.free().peak("force")
+    columns = [Column("order", key=True)]
+    for name in part.names:
+        columns.append(Column(f"{name} force peak", "N"))
+        if part.torque is not None:
+            columns += [Column(f"{name} roll", "N m"), Column(f"{name} torque", "N m")]
+    columns.append(Column("moment about z", "N m"))
+    if part.gear_couple is not None:
+        columns.append(Column("gear couple", "N m"))
+    roll_at = {float(k): i for i, k in enumerate(part.roll_orders)}
+    rows = []
+    for j, k in enumerate(result.orders):
+        at = roll_at.get(float(k))
+        row = [str(int(k))]
+        for s in range(part.count):
+            row.append(format_number(float(peak[s, j])))
+            if part.torque is not None and part.force.roll is not None:
+                row += [
+                    _amplitude(part.force.roll[s], at),
+                    _amplitude(part.torque[s], at),
+                ]
+        row.append(format_number(float(np.abs(part.moment_z[j]))))
+        if part.gear_couple is not None:
+            row.append(_amplitude(part.gear_couple, at))
+        rows.append(row)
+    senses = ", ".join(
+        f"{name} at ({format_number(float(x) * 1e3)}, {format_number(float(y) * 1e3)}) mm "
+        f"{'same' if sense > 0 else 'opposite'}"
+        for name, x, y, sense in zip(part.names, part.x, part.y, part.sense, strict=True)
+    )
+    output = "same" if part.output_sense > 0 else "opposite"
+    return NumberTable(f"Crankshafts: {senses}; output turns {output}", columns, rows)
+
+
+def _amplitude(values: Any, at: int | None) -> str:
+    return "-" if at is None else format_number(float(np.abs(values[at])))
+
+
+def tables(result: Result) -> list[RenderableType]:
+    """The section's table: :func:`crankshafts_table`.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``crankshafts`` section.
+
+    Returns
+    -------
+    list of rich.console.RenderableType
+    """
+    return [crankshafts_table(result)]
+
+
+def csv_columns(result: Result) -> list[tuple[str, dict[float, float]]]:
+    """The section's columns of the per-order CSV: the moment about ``z``, the gear couple
+    and each crankshaft's force peak, own roll and torque amplitudes.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``crankshafts`` section.
+
+    Returns
+    -------
+    list of (str, dict)
+        Each column's header (with its unit) and its values by order of the result (NaN
+        where a roll order is not one of them).
+    """
+    part = _part(result)
+    orders = result.orders
+    roll_at = {float(k): i for i, k in enumerate(part.roll_orders)}
+
+    def on_orders(values: Any) -> list[float]:
+        out = []
+        for k in orders:
+            at = roll_at.get(float(k))
+            out.append(math.nan if at is None else float(np.abs(values[at])))
+        return out
+
+    columns = [
+        ("moment_z_amplitude [N m]", [float(v) for v in np.abs(part.moment_z)]),
+        ("moment_z_phase [deg]", [float(v) for v in phase_deg(part.moment_z)]),
+    ]
+    if part.gear_couple is not None:
+        columns.append(("gear_couple_amplitude [N m]", on_orders(part.gear_couple)))
+    peak = part.force.free().peak("force")
+    for s, name in enumerate(part.names):
+        columns.append((f"{name}_force_peak [N]", [float(v) for v in peak[s]]))
+        if part.force.roll is not None and part.torque is not None:
+            columns.append((f"{name}_roll_amplitude [N m]", on_orders(part.force.roll[s])))
+            columns.append((f"{name}_torque_amplitude [N m]", on_orders(part.torque[s])))
+    keys = [float(k) for k in orders]
+    return [(header, dict(zip(keys, values, strict=True))) for header, values in columns]
