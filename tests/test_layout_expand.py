@@ -42,7 +42,9 @@ SETTINGS = settings(
 
 
 def _analysis(path: Path | str) -> xr.Dataset:
-    ds = balance.analyse(str(path), bearings=True)
+    # the bearing loads of several crankshafts are not in this version
+    several = balance.load_layout(str(path)).crankshafts is not None
+    ds = balance.analyse(str(path), bearings=not several)
     ds.attrs.pop("source_file")
     return ds
 
@@ -192,8 +194,9 @@ def random_layouts(draw: Any) -> dict[str, Any]:
     if draw(st.booleans()):
         data["firing_order"] = draw(st.permutations(list(range(1, n + 1))))
     _sections(draw, data, n, by_part, tdc)
-    if shafts:  # neither the torsional analysis nor the speed model with several crankshafts
-        for key in ("torsion", "dynamics", "flywheel"):
+    if shafts:  # with several crankshafts, neither the torsional analysis nor the speed
+        # model, and in this version no proposal settings and no bearing loads
+        for key in ("torsion", "dynamics", "flywheel", "balance", "bearings"):
             data.pop(key, None)
     return data
 

@@ -368,11 +368,6 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
     reference_z = spec.reference_z if spec.reference_z is not None else 0.5 * (z.min() + z.max())
     pitch = _pitch(spec, z, arrays["bank"])
     firing = _collect(problems, lambda: _firing_order(spec, n, doc))
-    gas = (
-        _collect(problems, lambda: _gas(spec, doc, cylinders, prefix, arrays, firing, links))
-        if spec.gas is not None and links_checked
-        else None
-    )
     engine = Engine(
         name=spec.name,
         speed=spec.speed,
@@ -387,7 +382,7 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         reference_z_given=spec.reference_z is not None,
         pitch_given=spec.pitch is not None,
         balance=spec.balance.to_core() if spec.balance is not None else None,
-        gas=gas,
+        gas=None,
         mass_parts=_mass_parts(part_rows) if part_rows else None,
         sections={},
         links=links,
@@ -395,6 +390,14 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
         **arrays,
     )
     engine = attach(engine, shafts)  # before the sections, which read it
+    gas = None
+    if spec.gas is not None and links_checked:
+        # each cylinder fires at its own top dead centre: on a crankshaft of its own, at
+        # the crank angle of a one-crank cylinder's (Engine.forward_throw; the throw itself
+        # on one crankshaft)
+        at_tdc = {**arrays, "throw": engine.forward_throw()}
+        gas = _collect(problems, lambda: _gas(spec, doc, cylinders, prefix, at_tdc, firing, links))
+        engine = dataclasses.replace(engine, gas=gas)
     built: dict[str, Any] = {}
     if spec.flywheel is not None and gas is None:  # a crank that coasts (docs/dynamics.md)
         from balance.core.speed_model import Flywheel
