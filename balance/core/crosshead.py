@@ -140,7 +140,7 @@ def guide_forces(engine: Engine, orders: NDArray[np.intp]) -> GuideForces:
     (:math:`c_k = 2\hat{x}_k`), sums that cancel by symmetry set to zero
     (:func:`balance.core.phasors.cancel_to_zero`).
     """
-    if engine.has_links or engine.crankshafts is not None:
+    if engine.has_links or engine.geared:
         raise InputError(
             f"{engine.name}: guide forces of crosshead cylinders with link rods or several "
             "crankshafts are not in this version"
