@@ -484,8 +484,15 @@ def series_stats(
         depth = math.ceil(math.log(scale * max(top_order, 1) / 8.0) / math.log(GRADED_RATIO))
         t, w = graded_periodic_rule(th_min[0], top_order, min(GRADED_LEVELS, max(4, depth + 2)))
         f = np.abs(series_values(k, coeffs[row : row + 1], t[None, :]))[0]
-        mean[row] = f @ w / (2.0 * np.pi)
+        mean[row] = _quadrature(f, w) / (2.0 * np.pi)
     return RowStats(maximum, argmax, mean, n)
+
+
+def _quadrature(values: FloatArray, weights: FloatArray) -> FloatArray:
+    r""":math:`\sum_i v_i w_i` over the last axis, summed by numpy's own loop: a BLAS
+    product (``values @ weights``) splits a long sum between its threads, so that its last
+    bits would depend on the machine's number of cores."""
+    return np.asarray(np.einsum("...i,i->...", values, weights), dtype=np.float64)
 
 
 def node_stats(
@@ -511,7 +518,7 @@ def node_stats(
     integrated at once, each exactly as it would be alone.
     """
     values = f(nodes)
-    integral = values @ weights
+    integral = _quadrature(values, weights)
     top = values.max(axis=1)
     dips = _dips(values)
     dips &= values <= GRADE_BELOW * top[:, None]
@@ -540,11 +547,13 @@ def node_stats(
         for (row, j, _), (t, w) in zip(found, pieces, strict=True):
             span = [(j - 1) % n_int, j, (j + 1) % n_int]
             old = sum(
-                values[row, q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
-                @ weights[q * GAUSS_NODES : (q + 1) * GAUSS_NODES]
+                _quadrature(
+                    values[row, q * GAUSS_NODES : (q + 1) * GAUSS_NODES],
+                    weights[q * GAUSS_NODES : (q + 1) * GAUSS_NODES],
+                )
                 for q in span
             )
-            integral[row] += graded[row, first : first + t.size] @ w - old
+            integral[row] += _quadrature(graded[row, first : first + t.size], w) - old
             first += t.size
     maximum, argmax = golden_section_max(f, nodes, values, period)
     return RowStats(maximum, argmax, integral / period, nodes.size)
