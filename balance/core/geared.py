@@ -371,8 +371,9 @@ def with_gas(
 ) -> tuple[GearedParts, ComplexArray, float]:
     r"""Each axis's torque, own roll and the engine's roll with gas forces.
 
-    Gas pressure acts on the piston and the head alike: it adds no free force (and nothing
-    to the moment about ``z``) and no angular momentum, only torque.  With :math:`M^g_s`
+    Gas pressure acts on the piston and the head alike (in an opposed-piston bore on its two
+    pistons, pushing along one line): it adds no free force (and nothing to the moment
+    about ``z``) and no angular momentum, only torque.  With :math:`M^g_s`
     the gas part of axis ``s``'s torque, its own roll gains :math:`-\sigma_s M^g_s` and the
     engine's roll :math:`-\sigma_o \sum_s M^g_s`: the gear couple carries the rest.
 
