@@ -28,6 +28,7 @@ torque is then :mod:`balance.core.gas`'s and :mod:`balance.core.torque`'s.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import replace
 
@@ -120,14 +121,27 @@ def bore_travel(engine: Engine, pair: tuple[int, int]) -> tuple[PistonTravel, fl
     radius = engine.crank_radius[idx]
     lam = np.asarray(rod_ratio(radius, engine.conrod_length[idx]))
     eps = np.asarray(offset_ratio(engine.offset[idx], radius))
-    top = _extreme(lead, radius, lam, eps, 1.0)
-    bottom = _extreme(lead, radius, lam, eps, -1.0)
-    s_top = float(_sum_of_pins(np.array([top]), lead, radius, lam, eps)[0][0])
-    s_bottom = float(_sum_of_pins(np.array([bottom]), lead, radius, lam, eps)[0][0])
-    # the travel depends on the two pistons' geometry and on where each crank is at the
-    # smallest volume; the -1 keeps the key apart from a link piston's (lengths, > 0)
-    at_top = np.mod(top + lead, 2.0 * math.pi)
-    key = (-1.0, *map(float, radius), *map(float, lam), *map(float, eps), *map(float, at_top))
+    # the travel depends on the two pistons' geometry and on the second crank's lead over
+    # the first only (rounded to 1e-12 rad, so that bores alike share one travel and one
+    # pressure table): found with the first piston's crank angle as theta, then shifted
+    two_pi = 2.0 * math.pi
+    delta = round(float((lead[1] - lead[0]) % two_pi), 12)
+    travel, top = _travel((*map(float, radius), *map(float, lam), *map(float, eps), delta))
+    return travel, math.degrees((top - float(lead[0])) % two_pi) % 360.0
+
+
+@functools.lru_cache(maxsize=64)
+def _travel(key: tuple[float, ...]) -> tuple[PistonTravel, float]:
+    """The travel of a bore of radii, rod ratios and offset ratios ``key[0:6]`` (two each)
+    whose second crank leads the first by ``key[6]`` [rad], against the first crank's angle,
+    and the first crank's angle at the smallest volume [rad]."""
+    radius, lam, eps = (np.array(key[k : k + 2]) for k in (0, 2, 4))
+    canonical = np.array([0.0, key[6]])
+    top = _extreme(canonical, radius, lam, eps, 1.0)
+    bottom = _extreme(canonical, radius, lam, eps, -1.0)
+    s_top = float(_sum_of_pins(np.array([top]), canonical, radius, lam, eps)[0][0])
+    s_bottom = float(_sum_of_pins(np.array([bottom]), canonical, radius, lam, eps)[0][0])
+    at_top = np.mod(top + canonical, 2.0 * math.pi)
 
     def position(
         alpha_deg: FloatArray,
@@ -138,7 +152,8 @@ def bore_travel(engine: Engine, pair: tuple[int, int]) -> tuple[PistonTravel, fl
     ) -> FloatArray:
         return _sum_of_pins(np.radians(np.asarray(alpha_deg)), lead, radius, lam, eps)[0]
 
-    return PistonTravel(position, s_top, s_bottom, key=key), math.degrees(top) % 360.0
+    # the -1 keeps the key apart from a link piston's (lengths, > 0)
+    return PistonTravel(position, s_top, s_bottom, key=(-1.0, *key)), top
 
 
 def bore_pair_gas(

@@ -151,8 +151,14 @@ def torque_coefficients(
         :math:`M = -\omega^2[m_{rec} r^2 (s''/r)(s'/r) + \Delta I\,\gamma'\gamma'']`
         (:func:`balance.core.crank_train.tangential_force` times :math:`r`).
     """
-    lam = np.asarray(ratio, dtype=np.float64)[:, None]
-    eps = np.asarray(offset, dtype=np.float64)[:, None]
+    # once per distinct geometry: each function's coefficients do not depend on the batch
+    # it is computed in (:func:`balance.core.kinematics.fourier_coefficients`)
+    pairs = np.stack(
+        [np.asarray(ratio, dtype=np.float64), np.asarray(offset, dtype=np.float64)], axis=-1
+    )
+    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    lam = unique[:, :1]
+    eps = unique[:, 1:]
 
     def sample(beta: FloatArray) -> FloatArray:
         _, ds, d2s = normalised_slider(beta, lam, eps)
@@ -160,7 +166,8 @@ def torque_coefficients(
         return np.stack([d2s * ds, dg * d2g])
 
     coeffs, _ = fourier_coefficients(sample, orders, (2, lam.shape[0]))
-    return coeffs[0], coeffs[1]
+    inverse = inverse.ravel()
+    return coeffs[0][inverse], coeffs[1][inverse]
 
 
 def moment_about_z(
