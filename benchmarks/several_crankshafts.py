@@ -5,14 +5,15 @@ Deltic 9's size, built here from `deltic-18`'s geometry) and of `v12-60`, the ta
 
 Two figures (docs/benchmarks.md, "Several crankshafts"):
 
-- wall time, best of N, the layouts interleaved call by call so that the load of a shared
-  machine falls on all of them alike::
+- wall time and process (CPU) time, each the best of N rounds of 10 calls, the layouts
+  interleaved round by round so that the load of a shared machine falls on all of them
+  alike (the process time counts only this process's CPU, not the waits)::
 
       PYTHONPATH=$PWD python benchmarks/several_crankshafts.py [N]
 
 - instructions executed (valgrind's callgrind), which do not depend on the other load: each
-  workload run twice, once with 20 calls and once stopping before them, the difference over
-  20 being one call::
+  workload run twice, once with 10 calls and once stopping before them, the difference over
+  10 being one call::
 
       PYTHONPATH=$PWD python benchmarks/several_crankshafts.py --instructions [W1,W2]
 
@@ -43,8 +44,8 @@ WORKLOADS = {
     "deltic-18": "deltic-18, 36 pistons on three crankshafts, no gas",
     "deltic-18-gas": "deltic-18 with its gas section (torque over the cycle)",
 }
-#: Calls of the measured part in an instruction count.
-CALLS = 20
+#: Calls of the measured part in an instruction count (``BALANCE_BENCH_CALLS`` to change).
+CALLS = int(os.environ.get("BALANCE_BENCH_CALLS", "10"))
 
 
 def deltic_9():
@@ -108,19 +109,22 @@ def instructions(workload: str, full: bool) -> int:
     return int(match.group(1))
 
 
-def timed(repeats: int) -> dict[str, float]:
-    """Best wall time of one `balance.analyse` per workload [s], interleaved."""
+def timed(repeats: int) -> dict[str, tuple[float, float]]:
+    """Best wall time and best process (CPU) time of one `balance.analyse` per workload [s],
+    interleaved, each best over ``repeats`` rounds of 10 calls."""
     import balance
 
     built = engines()
     for engine in built.values():  # imports and caches
         balance.analyse(engine)
-    best = dict.fromkeys(built, float("inf"))
+    best = {name: (float("inf"), float("inf")) for name in built}
     for _ in range(repeats):
         for name, engine in built.items():
-            start = time.perf_counter()
-            balance.analyse(engine)
-            best[name] = min(best[name], time.perf_counter() - start)
+            wall, cpu = time.perf_counter(), time.process_time()
+            for _ in range(10):
+                balance.analyse(engine)
+            wall, cpu = (time.perf_counter() - wall) / 10, (time.process_time() - cpu) / 10
+            best[name] = (min(best[name][0], wall), min(best[name][1], cpu))
     return best
 
 
@@ -138,12 +142,14 @@ def main() -> None:
         for w, n in counts.items():
             print(f"| {w} | {n / 1e6:.1f} × 10⁶ | {n / counts['v12-60']:.2f} |")
     else:
-        repeats = int(args[0]) if args else 30
+        repeats = int(args[0]) if args else 10
         best = timed(repeats)
-        print(f"| workload | best of {repeats} [ms] | × v12-60 |")
-        print("|---|---:|---:|")
-        for w, t in best.items():
-            print(f"| {w} | {1e3 * t:.1f} | {t / best['v12-60']:.2f} |")
+        wall0, cpu0 = best["v12-60"]
+        print("| workload | wall [ms] | × v12-60 | process time [ms] | × v12-60 |")
+        print("|---|---:|---:|---:|---:|")
+        for w, (wall, cpu) in best.items():
+            cells = f"{1e3 * wall:.1f} | {wall / wall0:.2f} | {1e3 * cpu:.1f} | {cpu / cpu0:.2f}"
+            print(f"| {w} | {cells} |")
     for w, what in WORKLOADS.items():
         print(f"\n{w}: {what}", end="")
     print()

@@ -43,6 +43,7 @@ from balance.core.kinematics import (
     normalised_slider,
     offset_ratio,
     rod_ratio,
+    shared_coefficients,
 )
 from balance.core.phasors import Phasors
 from balance.core.speed import speed_squared
@@ -207,6 +208,15 @@ def _clean_sum(terms: ComplexArray) -> ComplexArray:
     return phasors.cancel_to_zero(total, scale, max(terms.shape[0], 1) * 4)
 
 
+def _axis_engine(base: Engine, layout: Engine, on: NDArray[np.bool_]) -> Engine:
+    """The forward one-crank engine with the masses of the cylinders ``on`` one axis only."""
+    return replace(
+        base,
+        reciprocating_mass=np.where(on, layout.reciprocating_mass, 0.0),
+        conrod_inertia_correction=np.where(on, layout.conrod_inertia_correction, 0.0),
+    )
+
+
 def geared_free_forces(
     layout: Engine, phasors_of: Callable[[Engine], FreeForces], *, moments: bool, roll: bool
 ) -> tuple[Phasors, GearedParts, FreeForces]:
@@ -261,15 +271,14 @@ def geared_free_forces(
     rot: dict[str, list[Any]] = {k: [] for k in ("ff", "fb", "mf", "mb")}
     members = []
     coeffs = None
+    # the axes' one-crank analyses differ in their masses only: their coefficients are
+    # computed once (bit for bit the same arrays)
+    with shared_coefficients():
+        free_of = [phasors_of(_axis_engine(base, layout, table.axis == s)) for s in range(n_axes)]
     for s in range(n_axes):
         on = table.axis == s
         members.append(np.flatnonzero(on).astype(np.intp))
-        engine = replace(
-            base,
-            reciprocating_mass=np.where(on, layout.reciprocating_mass, 0.0),
-            conrod_inertia_correction=np.where(on, layout.conrod_inertia_correction, 0.0),
-        )
-        free = phasors_of(engine)
+        free = free_of[s]
         first = free if first is None else first
         p = free.phasors
         for k in keys:
