@@ -25,6 +25,24 @@ def needs(module: str, extra: str) -> pytest.MarkDecorator:
     )
 
 
+@functools.cache
+def one_crank_builtins() -> list[str]:
+    """The built-in layouts with one crankshaft: those a balancing proposal with settings
+    is computed for (with several crankshafts it is refused, docs/several-crankshafts.md,
+    "Not in this version"; :func:`geared_builtins` are the others)."""
+    from balance.api import builtin_layout_names, load_layout
+
+    return [n for n in builtin_layout_names() if not load_layout(n).geared]
+
+
+@functools.cache
+def geared_builtins() -> list[str]:
+    """The built-in layouts with several crankshafts (:attr:`Engine.geared`)."""
+    from balance.api import builtin_layout_names
+
+    return [n for n in builtin_layout_names() if n not in one_crank_builtins()]
+
+
 def _with_unit(value: float | str, unit: str) -> str:
     """A number as layout text in ``unit`` (``repr`` round-trips it exactly); text as it is."""
     return value if isinstance(value, str) else f"{value!r} {unit}"

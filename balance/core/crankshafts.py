@@ -202,23 +202,28 @@ def layout_warnings(
     n = throw.size
     stroke = 2.0 * crank_radius
     shared = None
-    for i in range(n):
-        for j in range(i + 1, n):
-            if shared is not None:
-                break
-            if shafts.of_cylinder[i] == shafts.of_cylinder[j] or shafts.opposed[i] == j:
-                continue
-            apart = abs(np.mod(bank[j] - bank[i], 2 * np.pi) - np.pi)
-            if abs(z[i] - z[j]) > 1e-12 or apart > 1e-9:
-                continue
-            miss, _ = bore_lines(shafts, i, j, bank, offset)
-            if miss <= BORE_LINE * max(stroke[i], stroke[j]):
-                shared = (
-                    "shared_bore",
-                    f"cylinders[{j + 1}].opposed",
-                    f"cylinders {i + 1} and {j + 1} share a bore: declare `opposed`?",
-                    1.0,
-                )
+    # the pairs (i < j, in order) on two shafts, not paired, at one z and 180 deg apart:
+    # screened at once, each then checked for a common bore line; the first one warns
+    of = np.asarray(shafts.of_cylinder)
+    index = np.arange(n)
+    apart = np.abs(np.mod(bank[None, :] - bank[:, None], 2 * np.pi) - np.pi)
+    candidate = (
+        (index[None, :] > index[:, None])
+        & (of[None, :] != of[:, None])
+        & (np.asarray(shafts.opposed)[:, None] != index[None, :])
+        & ~(np.abs(z[:, None] - z[None, :]) > 1e-12)
+        & ~(apart > 1e-9)
+    )
+    for i, j in np.argwhere(candidate).tolist():
+        miss, _ = bore_lines(shafts, i, j, bank, offset)
+        if miss <= BORE_LINE * max(stroke[i], stroke[j]):
+            shared = (
+                "shared_bore",
+                f"cylinders[{j + 1}].opposed",
+                f"cylinders {i + 1} and {j + 1} share a bore: declare `opposed`?",
+                1.0,
+            )
+            break
     if shared is not None:
         found.append(shared)
     tdc = np.degrees(tdc_angles(shafts, throw, bank))

@@ -43,6 +43,7 @@ from balance.core.kinematics import (
     normalised_slider,
     offset_ratio,
     rod_ratio,
+    shared_coefficients,
 )
 from balance.core.phasors import Phasors
 from balance.core.speed import speed_squared
@@ -151,8 +152,14 @@ def torque_coefficients(
         :math:`M = -\omega^2[m_{rec} r^2 (s''/r)(s'/r) + \Delta I\,\gamma'\gamma'']`
         (:func:`balance.core.crank_train.tangential_force` times :math:`r`).
     """
-    lam = np.asarray(ratio, dtype=np.float64)[:, None]
-    eps = np.asarray(offset, dtype=np.float64)[:, None]
+    # once per distinct geometry: each function's coefficients do not depend on the batch
+    # it is computed in (:func:`balance.core.kinematics.fourier_coefficients`)
+    pairs = np.stack(
+        [np.asarray(ratio, dtype=np.float64), np.asarray(offset, dtype=np.float64)], axis=-1
+    )
+    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    lam = unique[:, :1]
+    eps = unique[:, 1:]
 
     def sample(beta: FloatArray) -> FloatArray:
         _, ds, d2s = normalised_slider(beta, lam, eps)
@@ -160,7 +167,8 @@ def torque_coefficients(
         return np.stack([d2s * ds, dg * d2g])
 
     coeffs, _ = fourier_coefficients(sample, orders, (2, lam.shape[0]))
-    return coeffs[0], coeffs[1]
+    inverse = inverse.ravel()
+    return coeffs[0][inverse], coeffs[1][inverse]
 
 
 def moment_about_z(
@@ -198,6 +206,15 @@ def _clean_sum(terms: ComplexArray) -> ComplexArray:
     total = phasors.sum_over_cylinders(np.moveaxis(terms, 0, -2))
     scale = phasors.sum_over_cylinders(np.moveaxis(np.abs(terms), 0, -2))
     return phasors.cancel_to_zero(total, scale, max(terms.shape[0], 1) * 4)
+
+
+def _axis_engine(base: Engine, layout: Engine, on: NDArray[np.bool_]) -> Engine:
+    """The forward one-crank engine with the masses of the cylinders ``on`` one axis only."""
+    return replace(
+        base,
+        reciprocating_mass=np.where(on, layout.reciprocating_mass, 0.0),
+        conrod_inertia_correction=np.where(on, layout.conrod_inertia_correction, 0.0),
+    )
 
 
 def geared_free_forces(
@@ -254,15 +271,14 @@ def geared_free_forces(
     rot: dict[str, list[Any]] = {k: [] for k in ("ff", "fb", "mf", "mb")}
     members = []
     coeffs = None
+    # the axes' one-crank analyses differ in their masses only: their coefficients are
+    # computed once (bit for bit the same arrays)
+    with shared_coefficients():
+        free_of = [phasors_of(_axis_engine(base, layout, table.axis == s)) for s in range(n_axes)]
     for s in range(n_axes):
         on = table.axis == s
         members.append(np.flatnonzero(on).astype(np.intp))
-        engine = replace(
-            base,
-            reciprocating_mass=np.where(on, layout.reciprocating_mass, 0.0),
-            conrod_inertia_correction=np.where(on, layout.conrod_inertia_correction, 0.0),
-        )
-        free = phasors_of(engine)
+        free = free_of[s]
         first = free if first is None else first
         p = free.phasors
         for k in keys:
@@ -371,8 +387,9 @@ def with_gas(
 ) -> tuple[GearedParts, ComplexArray, float]:
     r"""Each axis's torque, own roll and the engine's roll with gas forces.
 
-    Gas pressure acts on the piston and the head alike: it adds no free force (and nothing
-    to the moment about ``z``) and no angular momentum, only torque.  With :math:`M^g_s`
+    Gas pressure acts on the piston and the head alike (in an opposed-piston bore on its two
+    pistons, pushing along one line): it adds no free force (and nothing to the moment
+    about ``z``) and no angular momentum, only torque.  With :math:`M^g_s`
     the gas part of axis ``s``'s torque, its own roll gains :math:`-\sigma_s M^g_s` and the
     engine's roll :math:`-\sigma_o \sum_s M^g_s`: the gear couple carries the rest.
 

@@ -21,15 +21,54 @@ analysis; three models give them:
 
 from __future__ import annotations
 
+import contextlib
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextvars import ContextVar
 from math import comb
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core.errors import AnalysisError
 from balance.core.speed import speed_squared
+
+#: While :func:`shared_coefficients` is active: the coefficients computed so far, by their
+#: function and inputs (None otherwise).
+_SHARED: ContextVar[dict[tuple[Any, ...], Any] | None] = ContextVar("_SHARED", default=None)
+
+
+@contextlib.contextmanager
+def shared_coefficients() -> Iterator[None]:
+    """Within the block, :func:`acceleration_coefficients` and :func:`roll_coefficients` of
+    inputs seen before return what they returned then (the same arrays, not to be changed):
+    for analyses that repeat one geometry with other masses (several crank axes).
+
+    Yields
+    ------
+    None
+    """
+    token = _SHARED.set({})
+    try:
+        yield
+    finally:
+        _SHARED.reset(token)
+
+
+def _shared(key: tuple[Any, ...], compute: Callable[[], Any]) -> Any:
+    """``compute()``, or what it gave for ``key`` within :func:`shared_coefficients`."""
+    cache = _SHARED.get()
+    if cache is None:
+        return compute()
+    if key not in cache:
+        cache[key] = compute()
+    return cache[key]
+
+
+def _key(name: str, *arrays: NDArray[Any], extra: tuple[Any, ...] = ()) -> tuple[Any, ...]:
+    return (name, *((a.shape, a.dtype.str, a.tobytes()) for a in arrays), *extra)
+
 
 __all__ = [
     "MODELS",
@@ -47,6 +86,7 @@ __all__ = [
     "roll_coefficients",
     "rounding_floor",
     "series_coefficients_centred",
+    "shared_coefficients",
     "textbook_slider",
 ]
 
@@ -652,9 +692,12 @@ def acceleration_coefficients(
         raise AnalysisError("orders start at 1")
     _check_geometry(lam, eps)
     if model == "exact":
-        return _exact(lam, eps, orders_arr)
+        return _shared(_key("exact", lam, eps, orders_arr), lambda: _exact(lam, eps, orders_arr))
     if model == "series":
-        return _series(lam, eps, orders_arr, terms)
+        return _shared(
+            _key("series", lam, eps, orders_arr, extra=(terms,)),
+            lambda: _series(lam, eps, orders_arr, terms),
+        )
     if model == "textbook":
         out = np.zeros((*lam.shape, orders_arr.size), dtype=np.complex128)
         out[..., orders_arr == 1] = 1.0
@@ -708,6 +751,15 @@ def roll_coefficients(
     )
     orders_arr = np.asarray(orders, dtype=np.intp).ravel()
     _check_geometry(lam, eps)
+    return _shared(
+        _key("roll", lam, eps, orders_arr), lambda: _roll_coefficients(lam, eps, orders_arr)
+    )
+
+
+def _roll_coefficients(
+    lam: FloatArray, eps: FloatArray, orders_arr: NDArray[np.intp]
+) -> tuple[ComplexArray, ComplexArray]:
+    """:func:`roll_coefficients` of checked, broadcast inputs."""
     unique, inverse = _unique_pairs(lam, eps)
     lam_u = unique[:, :1]
     eps_u = unique[:, 1:]

@@ -178,7 +178,11 @@ def roll_orders(orders: NDArray[np.intp], cycle: str) -> FloatArray:
     return np.asarray(orders, dtype=np.float64)
 
 
-def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
+def compute_torque(
+    layout: Engine,
+    orders: NDArray[np.intp],
+    travels: list[PistonTravel | None] | None = None,
+) -> TorqueResult:
     r"""Forces, torque, roll and flywheel of a layout with gas forces.
 
     Parameters
@@ -187,6 +191,10 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
         The engine, with a ``gas:`` section (:attr:`Layout.gas`).
     orders : ndarray of int
         The analysis orders; the roll is reported for :func:`roll_orders`.
+    travels : list of (PistonTravel or None), optional
+        Each cylinder's piston travel for the gas model's volume when it is no plain crank
+        slider; default :func:`piston_travels` (an opposed-piston bore's,
+        :func:`balance.core.bore_pairs.bore_pair_gas`, is given by the caller).
 
     Returns
     -------
@@ -230,7 +238,7 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     eps = offset_ratio(e, r)
     w2 = float(speed_squared(layout.speed))
     pressure = cylinder_pressure(
-        gas, periodic_tables(engine_pressure_tables(layout), cycle_deg), theta
+        gas, periodic_tables(engine_pressure_tables(layout, travels), cycle_deg), theta
     )
     _, ds, d2s = normalised_slider(beta, lam, eps)
     sin_psi, cos_psi = crank_train.rod_direction(beta, lam, eps)
@@ -318,7 +326,9 @@ def compute_torque(layout: Engine, orders: NDArray[np.intp]) -> TorqueResult:
     )
 
 
-def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]]:
+def engine_pressure_tables(
+    engine: Engine, travels: list[PistonTravel | None] | None = None
+) -> list[tuple[FloatArray, FloatArray]]:
     """Each cylinder's pressure table (:func:`balance.core.gas.pressure_tables` of the engine's
     geometry, a link piston's over its own travel, :func:`piston_travels`).
 
@@ -326,6 +336,9 @@ def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]
     ----------
     engine : Engine
         An engine with a ``gas:`` section.
+    travels : list of (PistonTravel or None), optional
+        Each cylinder's travel when it is no plain crank slider; default
+        :func:`piston_travels`.
 
     Returns
     -------
@@ -339,7 +352,7 @@ def engine_pressure_tables(engine: Engine) -> list[tuple[FloatArray, FloatArray]
         engine.conrod_length,
         engine.offset,
         engine.cycle,
-        piston_travels(engine),
+        travels if travels is not None else piston_travels(engine),
     )
 
 
@@ -465,14 +478,17 @@ def _geared_torque(engine: Engine, result: Any) -> Any:
     """Several crankshafts: each cylinder's forces and torque as the one-crank cylinder at
     its crank angle from TDC (in its crank's own sense), the engine torque the output's
     (the sum over the shafts in their own senses), and the roll, each shaft's torque and
-    own roll with gas (:func:`balance.core.geared.with_gas`)."""
+    own roll with gas (:func:`balance.core.geared.with_gas`).  The two pistons of an
+    opposed-piston bore share its pressure, read from its smallest volume
+    (:func:`balance.core.bore_pairs.bore_pair_gas`)."""
+    from balance.core.bore_pairs import bore_pair_gas
     from balance.core.geared import with_gas
 
     table = engine.axis_table()
-    if np.any(table.opposed >= 0):
-        raise InputError("gas: gas forces on opposed pistons is not in this version")
     forward = engine.forward_equivalent()
-    torque = compute_torque(forward, result.phasors.orders)
+    gas, travels = bore_pair_gas(engine, piston_travels(forward))
+    forward = replace(forward, gas=gas)
+    torque = compute_torque(forward, result.phasors.orders, travels)
     if result.roll is None or result.shafts is None:
         return result.with_part("torque", torque)
     scale = float(np.sum(np.max(np.abs(torque.cylinder_torque), axis=1)))

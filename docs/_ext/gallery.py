@@ -36,6 +36,13 @@ LAYOUTS: tuple[tuple[str, dict[str, bool], tuple[str, ...] | None], ...] = (
     ("inline-4-mounts", {"mounts": True}, ("mounts",)),
     ("single-idle", {}, ("crank_speed", "reduced_inertia", "speed_model_orders")),
     ("inline-6-diesel-torsion", {}, ("torsion_campbell", "torsion_modes", "torsion_response")),
+    # several crankshafts (docs/several-crankshafts.md); the crank star draws every shaft's
+    # throws about one centre
+    ("jumo-205", {}, None),
+    # (its torque plot's legend of 36 pistons leaves the axes no room: not shown)
+    ("deltic-18", {}, ("crank_star", "phasors", "crank_angle", "spectrum", "roll", "forces")),
+    ("twin-crank-2", {}, None),
+    ("h16-brm", {}, None),
 )
 
 #: Where the gallery goes, relative to the documentation source directory.
