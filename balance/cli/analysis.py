@@ -383,10 +383,6 @@ def propose_command(
         bearings=True if bearings else None,
         speed_model="constant",  # proposals are made at constant speed
     )
-    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
-        raise InputError(
-            "balance propose: a balancing proposal with several crankshafts is not in this version"
-        )
     if request.wants("bearings"):  # each strategy's bearing loads beside the proposal's
         request = request.with_sections(bearings={"strategies": True})
     result = compute(engine, request)

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core.analysis import compute_phasors, engine_cylinders, free_phasors_of
-from balance.core.balancing import proposal_phasors
+from balance.core.counterweights import proposal_phasors
 from balance.core.engine import Engine
 from balance.core.errors import AnalysisError, InputError
 from balance.core.proposal import balance_engine
