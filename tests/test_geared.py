@@ -296,18 +296,6 @@ def test_the_default_analysis_of_several_crankshafts_has_a_proposal():
     assert result.part("crankshafts") is not None
 
 
-@pytest.mark.parametrize("study", ["sweep", "tolerance"])
-def test_sweeps_and_tolerance_studies_of_several_crankshafts_are_refused(study):
-    from balance.studies.sweep import sweep
-    from balance.studies.tolerance import tolerance
-
-    with pytest.raises(InputError, match=f"{study}: a {study} with several crankshafts is not"):
-        if study == "sweep":
-            sweep(twin_crank(-1.0), ["masses.reciprocating=0.5:0.7:3"])
-        else:
-            tolerance(twin_crank(-1.0), ["masses.reciprocating=2%"], samples=4)
-
-
 GEARED_GAS = """\
 name: two cranks with gas
 speed: 3000 rpm
