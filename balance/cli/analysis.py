@@ -408,8 +408,8 @@ def plot_command(
             "-k",
             help="crank_star, phasors, crank_angle, locus, spectrum, roll, balance, torque, "
             "forces, mounts, pin_load, main_loads, internal_moment, crank_speed, "
-            "reduced_inertia, speed_model_orders, torsion_campbell, torsion_modes or "
-            "torsion_response, as in the file names "
+            "reduced_inertia, speed_model_orders, torsion_campbell, torsion_modes, "
+            "torsion_response or crankshaft_forces, as in the file names "
             "(- may stand for _; repeat for several; default: all that apply).",
         ),
     ] = None,
