@@ -1,7 +1,8 @@
 """Several crankshafts through the API: one crankshaft written in the new form is today's
 engine bit for bit, a moved crankshaft adds exactly its moment about z to the roll, a
 twin-crank twin balances its first order with counter-rotating cranks, the geared roll,
-the mounts take the whole wrench, and what is not in this version is refused in one line
+the mounts take the whole wrench, the proposal is on by default, and what is not in this
+version is refused in one line
 (docs/several-crankshafts.md)."""
 
 from __future__ import annotations
@@ -228,7 +229,6 @@ def test_the_table_and_csv_show_the_crankshafts():
 @pytest.mark.parametrize(
     ("settings", "message"),
     [
-        ({"proposal": {"balance_factor": 0.5}}, "balance_factor: a balancing proposal"),
         ({"factor_study": True}, "factors: the balance-factor study"),
         ({"speed_model": "dynamic"}, "speed_model: 'dynamic' is for one crankshaft; this"),
     ],
@@ -289,22 +289,12 @@ def test_gas_torque_reaches_the_block_with_the_outputs_sign(sense, output):
     assert [e["order"] for e in data["crankshafts"][0]["torque"]][:2] == [0.5, 1]
 
 
-def test_the_default_analysis_of_several_crankshafts_has_no_proposal():
+def test_the_default_analysis_of_several_crankshafts_has_a_proposal():
+    """The proposal is a default section for several crankshafts as for one
+    (docs/several-crankshafts.md, "Proposals"); tests/test_geared_proposal.py checks it."""
     result = compute_result(twin_crank(-1.0))
-    assert result.part("proposal") is None
+    assert result.part("proposal") is not None
     assert result.part("crankshafts") is not None
-
-
-@pytest.mark.parametrize("study", ["sweep", "tolerance"])
-def test_sweeps_and_tolerance_studies_of_several_crankshafts_are_refused(study):
-    from balance.studies.sweep import sweep
-    from balance.studies.tolerance import tolerance
-
-    with pytest.raises(InputError, match=f"{study}: a {study} with several crankshafts is not"):
-        if study == "sweep":
-            sweep(twin_crank(-1.0), ["masses.reciprocating=0.5:0.7:3"])
-        else:
-            tolerance(twin_crank(-1.0), ["masses.reciprocating=2%"], samples=4)
 
 
 GEARED_GAS = """\

@@ -35,6 +35,8 @@ BEARING_KINDS = ("pin_load", "main_loads", "internal_moment")
 #: result with the dynamic speed model's solution.
 SPEED_MODEL_KINDS = ("crank_speed", "reduced_inertia", "speed_model_orders")
 TORSION_KINDS = {"torsion_campbell", "torsion_modes", "torsion_response"}
+#: The figure kinds of several crankshafts (balance.views.crankshafts).
+CRANKSHAFT_KINDS = ("crankshaft_forces",)
 
 ORDERS = 40
 REL = 1e-9
@@ -226,6 +228,60 @@ def test_balance_inline3():
 @image_compare
 def test_balance_v8_crossplane():
     return proposal_views.plot_balance(analysed("v8-crossplane"))
+
+
+@image_compare
+def test_crank_star_deltic_like():
+    """Several crankshafts: each shaft where it sits, its pins at theta = 0, its sense."""
+    from tests.test_geared_brute_force import deltic_like
+
+    return plots.plot_crank_star(computed(deltic_like()))
+
+
+@image_compare
+def test_crankshaft_forces_counter_rotating_pair():
+    from tests.test_geared_brute_force import counter_rotating_pair
+
+    return plots.plot_kind("crankshaft_forces")(computed(counter_rotating_pair(1.0)))
+
+
+def test_crankshaft_forces_draw_each_shafts_force_at_its_axis():
+    """The locus of each shaft, less its axis and over the drawing's scale, is the shaft's
+    free force synthesised from its phasors; the crank star puts each pin at its alpha(0)."""
+    from tests.test_geared_brute_force import counter_rotating_pair
+
+    result = computed(counter_rotating_pair(1.0))
+    part = result.part("crankshafts")
+    fig = plots.plot_kind("crankshaft_forces")(result)
+    axes = fig.axes[0]
+    loci = {line.get_label(): line for line in axes.lines if line.get_label() in part.names}
+    free = part.force.free()
+    theta = np.radians(np.linspace(0.0, 360.0, 361))
+    turn = np.exp(1j * free.orders[:, None] * theta)
+    peaks = []
+    drawn = []
+    for s, name in enumerate(part.names):
+        force = free.force_forward[s] @ turn + free.force_backward[s] @ np.conj(turn)
+        x, y = loci[name].get_data()
+        drawn.append((np.asarray(x) - part.x[s] * 1e3) + 1j * (np.asarray(y) - part.y[s] * 1e3))
+        peaks.append(force)
+    # one scale for every shaft: drawn = scale * (F_x + i F_y)
+    scale = abs(drawn[0][0]) / abs(peaks[0][0])
+    for force, line in zip(peaks, drawn, strict=True):
+        np.testing.assert_allclose(line, scale * (force.imag + 1j * force.real), atol=1e-9)
+    star = plots.plot_crank_star(result).axes[0]
+    table = result.engine.axis_table()
+    alpha = table.axis_phase + table.sense * result.engine.throw
+    tips = {
+        (round(float(line.get_xdata()[0]), 9), round(float(line.get_ydata()[0]), 9))
+        for line in star.lines
+        if line.get_marker() == "o" and line.get_color() == "C0"
+    }
+    for i in range(result.engine.n_cylinders):
+        s = table.axis[i]
+        r = result.engine.crank_radius[i] * 1e3
+        tip = (table.x[s] * 1e3 + r * np.sin(alpha[i]), table.y[s] * 1e3 + r * np.cos(alpha[i]))
+        assert (round(float(tip[0]), 9), round(float(tip[1]), 9)) in tips
 
 
 #: One layout of each family for the smoke test of every kind: inline with gas forces (half
@@ -519,6 +575,7 @@ def test_save_plots_choices(tmp_path, monkeypatch):
         and k not in GAS_KINDS
         and k not in SPEED_MODEL_KINDS
         and k not in TORSION_KINDS
+        and k not in CRANKSHAFT_KINDS
     ]
     assert [p.name for p in written] == [f"i3-{kind}.png" for kind in default]
     gas = plots.save_plots(

@@ -365,3 +365,23 @@ def test_cylinder_table_takes_the_columns_of_the_sections():
     without = compute(layout, build_request(layout, proposal=False, cylinders=False))
     table = render_report(without, figures=False).split("<h3>Cylinders</h3>", 1)[1]
     assert "actual stroke" not in table.split("</table>", 1)[0]
+
+
+def test_several_crankshafts_and_guide_forces_have_report_sections():
+    """The crankshafts section (its table and each shaft's force figure) and the crosshead
+    guide forces (MAN's H-type moment per order, as the JSON has it)."""
+    from balance.views.json import to_dict
+    from tests.geared_engines import twin_crank
+
+    geared = balance.compute_result(twin_crank(-1.0, counterweighted=False))
+    html = render_report(geared)
+    assert "Several crankshafts" in html
+    assert 'id="figure-crankshaft_forces"' in html
+    assert "shaft1 force peak [N]" in html and "gear couple [N m]" in html
+    plain = render_report(balance.compute_result(balance.load_layout("inline-4")))
+    assert "Several crankshafts" not in plain and "Crosshead guide forces" not in plain
+    marine = balance.compute_result(balance.load_layout("marine-crosshead-6"), range(1, 7))
+    text = render_report(marine, figures=False)
+    assert "Crosshead guide forces" in text
+    h6 = next(e for e in to_dict(marine)["guide_force_moments"]["H"] if e["order"] == 6)
+    assert f"{h6['amplitude'] / 1e3:.6g}" in text

@@ -383,10 +383,6 @@ def propose_command(
         bearings=True if bearings else None,
         speed_model="constant",  # proposals are made at constant speed
     )
-    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
-        raise InputError(
-            "balance propose: a balancing proposal with several crankshafts is not in this version"
-        )
     if request.wants("bearings"):  # each strategy's bearing loads beside the proposal's
         request = request.with_sections(bearings={"strategies": True})
     result = compute(engine, request)
@@ -412,8 +408,8 @@ def plot_command(
             "-k",
             help="crank_star, phasors, crank_angle, locus, spectrum, roll, balance, torque, "
             "forces, mounts, pin_load, main_loads, internal_moment, crank_speed, "
-            "reduced_inertia, speed_model_orders, torsion_campbell, torsion_modes or "
-            "torsion_response, as in the file names "
+            "reduced_inertia, speed_model_orders, torsion_campbell, torsion_modes, "
+            "torsion_response or crankshaft_forces, as in the file names "
             "(- may stand for _; repeat for several; default: all that apply).",
         ),
     ] = None,

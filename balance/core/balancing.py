@@ -21,7 +21,8 @@ cancel; the proposal's notes say where the shafts raise an order's roll, and wha
 fixed by the layout (:class:`~balance.core.engine.ShaftPosition`) leave.
 
 Everything here is plain numpy over the cylinder table; :func:`propose` returns a
-:class:`Proposal` and :func:`proposal_phasors` the phasors of its masses, from which the
+:class:`Proposal` and :func:`balance.core.counterweights.proposal_phasors` the phasors
+of its masses, from which the
 residual is formed.
 """
 
@@ -38,7 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 from balance.core.balance_factor import BalanceFactor, FactorEquivalents, cylinder_shares
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
-from balance.core.phasors import Phasors, rounding_threshold
+from balance.core.phasors import rounding_threshold
 from balance.core.speed import speed_squared
 from balance.core.throws import crank_pins, rods_per_pin
 
@@ -49,9 +50,9 @@ __all__ = [
     "BalanceShaft",
     "Counterweight",
     "Proposal",
+    "balance_shafts",
     "default_axes",
     "group_least",
-    "proposal_phasors",
     "propose",
     "shaft_roll_phasors",
 ]
@@ -83,11 +84,22 @@ class Counterweight:
         direction of rotation.
     radius : float
         Radius of the mass's centre of gravity [m].
+    sense : int
+        The sense its crank axis turns in relative to crankshaft 1 (+1 or -1): with -1 the
+        mass turns backward, at :math:`\alpha - \theta` (docs/several-crankshafts.md).
+    x, y : float
+        Its crank axis's position [m] (the origin for one crank).
+    axis : str or None
+        The name of its crank axis; None for one crank.
     """
 
     z: float
     unbalance: complex
     radius: float
+    sense: int = 1
+    x: float = 0.0
+    y: float = 0.0
+    axis: str | None = None
 
     @property
     def mass(self) -> float:
@@ -407,12 +419,80 @@ def propose(
         ff[1] = _zero_below(ff[1], f_scale + abs(cw_force), n + 2)
         mf[1] = _zero_below(mf[1], f_scale * (float(np.abs(lever).max()) + 1e-300), n + 2)
 
+    shafts, shaft_notes = balance_shafts(
+        layout,
+        ks,
+        wanted,
+        (ff, fb, mf, mb),
+        fixed_shafts=fixed_shafts,
+        cancel_roll=cancel_roll,
+        roll=roll,
+    )
+    notes.extend(shaft_notes)
+
+    return Proposal(
+        counterweights=tuple(counterweights),
+        shafts=tuple(shafts),
+        strategy=strategy,
+        orders=wanted,
+        balance_factor=equivalents.each_cylinder if equivalents is not None else None,
+        counterweight_radius=radius,
+        cancel_roll=cancel_roll,
+        notes=tuple(notes),
+        factor=equivalents,
+    )
+
+
+def balance_shafts(
+    layout: Engine,
+    ks: Sequence[int],
+    wanted: Sequence[int],
+    phasors: tuple[dict[int, complex], dict[int, complex], dict[int, complex], dict[int, complex]],
+    *,
+    fixed_shafts: Sequence[ShaftPosition] | None = None,
+    cancel_roll: bool = False,
+    roll: ComplexArray | None = None,
+    counterweight_senses: tuple[int, ...] = (1,),
+) -> tuple[list[BalanceShaft], list[str]]:
+    """The balance shafts for what the counterweights leave, and the notes on them.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine (its speed, crank radii, ``z`` and ``reference_z``).
+    ks : sequence of int
+        The orders of ``phasors`` and ``roll``.
+    wanted : sequence of int
+        The orders to cancel.
+    phasors : tuple of dict
+        Force forward, force backward, moment forward, moment backward per order [N, N m],
+        with the counterweights' part already in the first order (a forward first order is
+        always the counterweights').
+    fixed_shafts, cancel_roll, roll
+        As :func:`propose`.
+    counterweight_senses : tuple of int
+        The senses of the first order that belong to the counterweights (no shaft is
+        proposed for them): forward, and backward too where crank axes counter-rotate.
+
+    Returns
+    -------
+    shafts : list of BalanceShaft
+        The shafts, one per order and sense that needs one.
+    notes : list of str
+        What the shafts leave and what they do to the roll.
+    """
+    ff, fb, mf, mb = phasors
+    w2 = float(speed_squared(layout.speed))
+    r_mean = float(np.mean(layout.crank_radius))
+    z_ref = layout.reference_z
+    z_min, z_max = float(layout.z.min()), float(layout.z.max())
+    notes: list[str] = []
     shafts: list[BalanceShaft] = []
     given = {f.speed_ratio: f for f in fixed_shafts} if fixed_shafts is not None else None
     carried: set[int] = set()
     for k in wanted:
         for sense, force, moment in ((+1, ff[k], mf[k]), (-1, fb[k], mb[k])):
-            if k == 1 and sense > 0:
+            if k == 1 and sense in counterweight_senses:
                 continue  # forward first order belongs to the counterweights
             if force == 0 and moment == 0:
                 continue
@@ -456,18 +536,7 @@ def propose(
     )
     for k in sorted(placed.keys() | raised.keys()):
         notes.extend(note[k] for note in (placed, raised) if k in note)
-
-    return Proposal(
-        counterweights=tuple(counterweights),
-        shafts=tuple(shafts),
-        strategy=strategy,
-        orders=wanted,
-        balance_factor=equivalents.each_cylinder if equivalents is not None else None,
-        counterweight_radius=radius,
-        cancel_roll=cancel_roll,
-        notes=tuple(notes),
-        factor=equivalents,
-    )
+    return shafts, notes
 
 
 def _default_position(
@@ -898,46 +967,3 @@ def _roll_increase_notes(
             text += "; the setting cancel_roll places them so that it is cancelled"
         out[k] = text
     return out
-
-
-def proposal_phasors(
-    proposal: Proposal, layout: Engine, orders: Sequence[int] | NDArray[np.integer]
-) -> Phasors:
-    """Forward and backward phasors of every proposed mass, and their roll, per order.
-
-    Parameters
-    ----------
-    proposal : Proposal
-        The counterweights and shafts.
-    layout : Engine
-        The engine (its speed and ``reference_z``).
-    orders : sequence of int
-        The orders.
-
-    Returns
-    -------
-    Phasors
-        Force and moment [N, N m] and roll [N m] per order (no rotating part of its own).
-    """
-    ks = np.asarray(orders, dtype=np.intp).ravel()
-    w2 = float(speed_squared(layout.speed))
-    z_ref = layout.reference_z
-    zeros = np.zeros(ks.size, dtype=np.complex128)
-    ff, fb, mf, mb = zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy()
-    first = ks == 1
-    for cw in proposal.counterweights:
-        ff[first] += cw.unbalance * w2
-        mf[first] += (cw.z - z_ref) * cw.unbalance * w2
-    for shaft in proposal.shafts:
-        s = shaft.speed_ratio
-        at = ks == abs(s)
-        for plane_z, u in shaft.planes:
-            force = u * s * s * w2
-            if s > 0:
-                ff[at] += force
-                mf[at] += (plane_z - z_ref) * force
-            else:
-                fb[at] += force
-                mb[at] += (plane_z - z_ref) * force
-    roll = shaft_roll_phasors(proposal.shafts, layout.speed, ks)
-    return Phasors(ks, ff, fb, mf, mb, roll=roll)

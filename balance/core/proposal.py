@@ -20,13 +20,9 @@ from numpy.typing import ArrayLike, NDArray
 from balance.core import kinematics
 from balance.core.analysis import compute_phasors
 from balance.core.balance_factor import BalanceFactor, FactorEquivalents
-from balance.core.balancing import (
-    Proposal,
-    proposal_phasors,
-    propose,
-    shaft_roll_phasors,
-)
+from balance.core.balancing import Proposal, propose, shaft_roll_phasors
 from balance.core.catalogue import Output
+from balance.core.counterweights import counterweight_moment_z, proposal_phasors, propose_geared
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import InputError
 from balance.core.phasors import Phasors, cancel_to_zero, phase_deg, rounding_threshold, safe_ratio
@@ -64,6 +60,10 @@ class ProposalResult:
     residual : Phasors
         Per order of the analysis: reciprocating + rotating + counterweights + shafts
         [N, N m], and the roll (inertia, whole orders) with the shafts' roll added.
+    residual_moment_z : ndarray of complex or None
+        An engine with several crank axes: per order of the residual, the moment about the
+        frame's ``z`` axis of the free forces on their axes with the counterweights' [N m]
+        (roll convention); None for one crank.
     residual_roll : ndarray of complex or None
         The roll as the analysis reports it (per :attr:`Result.roll_orders`, with gas
         forces where the engine has them) with the shafts' roll added [N m]; None
@@ -78,6 +78,7 @@ class ProposalResult:
     residual: Phasors
     residual_roll: ComplexArray | None
     left: tuple[int, ...] = ()
+    residual_moment_z: ComplexArray | None = None
 
 
 def _factor(value: float | BalanceFactor | None, of: str | None) -> float | BalanceFactor | None:
@@ -162,22 +163,35 @@ def balance_engine(
     )
     if 1 in wanted and source.link_pins is not None:
         first_order = first_order + _link_pin_first_order(layout, source.link_pins)
-    proposal = propose(
-        layout,
-        first_order,
-        picked.force_forward,
-        picked.force_backward,
-        picked.moment_forward,
-        picked.moment_backward,
-        needed,
-        cancel=wanted,
-        strategy=strategy,
-        balance_factor=balance_factor,
-        counterweight_radius=counterweight_radius,
-        fixed_shafts=fixed_shafts,
-        cancel_roll=cancel_roll,
-        roll=picked.roll,
-    )
+    if layout.geared:
+        proposal = propose_geared(
+            layout,
+            first_order,
+            picked,
+            cancel=wanted,
+            strategy=strategy,
+            balance_factor=balance_factor,
+            counterweight_radius=counterweight_radius,
+            fixed_shafts=fixed_shafts,
+            cancel_roll=cancel_roll,
+        )
+    else:
+        proposal = propose(
+            layout,
+            first_order,
+            picked.force_forward,
+            picked.force_backward,
+            picked.moment_forward,
+            picked.moment_backward,
+            needed,
+            cancel=wanted,
+            strategy=strategy,
+            balance_factor=balance_factor,
+            counterweight_radius=counterweight_radius,
+            fixed_shafts=fixed_shafts,
+            cancel_roll=cancel_roll,
+            roll=picked.roll,
+        )
     after = residual(layout, proposal, p)
     # at the orders to cancel, which the notes speak of: the residual's own entries where
     # they are among its orders (each order's sum is formed and cleaned on its own)
@@ -323,21 +337,6 @@ def proposal_part(
     Result
         ``result`` with the ``proposal`` part added.
     """
-    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
-        given = {
-            "cancel": cancel,
-            "strategy": strategy,
-            "balance_factor": balance_factor,
-            "counterweight_radius": counterweight_radius,
-            "cancel_roll": cancel_roll,
-            "balance_factor_of": balance_factor_of,
-        }
-        for name, value in given.items():
-            if value:
-                raise InputError(
-                    f"{name}: a balancing proposal with several crankshafts is not in this version"
-                )
-        return result
     if not result.has_moments or result.roll is None:
         return result
     proposed = balance_engine(
@@ -351,7 +350,21 @@ def proposal_part(
         balance_factor_of=balance_factor_of,
     )
     part = replace(proposed, residual_roll=_with_shafts_roll(result, proposed.residual))
+    if engine.geared and result.shafts is not None:
+        part = replace(part, residual_moment_z=_moment_z_with(engine, result, part.proposal))
     return result.with_part("proposal", part)
+
+
+def _moment_z_with(engine: Engine, result: Result, proposal: Proposal) -> ComplexArray:
+    """The moment about ``z`` per order of the analysis with the counterweights' added
+    (docs/several-crankshafts.md, "The moment about z")."""
+    engine_z = np.asarray(result.shafts.moment_z, dtype=np.complex128)
+    w2 = float(speed_squared(engine.speed))
+    terms = [counterweight_moment_z(cw, w2) for cw in proposal.counterweights]
+    first = np.asarray(result.phasors.orders) == 1
+    added = np.where(first, sum(terms, 0j), 0j)
+    scale = np.abs(engine_z) + np.where(first, sum(abs(t) for t in terms), 0.0)
+    return cancel_to_zero(engine_z + added, scale, len(terms) + 2 * engine.n_cylinders)
 
 
 # --------------------------------------------------------------------------- factor study
@@ -720,6 +733,16 @@ def _residual_outputs(quantity: str) -> tuple[Output, ...]:
     )
 
 
+def _has_moment_z(result: Any) -> bool:
+    return _proposal(result).residual_moment_z is not None
+
+
+def _residual_moment_z(result: Any) -> Any:
+    value = _proposal(result).residual_moment_z
+    assert value is not None
+    return np.abs(value)
+
+
 def _factor_of(result: Any) -> FactorEquivalents | None:
     return _proposal(result).proposal.factor
 
@@ -807,6 +830,15 @@ OUTPUTS: tuple[Output, ...] = (
     ),
     *_residual_outputs("force"),
     *_residual_outputs("moment"),
+    Output(
+        "residual_moment_z_peak",
+        ("order",),
+        "N m",
+        "peak residual moment about the frame's z axis of the crankshafts' free forces and "
+        "counterweights (several crankshafts)",
+        _residual_moment_z,
+        when=_has_moment_z,
+    ),
     Output(
         "residual_roll_amplitude",
         ("roll_order",),

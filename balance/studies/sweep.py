@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core import kinematics
-from balance.core.analysis import engine_cylinders, free_phasors_of
+from balance.core.analysis import compute_phasors, engine_cylinders, free_phasors_of
 from balance.core.catalogue import BASE, Output
 from balance.core.engine import Engine
 from balance.core.errors import AnalysisError, InputError
@@ -51,7 +51,6 @@ __all__ = [
     "DEFAULT_CHUNK_SIZE",
     "check_output",
     "chunk_slices",
-    "refuse_geared",
     "refuse_variable_speed",
     "sweep",
     "sweep_arrays",
@@ -234,6 +233,8 @@ def _chunk(
     With a ``cache``, chunks that differ only in their speeds share those sums (the
     in-process run keeps the last ones).
     """
+    if plan.layout.geared:
+        return _geared_chunk(plan, where)
     p = _grid_parameters(plan, where)
     chunk_shape = tuple(s.stop - s.start for s in where)
     key = tuple(
@@ -278,6 +279,53 @@ def _chunk(
             for name, values in point.items():
                 residual[name][index] = values
         out.update(residual)
+    return out
+
+
+def _geared_chunk(plan: _Plan, where: tuple[slice, ...]) -> dict[str, FloatArray]:
+    """A chunk of an engine with several crankshafts, point by point: each point is the
+    engine of the hand-edited file (:func:`variant`) analysed as ``analyse`` analyses it
+    (:func:`balance.core.analysis.compute_phasors`); there is no grid sum over several
+    crank axes (docs/several-crankshafts.md, "Sweeps and tolerance studies")."""
+    chunk_shape = tuple(s.stop - s.start for s in where)
+    tails = _tails(plan)
+    outputs = _outputs(plan)
+    out = {o.name: np.empty(chunk_shape + tuple(tails[d] for d in o.dims)) for o in outputs}
+    if plan.balance:
+        out.update(
+            {
+                o.name: np.empty(chunk_shape + tuple(tails[d] for d in o.dims))
+                for o in residual_outputs()
+            }
+        )
+    starts = tuple(s.start for s in where)
+    for index in np.ndindex(*chunk_shape):
+        at = tuple(start + i for start, i in zip(starts, index, strict=True))
+        changes: list[Change] = [
+            (v.field, float(v.field.to_layout_units(v.values[i])))
+            for v, i in zip(plan.varies, at, strict=True)
+        ]
+        engine = apply_changes(plan.layout, changes, problem=_CG_BEYOND_ROD)
+        try:
+            free = compute_phasors(
+                engine,
+                plan.orders,
+                model=plan.model,
+                terms=plan.terms,
+                moments=plan.moments,
+                roll=plan.roll,
+            )
+        except AnalysisError as exc:
+            raise InputError(f"vary: some grid points have an impossible geometry: {exc}") from None
+        point = _Chunk(free.phasors)
+        for output in outputs:
+            out[output.name][index] = np.asarray(output.get(point), dtype=np.float64)
+        if plan.balance:
+            residual = residual_point(
+                plan.layout, plan.varies, at, plan.orders, plan.model, plan.terms
+            )
+            for name, values in residual.items():
+                out[name][index] = values
     return out
 
 
@@ -353,26 +401,6 @@ def refuse_variable_speed(layout: Engine, study: str) -> None:
         )
 
 
-def refuse_geared(layout: Engine, study: str) -> None:
-    """Refuse a study of an engine with several crankshafts (its grid sums are one
-    crankshaft's in this version; docs/several-crankshafts.md).
-
-    Parameters
-    ----------
-    layout : Engine
-        The layout studied.
-    study : str
-        The study, as messages name it (``sweep``, ``tolerance``).
-
-    Raises
-    ------
-    InputError
-        When the layout has several crankshafts (:attr:`Engine.geared`).
-    """
-    if layout.geared:
-        raise InputError(f"{study}: a {study} with several crankshafts is not in this version")
-
-
 def _plan(
     layout: Engine,
     vary: Mapping[str, Any] | Sequence[Vary | str],
@@ -385,7 +413,6 @@ def _plan(
     if model not in kinematics.MODELS:
         raise InputError(f"model: {model!r}; a sweep uses one of {', '.join(kinematics.MODELS)}")
     refuse_variable_speed(layout, "sweep")
-    refuse_geared(layout, "sweep")
     ks = parse_orders(orders)
     varies = tuple(_as_varies(layout, vary))
     if balance_varied(varies) and not (moments and roll):

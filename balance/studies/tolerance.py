@@ -28,14 +28,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from balance.core.analysis import compute_phasors, engine_cylinders, free_phasors_of
-from balance.core.balancing import proposal_phasors
+from balance.core.counterweights import proposal_phasors
 from balance.core.engine import Engine
 from balance.core.errors import AnalysisError, InputError
+from balance.core.phasors import Phasors
 from balance.core.proposal import balance_engine
 from balance.core.speed import speed_squared
 from balance.io.fields import Scatter, parse_orders, parse_scatter
 from balance.studies.changes import LINK_GEOMETRY, Change, apply_changes
-from balance.studies.sweep import refuse_geared, refuse_variable_speed
+from balance.studies.sweep import refuse_variable_speed
 
 __all__ = ["PERCENTILES", "Scatter", "ToleranceResult", "parse_scatter", "tolerance"]
 
@@ -125,7 +126,6 @@ def tolerance(
 
     t0 = time.perf_counter()
     refuse_variable_speed(layout, "tolerance")
-    refuse_geared(layout, "tolerance")
     items = [s if isinstance(s, Scatter) else parse_scatter(s, layout) for s in scatter]
     if not items:
         raise InputError("scatter: give at least one field to scatter")
@@ -157,6 +157,11 @@ def tolerance(
                 draw = rng.normal(0.0, s.tolerance / 3.0, shape)
             delta = s.field.to_layout_units(draw)
             changes.append((s.field, delta if s.field.cylinder is None else delta[:, None]))
+        if layout.geared:  # sample by sample (docs/several-crankshafts.md)
+            sl = slice(lo, lo + m)
+            for key, values in _geared_samples(fixed, changes, ks, model, m, added).items():
+                out[key][sl] = values
+            continue
         drawn = apply_changes(fixed, changes, add=True, problem=_CG_BEYOND_ROD)
         # with link rods, one geometry (changes._check_link_fields): the link path wants it 1-D
         links = layout.links if layout.has_links else None
@@ -191,6 +196,39 @@ def tolerance(
         distribution=distribution,
         seed=seed,
     )
+
+
+def _geared_samples(
+    fixed: Engine,
+    changes: list[Change],
+    ks: NDArray[np.intp],
+    model: str,
+    m: int,
+    added: Phasors,
+) -> dict[str, FloatArray]:
+    """The peaks of ``m`` drawn engines with several crankshafts, each analysed on its own
+    (:func:`balance.core.analysis.compute_phasors`: there is no grid sum over several crank
+    axes), free and with the nominal proposal's masses ``added``."""
+    out = {
+        f"{w}_{k}": np.empty((m, ks.size))
+        for w in ("force", "moment")
+        for k in ("free", "balanced")
+    }
+    for j in range(m):
+        one = [(f, np.asarray(d)[j]) for f, d in changes]
+        engine = apply_changes(fixed, one, add=True, problem=_CG_BEYOND_ROD)
+        if np.any(engine.reciprocating_mass < 0) or np.any(engine.rotating_mass < 0):
+            raise InputError("scatter: the scatter makes some masses negative; reduce it")
+        try:
+            free = compute_phasors(engine, ks, model=model, roll=False).phasors.free()
+        except AnalysisError as exc:
+            raise InputError(f"scatter: some samples have an impossible geometry: {exc}") from None
+        balanced = free + added
+        out["force_free"][j] = free.peak("force")
+        out["moment_free"][j] = free.peak("moment")
+        out["force_balanced"][j] = balanced.peak("force")
+        out["moment_balanced"][j] = balanced.peak("moment")
+    return out
 
 
 _CG_BEYOND_ROD = (

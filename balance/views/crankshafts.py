@@ -25,7 +25,17 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.geared import GearedParts
     from balance.core.result import Result
 
-__all__ = ["crankshafts_table", "csv_columns", "json_block", "tables"]
+__all__ = [
+    "PLOTS",
+    "REPORT_TITLE",
+    "crankshafts_table",
+    "csv_columns",
+    "drawn",
+    "json_block",
+    "plot_crankshaft_forces",
+    "report_section",
+    "tables",
+]
 
 
 def _part(result: Result) -> GearedParts:
@@ -247,3 +257,82 @@ def csv_columns(result: Result) -> list[tuple[str, dict[float, float]]]:
             columns.append((f"{name}_torque_amplitude [N m]", on_orders(part.torque[s])))
     keys = [float(k) for k in orders]
     return [(header, dict(zip(keys, values, strict=True))) for header, values in columns]
+
+
+def plot_crankshaft_forces(result: Result, **options: Any) -> Any:
+    """The figure ``crankshaft_forces``: each crankshaft's free force over a revolution at
+    its axis (:func:`balance.views.axes_plots.plot_axis_forces`).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``crankshafts`` section.
+    **options
+        ``ax``, ``title``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from balance.views.axes_plots import plot_axis_forces
+    from balance.views.figures import placeholder
+
+    if not drawn(result):
+        text = "not computed: one crankshaft, whose free force is the engine's (locus, phasors)"
+        return placeholder(result, "crankshaft_forces", options.get("title"), text)
+    return plot_axis_forces(result, **options)
+
+
+def drawn(result: Result) -> bool:
+    """Whether the section's figure has something to draw: several crankshafts.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis.
+
+    Returns
+    -------
+    bool
+    """
+    return result.part("crankshafts") is not None
+
+
+PLOTS = {"crankshaft_forces": plot_crankshaft_forces}
+
+REPORT_TITLE = "Several crankshafts"
+
+
+def report_section(result: Result, figures: bool) -> str:
+    """HTML of the report's crankshafts section: the table of the crankshafts
+    (:func:`crankshafts_table`) and each shaft's free force at its axis (the report's crank
+    star draws every shaft where it sits).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``crankshafts`` section.
+    figures : bool
+        Include the figures.
+
+    Returns
+    -------
+    str
+    """
+    from balance.views.report import escape, html_figure, html_table
+
+    table = crankshafts_table(result)
+    html = f"<p>{escape(table.title)}.</p>\n" + html_table(
+        [c.header for c in table.columns],
+        table.rows,
+        "Per order: each crankshaft's free-force peak, own roll and torque; the moment about "
+        "z and the gear couple",
+    )
+    if figures:
+        html += "\n" + html_figure(
+            result,
+            "crankshaft_forces",
+            "Each crankshaft's free force over a revolution, drawn at its axis",
+            111,
+        )
+    return html

@@ -17,7 +17,14 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.crosshead import GuideForces
     from balance.core.result import Result
 
-__all__ = ["csv_columns", "guide_force_table", "json_block", "tables"]
+__all__ = [
+    "REPORT_TITLE",
+    "csv_columns",
+    "guide_force_table",
+    "json_block",
+    "report_section",
+    "tables",
+]
 
 
 def _part(result: Result) -> GuideForces:
@@ -161,3 +168,29 @@ def csv_columns(result: Result) -> list[tuple[str, dict[float, float]]]:
             )
         )
     return out
+
+
+REPORT_TITLE = "Crosshead guide forces"
+
+
+def report_section(result: Result, figures: bool) -> str:
+    """HTML of the report's guide-force section: :func:`guide_force_table` (MAN B&W's H-type
+    and X-type guide-force moments per order) and each cylinder's largest guide force.
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``guide_forces`` section.
+    figures : bool
+        Whether figures are drawn (the section has none).
+
+    Returns
+    -------
+    str
+    """
+    from balance.views.report import escape, html_table
+
+    table = guide_force_table(result)
+    html = html_table([c.header for c in table.columns], table.rows, table.title)
+    notes = "".join(f"<li>{escape(note)}</li>" for note in table.notes)
+    return html + (f'\n<ul class="note notes">{notes}</ul>' if notes else "")

@@ -136,6 +136,10 @@ def plot_crank_star(result: Result, *, ax: AxesArg = None, title: str | None = N
     -------
     matplotlib.figure.Figure
     """
+    if result.engine.geared:  # several crankshafts, each drawn where it sits
+        from balance.views.axes_plots import plot_axes_star
+
+        return plot_axes_star(result, ax=ax, title=title)
     with styled():
         fig, (axes,), owned = new_figure(ax, 1, (6.0, 6.2), kind="crank_star")
         engine = result.engine

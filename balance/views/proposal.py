@@ -65,6 +65,7 @@ def _proposal_entries(proposal: Proposal) -> dict[str, Any]:
             "radius_m": json_number(c.radius),
             "angle_deg": json_number(c.angle_deg),
         }
+        | ({"crankshaft": c.axis} if c.axis is not None else {})
         for c in proposal.counterweights
     ]
     shafts = []
@@ -134,16 +135,22 @@ def json_block(result: Result) -> dict[str, Any]:
         and roll per order.
     """
     part = _part(result)
+    residual: dict[str, Any] = {
+        "force": _residual_peaks(result, "force", result.reference_force),
+        "moment": _residual_peaks(result, "moment", result.reference_moment),
+        "roll": roll_entries(result.roll_orders, part.residual_roll),
+    }
+    if part.residual_moment_z is not None:  # several crankshafts
+        residual["moment_z"] = [
+            {"order": int(k), "peak": json_number(abs(part.residual_moment_z[i]))}
+            for i, k in enumerate(np.asarray(part.residual.orders))
+        ]
     return {
         "proposal": _proposal_entries(part.proposal)
         | {
             "orders_left": [int(k) for k in part.left],
             "shaft_default_axes": _default_rule(result),
-            "residual": {
-                "force": _residual_peaks(result, "force", result.reference_force),
-                "moment": _residual_peaks(result, "moment", result.reference_moment),
-                "roll": roll_entries(result.roll_orders, part.residual_roll),
-            },
+            "residual": residual,
         }
     }
 
@@ -215,28 +222,30 @@ def _render_proposal(result: Result) -> list[RenderableType]:
     if not cws and not shafts:
         out.append(Text("Nothing to cancel: no counterweights or balance shafts are needed."))
     if cws:
-        out.append(
-            NumberTable(
-                "Counterweights (turn with the crank; angle at theta = 0)",
-                [
-                    Column("z", "mm"),
-                    Column("mass", "kg"),
-                    Column("radius", "mm"),
-                    Column("angle", "deg"),
-                    Column("m R", "kg mm"),
-                ],
-                [
-                    [
-                        format_number(float(c.z) * 1e3),
-                        format_number(float(c.mass)),
-                        format_number(float(c.radius) * 1e3),
-                        format_number(float(c.angle_deg)),
-                        format_number(abs(c.unbalance) * 1e3),
-                    ]
-                    for c in cws
-                ],
-            )
-        )
+        geared = any(c.axis is not None for c in cws)
+        columns = [
+            Column("z", "mm"),
+            Column("mass", "kg"),
+            Column("radius", "mm"),
+            Column("angle", "deg"),
+            Column("m R", "kg mm"),
+        ]
+        rows = [
+            [
+                format_number(float(c.z) * 1e3),
+                format_number(float(c.mass)),
+                format_number(float(c.radius) * 1e3),
+                format_number(float(c.angle_deg)),
+                format_number(abs(c.unbalance) * 1e3),
+            ]
+            for c in cws
+        ]
+        title = "Counterweights (turn with the crank; angle at theta = 0)"
+        if geared:  # each on its crankshaft, turning with it
+            columns.insert(0, Column("crankshaft", justify="left"))
+            rows = [[str(c.axis), *row] for c, row in zip(cws, rows, strict=True)]
+            title = "Counterweights (turn with their crankshaft; engine-frame angle at theta = 0)"
+        out.append(NumberTable(title, columns, rows))
     if shafts:
         rows = []
         for i, shaft in enumerate(shafts):
@@ -278,30 +287,34 @@ def _render_proposal(result: Result) -> list[RenderableType]:
     roll_at = {float(k): i for i, k in enumerate(result.roll_orders)}
     assert part.residual_roll is not None  # a proposal is made with the roll
     roll_amplitude = np.abs(part.residual_roll)
+    moment_z = part.residual_moment_z
     rows = []
     for i, k in enumerate(result.phasors.orders):
         at = roll_at.get(float(k))
-        rows.append(
-            [
-                str(int(k)),
-                format_number(float(force_peak[i])),
-                format_ratio(float(force_normalised[i]), float(result.reference_force)),
-                format_number(float(moment_peak[i])),
-                format_ratio(float(moment_normalised[i]), float(result.reference_moment)),
-                "-" if at is None else format_number(float(roll_amplitude[at])),
-            ]
-        )
+        row = [
+            str(int(k)),
+            format_number(float(force_peak[i])),
+            format_ratio(float(force_normalised[i]), float(result.reference_force)),
+            format_number(float(moment_peak[i])),
+            format_ratio(float(moment_normalised[i]), float(result.reference_moment)),
+        ]
+        if moment_z is not None:
+            row.append(format_number(float(abs(moment_z[i]))))
+        row.append("-" if at is None else format_number(float(roll_amplitude[at])))
+        rows.append(row)
+    columns = [
+        Column("order", key=True),
+        Column("force peak", "N"),
+        Column("force peak / F1"),
+        Column("moment peak", "N m"),
+        Column("moment peak / (F1 a)"),
+        *([Column("moment z peak", "N m")] if moment_z is not None else []),
+        Column("roll", "N m"),
+    ]
     out.append(
         NumberTable(
             "Residual with the proposal: free (reciprocating + rotating) + proposal; roll",
-            [
-                Column("order", key=True),
-                Column("force peak", "N"),
-                Column("force peak / F1"),
-                Column("moment peak", "N m"),
-                Column("moment peak / (F1 a)"),
-                Column("roll", "N m"),
-            ],
+            columns,
             rows,
             notes=pitch_note(result),
         )
@@ -390,12 +403,13 @@ def report_section(result: Result, figures: bool) -> str:
             ]
             for c in proposal.counterweights
         ]
-        out.append(
-            html_table(
-                ["z [mm]", "mass [kg]", "radius [mm]", "angle at θ = 0 [deg]", "m R [kg mm]"],
-                rows,
-            )
-        )
+        head = ["z [mm]", "mass [kg]", "radius [mm]", "angle at θ = 0 [deg]", "m R [kg mm]"]
+        if any(c.axis is not None for c in proposal.counterweights):  # several crankshafts
+            head = ["crankshaft", *head]
+            rows = [
+                [str(c.axis), *row] for c, row in zip(proposal.counterweights, rows, strict=True)
+            ]
+        out.append(html_table(head, rows))
     else:
         out.append("<p>None needed.</p>")
     out.append("<h3>Balance shafts</h3>")
