@@ -27,20 +27,12 @@ def needs(module: str, extra: str) -> pytest.MarkDecorator:
 
 @functools.cache
 def one_crank_builtins() -> list[str]:
-    """The built-in layouts with one crankshaft: those a balancing proposal with settings
-    is computed for (with several crankshafts it is refused, docs/several-crankshafts.md,
-    "Not in this version"; :func:`geared_builtins` are the others)."""
+    """The built-in layouts with one crankshaft: those the one-crank references of the
+    proposal tests check (the several-crankshaft proposals have their own brute force in
+    test_geared_brute_force.py)."""
     from balance.api import builtin_layout_names, load_layout
 
     return [n for n in builtin_layout_names() if not load_layout(n).geared]
-
-
-@functools.cache
-def geared_builtins() -> list[str]:
-    """The built-in layouts with several crankshafts (:attr:`Engine.geared`)."""
-    from balance.api import builtin_layout_names
-
-    return [n for n in builtin_layout_names() if n not in one_crank_builtins()]
 
 
 def _with_unit(value: float | str, unit: str) -> str:

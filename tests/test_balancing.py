@@ -52,7 +52,7 @@ def _time_domain_residual(layout: Engine, proposal) -> dict[str, np.ndarray]:
 
 
 @pytest.mark.parametrize("strategy", ["two-plane", "per-throw"])
-@pytest.mark.parametrize("name", one_crank_builtins())
+@pytest.mark.parametrize("name", one_crank_builtins())  # several: test_geared_brute_force.py
 def test_every_builtin_proposal_cancels_what_it_sets_out_to(name, strategy):
     """Issue 3: orders 1 and 2 (forward and backward, force and moment) vanish in the
     residual to 1e-9 of m_rec r w^2 (forces) and m_rec r w^2 a (moments), by time domain."""
