@@ -442,7 +442,7 @@ def half_range(coefficients: ArrayLike, harmonics: ArrayLike) -> FloatArray:
     row = np.concatenate(rows)
     sense = np.asarray(np.where(row < m, 1.0, -1.0), dtype=np.float64)
     start = np.asarray(np.concatenate(starts), dtype=np.float64)
-    value, point = _refine(flat[row % m], h, start, sense)
+    value, point, bend = _refine(flat[row % m], h, start, sense)
     refined = sense * value
     # where the parabola's vertex led Newton to another, lower extreme (several within one
     # step), start again from the sample itself
@@ -450,22 +450,28 @@ def half_range(coefficients: ArrayLike, harmonics: ArrayLike) -> FloatArray:
     sample_value = np.concatenate([v for _, v in samples_at])
     astray = np.flatnonzero(refined < sample_value)
     if astray.size:
-        value, again_at = _refine(flat[row[astray] % m], h, sample_t[astray], sense[astray])
+        value, again_at, again_bend = _refine(
+            flat[row[astray] % m], h, sample_t[astray], sense[astray]
+        )
         again = sense[astray] * value
-        point[astray] = np.where(again > refined[astray], again_at, point[astray])
+        better = again > refined[astray]
+        point[astray] = np.where(better, again_at, point[astray])
+        bend[astray] = np.where(better, again_bend, bend[astray])
         refined[astray] = np.maximum(refined[astray], again)
-    # where each extreme is: its sample's, or the refined point's where that is beyond
-    at = step * np.concatenate([np.argmax(samples, axis=1), np.argmin(samples, axis=1)])
     np.maximum.at(extreme, row, refined)  # a refined extreme replaces its sample if beyond
+    # where each extreme is if refined (f' = 0 there), and f'' there times the sense; NaN:
+    # the extreme is a sample
+    at, curve = np.full(2 * m, np.nan), np.zeros(2 * m)
     kept = refined >= extreme[row]
-    at[row[kept]] = point[kept]
-    _beside(extreme, at, flat, h, samples, near_at, step)
+    at[row[kept]], curve[row[kept]] = point[kept], bend[kept]
+    _beside(extreme, at, curve, flat, h, samples, near_at, step)
     return np.asarray(0.5 * (extreme[:m] + extreme[m:]), dtype=np.float64).reshape(lead)
 
 
 def _beside(
     extreme: FloatArray,
     at: FloatArray,
+    curve: FloatArray,
     x: ComplexArray,
     h: IntArray,
     samples: FloatArray,
@@ -479,9 +485,12 @@ def _beside(
     per sense) can hold an extreme beyond ``extreme``, and only if each end is within
     :math:`\max|f''|/2` times its distance squared of it.  The interval that holds a
     refined extreme (``at``, where :math:`f' = 0`; NaN where the extreme is a sample) is
-    split there in two.  On each piece :math:`[a, b]` the Hermite cubic :math:`p` through
-    :math:`f` and :math:`f'` at its ends is within :math:`\max|f^{(4)}|\,(t - a)^2(t - b)^2
-    /24` of :math:`f`, :math:`\max|f^{(4)}| \le \sum_h h^4|X_h|`.  Where that bound over
+    split there in two.  Within :math:`3|f''|/\max|f'''|` of a refined extreme
+    (``curve``: :math:`f''` there, times the sense) :math:`f` stays below it (Taylor's
+    series to third order): an interval or piece within that is left out.  On each piece
+    :math:`[a, b]` the Hermite cubic :math:`p` through :math:`f` and :math:`f'` at its ends
+    is within :math:`\max|f^{(4)}|\,(t - a)^2(t - b)^2/24` of :math:`f`,
+    :math:`\max|f^{(4)}| \le \sum_h h^4|X_h|`.  Where that bound over
     :math:`p`, evaluated on :data:`_GRID` and padded by the grid's error, rises beyond the
     extreme by more than rounding, Newton's method starts from its highest point, and a
     value beyond the extreme by more than rounding replaces it (an extreme already found
@@ -490,6 +499,7 @@ def _beside(
     size = np.abs(x)
     power = h.astype(np.float64) ** 2
     curvature = size @ power  # at least |f''|
+    third = size @ (power * h)  # at least |f'''|
     fourth = size @ (power * power)  # at least |f''''|
     rounding = 1e-13 * np.sum(size, axis=1)
     # the intervals (by their first sample, flat over both senses) with a near end: the
@@ -505,9 +515,13 @@ def _beside(
     into = np.mod(at[row], 2.0 * math.pi) - step * col  # the refined extreme, if in it
     split = (into >= 0.0) & (into < step)
     gap = np.sqrt(np.maximum(extreme[row] - fa, 0.0)) + np.sqrt(np.maximum(extreme[row] - fb, 0.0))
-    keep = split | (gap <= step * np.sqrt(0.5 * curvature[row % m]))
+    # within the radius of a refined extreme about it, f stays below it
+    radius = 3.0 * np.maximum(-curve[row], 0.0) / np.maximum(third[row % m], 1e-300)
+    lead = np.mod(step * col - at[row] + math.pi, 2.0 * math.pi) - math.pi
+    far = np.isnan(at[row]) | (np.maximum(np.abs(lead), np.abs(lead + step)) >= radius)
+    keep = far & (split | (gap <= step * np.sqrt(0.5 * curvature[row % m])))
     row, col, nxt, sign = row[keep], col[keep], nxt[keep], sign[keep]
-    fa, fb, split, into = fa[keep], fb[keep], split[keep], into[keep]
+    fa, fb, split, into, radius = fa[keep], fb[keep], split[keep], into[keep], radius[keep]
     if not row.size:
         return
     # f' at the ends: the sums at the samples' turns e^{iht}, times ih
@@ -548,6 +562,7 @@ def _beside(
     # a convex quadratic in the brackets: beyond the extreme somewhere only if beyond at an
     # end, c2 + bump > 0 (c2 + c3 = fb - fa, a sample's excess, is never above 0)
     keep = np.where(np.arange(row.size) < whole.size, beyond_whole, c2 + bump > 0.0)
+    keep &= length >= radius[piece]
     row = row[keep]
     if not row.size:
         return
@@ -566,13 +581,13 @@ def _newton(x: ComplexArray, h: IntArray, start: FloatArray, sense: FloatArray) 
 
 def _refine(
     x: ComplexArray, h: IntArray, start: FloatArray, sense: FloatArray
-) -> tuple[FloatArray, FloatArray]:
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""The value of each trigonometric sum (rows of ``x``) at the extreme (``sense`` +1: a
     maximum, -1: a minimum) found by Newton's method on its derivative from ``start``:
     :data:`NEWTON_STEPS` steps, more while a step is beyond :data:`NEWTON_STEP_TOLERANCE`
     (at most :data:`NEWTON_STEPS_MAX`), then the value at the last point corrected by its
     Taylor series, :math:`f - f'^2/(2f'')`, the value at the next Newton point to third
-    order.
+    order; with it that point and :math:`f''` at the last point times ``sense``.
 
     :math:`f`, :math:`f'` and :math:`f''` are the real parts of the polynomials
     :math:`\sum_h X_h z^h`, :math:`i\sum_h h X_h z^h` and :math:`-\sum_h h^2 X_h z^h` in
@@ -598,7 +613,7 @@ def _refine(
         ok = sense * d2 < 0.0  # curving the right way: a step towards the extreme
         move = np.where(ok, d1 / np.where(ok, d2, 1.0), 0.0)
         if last:
-            return np.asarray(value - 0.5 * move * d1, dtype=np.float64), t - move
+            return np.asarray(value - 0.5 * move * d1, dtype=np.float64), t - move, sense * d2
         t = t - move
         last = step + 1 >= NEWTON_STEPS and float(np.max(np.abs(move), initial=0.0)) <= (
             NEWTON_STEP_TOLERANCE
