@@ -68,6 +68,9 @@ NEWTON_STEPS = 2
 NEWTON_STEP_TOLERANCE = 1e-6
 #: Newton steps at most.
 NEWTON_STEPS_MAX = 50
+#: Points across a sample interval at which the bound of a sum above its Hermite cubic is
+#: evaluated (:func:`_beside`).
+_GRID = np.linspace(0.0, 1.0, 17)
 
 
 @dataclass(frozen=True, eq=False)
@@ -397,7 +400,10 @@ def half_range(coefficients: ArrayLike, harmonics: ArrayLike) -> FloatArray:
     samples within :math:`B` of the most extreme one is refined by Newton's method on
     :math:`f' = 0` (:data:`NEWTON_STEPS` steps, more until they are below
     :data:`NEWTON_STEP_TOLERANCE`) (a refined point replaces its sample only where it is
-    beyond it), and the most extreme is kept: the extremes are those of the trigonometric
+    beyond it), and the most extreme is kept.  An extreme beside no local extreme of the
+    samples, or in the sample interval of the extreme found, is sought where Hermite's
+    cubic through :math:`f` and :math:`f'` at an interval's ends, with its error bound,
+    could rise beyond it (:func:`_beside`): the extremes are those of the trigonometric
     sum, not of the grid (docs/torsion.md, "Synthesis").
     """
     x = np.asarray(coefficients, dtype=np.complex128)
@@ -417,9 +423,11 @@ def half_range(coefficients: ArrayLike, harmonics: ArrayLike) -> FloatArray:
     extreme = np.concatenate([np.max(samples, axis=1), -np.min(samples, axis=1)])
     rows, starts = [], []
     samples_at: list[tuple[FloatArray, FloatArray]] = []
+    near_at: list[IntArray] = []
     for sign, best in ((1.0, extreme[:m]), (-1.0, extreme[m:])):
         g = sign * samples
         near = np.flatnonzero(g >= (best - bound)[:, None])  # flat: faster than 2-D nonzero
+        near_at.append(near)
         row, col = near // n, near % n
         before, here, after = g[row, col - 1], g[row, col], g[row, (col + 1) % n]
         peak = (here > before) & (here >= after)
@@ -434,26 +442,152 @@ def half_range(coefficients: ArrayLike, harmonics: ArrayLike) -> FloatArray:
     row = np.concatenate(rows)
     sense = np.asarray(np.where(row < m, 1.0, -1.0), dtype=np.float64)
     start = np.asarray(np.concatenate(starts), dtype=np.float64)
-    refined = sense * _newton(flat[row % m], h, start, sense)
+    value, point, bend = _refine(flat[row % m], h, start, sense)
+    refined = sense * value
     # where the parabola's vertex led Newton to another, lower extreme (several within one
     # step), start again from the sample itself
     sample_t = np.concatenate([t for t, _ in samples_at])
     sample_value = np.concatenate([v for _, v in samples_at])
     astray = np.flatnonzero(refined < sample_value)
     if astray.size:
-        again = sense[astray] * _newton(flat[row[astray] % m], h, sample_t[astray], sense[astray])
+        value, again_at, again_bend = _refine(
+            flat[row[astray] % m], h, sample_t[astray], sense[astray]
+        )
+        again = sense[astray] * value
+        better = again > refined[astray]
+        point[astray] = np.where(better, again_at, point[astray])
+        bend[astray] = np.where(better, again_bend, bend[astray])
         refined[astray] = np.maximum(refined[astray], again)
     np.maximum.at(extreme, row, refined)  # a refined extreme replaces its sample if beyond
+    # where each extreme is if refined (f' = 0 there), and f'' there times the sense; NaN:
+    # the extreme is a sample
+    at, curve = np.full(2 * m, np.nan), np.zeros(2 * m)
+    kept = refined >= extreme[row]
+    at[row[kept]], curve[row[kept]] = point[kept], bend[kept]
+    _beside(extreme, at, curve, flat, h, samples, near_at, step)
     return np.asarray(0.5 * (extreme[:m] + extreme[m:]), dtype=np.float64).reshape(lead)
 
 
+def _beside(
+    extreme: FloatArray,
+    at: FloatArray,
+    curve: FloatArray,
+    x: ComplexArray,
+    h: IntArray,
+    samples: FloatArray,
+    near_at: list[IntArray],
+    step: float,
+) -> None:
+    r"""Raise ``extreme`` (the maxima of the rows of ``x``, then minus their minima) to the
+    extremes that lie beside no local extreme of the samples.
+
+    Only a sample interval with an end among the near samples (``near_at``, flat indices
+    per sense) can hold an extreme beyond ``extreme``, and only if each end is within
+    :math:`\max|f''|/2` times its distance squared of it.  The interval that holds a
+    refined extreme (``at``, where :math:`f' = 0`; NaN where the extreme is a sample) is
+    split there in two.  Within :math:`3|f''|/\max|f'''|` of a refined extreme
+    (``curve``: :math:`f''` there, times the sense) :math:`f` stays below it (Taylor's
+    series to third order): an interval or piece within that is left out.  On each piece
+    :math:`[a, b]` the Hermite cubic :math:`p` through :math:`f` and :math:`f'` at its ends
+    is within :math:`\max|f^{(4)}|\,(t - a)^2(t - b)^2/24` of :math:`f`,
+    :math:`\max|f^{(4)}| \le \sum_h h^4|X_h|`.  Where that bound over
+    :math:`p`, evaluated on :data:`_GRID` and padded by the grid's error, rises beyond the
+    extreme by more than rounding, Newton's method starts from its highest point, and a
+    value beyond the extreme by more than rounding replaces it (an extreme already found
+    is kept as it was)."""
+    m, n = samples.shape
+    size = np.abs(x)
+    power = h.astype(np.float64) ** 2
+    curvature = size @ power  # at least |f''|
+    third = size @ (power * h)  # at least |f'''|
+    fourth = size @ (power * power)  # at least |f''''|
+    rounding = 1e-13 * np.sum(size, axis=1)
+    # the intervals (by their first sample, flat over both senses) with a near end: the
+    # near samples and those before them (once: the near are sorted)
+    ends = np.concatenate([near_at[0], near_at[1] + m * n])
+    before = ends - 1 + n * (ends % n == 0)
+    first = np.concatenate([ends, before[np.concatenate([[True], ends[:-1] != ends[1:] - 1])]])
+    row, col = first // n, first % n  # row: 0..2m (minima after maxima)
+    sign = np.where(row < m, 1.0, -1.0)
+    fa = sign * samples.reshape(-1)[first % (m * n)]
+    nxt = (col + 1) % n
+    fb = sign * samples.reshape(-1)[(row % m) * n + nxt]
+    into = np.mod(at[row], 2.0 * math.pi) - step * col  # the refined extreme, if in it
+    split = (into >= 0.0) & (into < step)
+    gap = np.sqrt(np.maximum(extreme[row] - fa, 0.0)) + np.sqrt(np.maximum(extreme[row] - fb, 0.0))
+    # within the radius of a refined extreme about it, f stays below it
+    radius = 3.0 * np.maximum(-curve[row], 0.0) / np.maximum(third[row % m], 1e-300)
+    lead = np.mod(step * col - at[row] + math.pi, 2.0 * math.pi) - math.pi
+    far = np.isnan(at[row]) | (np.maximum(np.abs(lead), np.abs(lead + step)) >= radius)
+    keep = far & (split | (gap <= step * np.sqrt(0.5 * curvature[row % m])))
+    row, col, nxt, sign = row[keep], col[keep], nxt[keep], sign[keep]
+    fa, fb, split, into, radius = fa[keep], fb[keep], split[keep], into[keep], radius[keep]
+    if not row.size:
+        return
+    # f' at the ends: the sums at the samples' turns e^{iht}, times ih
+    turns = np.exp((2.0j * math.pi / n) * np.outer(np.arange(n), h)) * (1j * h)
+    xs = x[row % m]
+    sa = sign * np.einsum("kh,kh->k", xs, turns[col]).real
+    sb = sign * np.einsum("kh,kh->k", xs, turns[nxt]).real
+    # the pieces: the whole intervals, then each side of each refined extreme, taken from
+    # the extreme outwards (u = 0 there, where f = extreme and f' = 0)
+    whole, cut = np.flatnonzero(~split), np.flatnonzero(split)
+    level, zero, into = extreme[row[cut]], np.zeros(cut.size), into[cut]
+    piece = np.concatenate([whole, cut, cut])
+    origin = step * col[piece] + np.concatenate([np.zeros(whole.size), into, into])
+    way = np.concatenate([np.ones(whole.size), -np.ones(cut.size), np.ones(cut.size)])
+    length = np.concatenate([np.full(whole.size, step), into, step - into])
+    fa, fb = (
+        np.concatenate([fa[whole], level, level]),
+        np.concatenate([fb[whole], fa[cut], fb[cut]]),
+    )
+    da = length * np.concatenate([sa[whole], zero, zero])
+    db = length * way * np.concatenate([sb[whole], sa[cut], sb[cut]])
+    row = row[piece]
+    # the cubic fa + da u + c2 u^2 + c3 u^3 through f and f' at the ends, and f's bound
+    # above it, the cubic plus the error of Hermite's interpolation, bump u^2 (1 - u)^2
+    rise = fb - fa
+    c2 = 3.0 * rise - 2.0 * da - db
+    c3 = da + db - 2.0 * rise
+    bump = fourth[row % m] * length**4 / 24.0
+    u = _GRID[None, :]
+    above = fa[:, None] + u * (da[:, None] + u * (c2[:, None] + u * c3[:, None]))
+    above += bump[:, None] * (u * (1.0 - u)) ** 2
+    best = np.argmax(above, axis=1)
+    # a whole interval: the bound's maximum between the points of the grid is within a
+    # grid step's square over 8 times its second derivative of the largest
+    pad = (2.0 * np.abs(c2) + 6.0 * np.abs(c3) + 2.0 * bump) / (8.0 * (_GRID.size - 1) ** 2)
+    beyond_whole = above[np.arange(row.size), best] + pad > extreme[row] + rounding[row % m]
+    # beside a refined extreme the bound less the extreme is u^2 (c2 + c3 u + bump (1 - u)^2),
+    # a convex quadratic in the brackets: beyond the extreme somewhere only if beyond at an
+    # end, c2 + bump > 0 (c2 + c3 = fb - fa, a sample's excess, is never above 0)
+    keep = np.where(np.arange(row.size) < whole.size, beyond_whole, c2 + bump > 0.0)
+    keep &= length >= radius[piece]
+    row = row[keep]
+    if not row.size:
+        return
+    sense = np.where(row < m, 1.0, -1.0)
+    begin = origin[keep] + way[keep] * length[keep] * _GRID[best[keep]]
+    value = sense * _newton(x[row % m], h, begin, sense)
+    beyond = value > extreme[row] + rounding[row % m]
+    np.maximum.at(extreme, row[beyond], value[beyond])
+
+
 def _newton(x: ComplexArray, h: IntArray, start: FloatArray, sense: FloatArray) -> FloatArray:
+    """The value of each sum at the extreme Newton's method finds from ``start``
+    (:func:`_refine`)."""
+    return _refine(x, h, start, sense)[0]
+
+
+def _refine(
+    x: ComplexArray, h: IntArray, start: FloatArray, sense: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     r"""The value of each trigonometric sum (rows of ``x``) at the extreme (``sense`` +1: a
     maximum, -1: a minimum) found by Newton's method on its derivative from ``start``:
     :data:`NEWTON_STEPS` steps, more while a step is beyond :data:`NEWTON_STEP_TOLERANCE`
     (at most :data:`NEWTON_STEPS_MAX`), then the value at the last point corrected by its
     Taylor series, :math:`f - f'^2/(2f'')`, the value at the next Newton point to third
-    order.
+    order; with it that point and :math:`f''` at the last point times ``sense``.
 
     :math:`f`, :math:`f'` and :math:`f''` are the real parts of the polynomials
     :math:`\sum_h X_h z^h`, :math:`i\sum_h h X_h z^h` and :math:`-\sum_h h^2 X_h z^h` in
@@ -479,7 +613,7 @@ def _newton(x: ComplexArray, h: IntArray, start: FloatArray, sense: FloatArray) 
         ok = sense * d2 < 0.0  # curving the right way: a step towards the extreme
         move = np.where(ok, d1 / np.where(ok, d2, 1.0), 0.0)
         if last:
-            return np.asarray(value - 0.5 * move * d1, dtype=np.float64)
+            return np.asarray(value - 0.5 * move * d1, dtype=np.float64), t - move, sense * d2
         t = t - move
         last = step + 1 >= NEWTON_STEPS and float(np.max(np.abs(move), initial=0.0)) <= (
             NEWTON_STEP_TOLERANCE
