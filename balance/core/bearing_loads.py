@@ -696,6 +696,12 @@ def _curves(
     )
 
 
+def _shaft_names(b: Bearings, which: NDArray[np.intp] | None) -> list[str]:
+    """The crank axis's name of each pin or main."""
+    assert which is not None
+    return [b.axis_names[int(a)] for a in which]
+
+
 _PIN, _MAIN = ("crank_pin",), ("main_bearing",)
 _PIN_CURVE = ("crank_pin", "bearing_crank_angle")
 _MAIN_CURVE = ("main_bearing", "bearing_crank_angle")
@@ -731,7 +737,7 @@ OUTPUTS: tuple[Output, ...] = (
         _PIN,
         "1",
         "crankshaft of the crank pin",
-        lambda r: [_loads(r).axis_names[int(a)] for a in _loads(r).pin_axis],
+        lambda r: _shaft_names(_loads(r), _loads(r).pin_axis),
         when=lambda r: _loads(r).pin_axis is not None,
     ),
     _output("main_bearing_z", _MAIN, "m", "axial position of the main bearing", lambda b: b.main_z),
@@ -740,7 +746,7 @@ OUTPUTS: tuple[Output, ...] = (
         _MAIN,
         "1",
         "crankshaft of the main bearing",
-        lambda r: [_loads(r).axis_names[int(a)] for a in _loads(r).main_axis],
+        lambda r: _shaft_names(_loads(r), _loads(r).main_axis),
         when=lambda r: _loads(r).main_axis is not None,
     ),
     _output(

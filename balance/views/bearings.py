@@ -171,10 +171,7 @@ def _records(columns: dict[str, Any]) -> list[dict[str, Any]]:
     """Rows of a JSON list from equal-length columns, in the order of the keys: numbers as
     ``float``, tuples (cylinder numbers) as lists."""
     n = len(next(iter(columns.values())))
-    return [
-        {k: _entry(v[i]) for k, v in columns.items()}
-        for i in range(n)
-    ]
+    return [{k: _entry(v[i]) for k, v in columns.items()} for i in range(n)]
 
 
 def json_block(result: Result) -> dict[str, Any]:
@@ -203,7 +200,7 @@ def _bearings_json(b: Bearings) -> dict[str, Any]:
     pin_shaft, main_shaft = _shaft_names(b, b.pin_axis), _shaft_names(b, b.main_axis)
     pin_key = {} if pin_shaft is None else {"crankshaft": pin_shaft}
     main_key = {} if main_shaft is None else {"crankshaft": main_shaft}
-    block = {
+    block: dict[str, Any] = {
         "crank_pins": _records(
             {
                 **pin_key,
