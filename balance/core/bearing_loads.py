@@ -333,13 +333,12 @@ def axis_engine(engine: Engine, axis: int) -> Engine:
     pitch = engine.pitch if engine.pitch_given else bore_pitch(arrays["z"], arrays["bank"])
     sections = {k: v for k, v in engine.sections.items() if k != "bearings"}
     return replace(
-        engine,
+        engine.forward_equivalent(),  # one crank axis, at the origin
         firing_order=None,
         gas=engine.gas.reordered(idx) if engine.gas is not None else None,
         mass_parts=engine.mass_parts.reordered(idx) if engine.mass_parts is not None else None,
         links=None,
         throw_index=throws,
-        crankshafts=None,
         sections=sections,
         pitch=pitch,
         **arrays,

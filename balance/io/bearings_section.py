@@ -118,7 +118,7 @@ def main_positions(spec: BearingsSpec | None, engine: Engine) -> NDArray[np.floa
         return engine_default_mains(engine)
     mains = spec.mains
     if isinstance(mains, dict):
-        if engine.crankshafts is None:
+        if not engine.axes_named:
             raise FieldProblem(
                 "mains is a mapping from crankshaft name to mains, but the layout has no "
                 "crankshafts: section",
