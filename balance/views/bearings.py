@@ -467,7 +467,8 @@ def _plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
             )
         _polar_diagram(ax, curves, "x [kN]", "y [kN]")
         z_mm, top = _mm(float(b.main_z[m])), format_number(float(v["main_max"][m]) / 1e3)
-        text = f"main {m + 1}, z = {z_mm} mm: max {top}"
+        shaft = "" if b.main_axis is None else f" ({b.axis_names[int(b.main_axis[m])]})"
+        text = f"main {m + 1}{shaft}, z = {z_mm} mm: max {top}"
         if with_cw:
             text += f" / {format_number(float(v['main_max_with_proposal'][m]) / 1e3)}"
         ax.set_title(text + " kN", fontsize=9)
@@ -492,9 +493,19 @@ def _plot_internal_moment(result: Result, *, title: str | None = None) -> Figure
     fig, (ax,) = grid_figure(1, (7.0, 4.2), 1)
     z = b.main_z * 1e3
     v = _printed(b)
-    ax.plot(z, v["moment_max"], "C0o-", label="without counterweights")
-    if b.counterweights:
-        ax.plot(z, v["moment_max_with_proposal"], "C1s--", label="with the proposal")
+    # one line per crank axis (its mains along its own crank), named with several
+    which = np.zeros(z.size, dtype=np.intp) if b.main_axis is None else b.main_axis
+    for k in np.unique(which):
+        on = which == k
+        name = "" if b.main_axis is None else f" ({b.axis_names[int(k)]})"
+        ax.plot(z[on], v["moment_max"][on], f"C{2 * k}o-", label=f"without counterweights{name}")
+        if b.counterweights:
+            ax.plot(
+                z[on],
+                v["moment_max_with_proposal"][on],
+                f"C{2 * k + 1}s--",
+                label=f"with the proposal{name}",
+            )
     for zp in np.unique(np.round(b.pin_z, 9)):
         ax.axvline(zp * 1e3, color="0.8", lw=0.8)
     ax.set_xlabel("z of the main bearing [mm] (grey: throw planes)")
