@@ -41,11 +41,11 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Annotated, Any
 
 import numpy as np
 from numpy.typing import NDArray
-from pydantic import Field, model_validator
+from pydantic import Discriminator, Field, Tag, model_validator
 
 from balance.core.engine import Engine
 from balance.io.layout_fields import written
@@ -59,10 +59,23 @@ __all__ = ["PLANE_TOLERANCE", "SECTION", "BearingsSpec", "main_positions", "shaf
 PLANE_TOLERANCE = 1e-6
 
 
+def _form(value: Any) -> str:
+    """Which form ``mains`` takes: a mapping by crankshaft name, else a list."""
+    return "<mapping>" if isinstance(value, dict) else "<list>"
+
+
+#: ``mains``: a list, or a mapping from crankshaft name to a list (several crankshafts).
+MainsForm = Annotated[
+    Annotated[list[Length], Tag("<list>"), Field(max_length=1024)]
+    | Annotated[dict[str, Annotated[list[Length], Field(max_length=1024)]], Tag("<mapping>")],
+    Discriminator(_form),
+]
+
+
 class BearingsSpec(Strict):
     """The ``bearings:`` section: positions of the main bearings along the crank (SI)."""
 
-    mains: list[Length] | dict[str, list[Length]] | None = Field(default=None, max_length=1024)
+    mains: MainsForm | None = None
 
     @model_validator(mode="after")
     def _check(self) -> BearingsSpec:
