@@ -242,7 +242,7 @@ def test_what_is_not_in_this_version_is_refused_in_one_line(settings, message):
     assert "\n" not in text and "--" not in text
 
 
-def test_bearings_and_gas_on_opposed_pistons_are_refused():
+def test_gas_on_a_four_stroke_opposed_bore_is_refused_and_bearings_are_computed():
     gas = load_layout("inline-4-gas")
     opposed = with_crankshafts(gas, [0, 0, 1, 1], x=[0.0, 0.2], y=[0.0, 0.0])
     opposed = replace(
@@ -251,9 +251,12 @@ def test_bearings_and_gas_on_opposed_pistons_are_refused():
     # gas on opposed pistons is in (tests/test_opposed_gas.py), a four-stroke bore is not
     with pytest.raises(InputError, match="cycle: an opposed-piston bore with gas forces works"):
         compute_result(opposed, proposal=False)
+    # bearing loads with several crankshafts are computed now, per shaft
+    # (tests/test_geared_bearings.py): two pins and their mains on each of the two shafts
     plain = with_crankshafts(load_layout("inline-4"), [0, 0, 1, 1], x=[0.0, 0.2], y=[0.0, 0.0])
-    with pytest.raises(InputError, match=r"bearings: .* with several crankshafts is not"):
-        compute_result(plain, bearings=True, proposal=False)
+    loads = compute_result(plain, bearings=True, proposal=False).part("bearings").loads
+    assert loads.pin_axis.tolist() == [0, 0, 1, 1]
+    assert loads.axis_names == ("shaft1", "shaft2")
 
 
 @pytest.mark.parametrize("sense", [1.0, -1.0])

@@ -32,14 +32,17 @@ from balance.core.bearings import (
 )
 from balance.core.catalogue import Output
 from balance.core.engine import STRATEGIES, Engine
-from balance.core.errors import InputError
 from balance.core.speed import speed_squared
 
 __all__ = [
+    "GEAR_NOTE",
     "OUTPUTS",
     "Bearings",
     "BearingsPart",
     "analysis_bearings",
+    "axes_bearings",
+    "axis_engine",
+    "axis_mains",
     "bearings_part",
     "largest_loads",
 ]
@@ -94,6 +97,14 @@ class Bearings:
         Internal moment at each main [N m] at ``moment_theta``.
     counterweights : tuple of (float, complex)
         The ``(z [m], unbalance [kg m])`` of the proposal's counterweights used.
+    axis_names : tuple of str
+        With several crank axes (:func:`axes_bearings`): their names; empty for one.
+    pin_axis, main_axis : ndarray of int or None
+        With several crank axes: the axis (0-based) of each pin and of each main.  Each
+        axis's pin throws are those of its one-crank engine (mirrored for a
+        counter-rotating axis, docs/several-crankshafts.md, "Bearing loads").
+    axis_sense : ndarray or None
+        With several crank axes: each axis's sense [1].
     """
 
     theta: FloatArray
@@ -119,12 +130,21 @@ class Bearings:
     internal_moment: ComplexArray
     internal_moment_with_proposal: ComplexArray
     counterweights: tuple[tuple[float, complex], ...] = ()
+    axis_names: tuple[str, ...] = ()
+    pin_axis: NDArray[np.intp] | None = None
+    main_axis: NDArray[np.intp] | None = None
+    axis_sense: FloatArray | None = None
 
     @property
     def pin_load_crank_frame(self) -> ComplexArray:
         """:attr:`pin_load` seen from the crank (:func:`~balance.core.bearings.crank_frame`):
-        real part along the throw, imaginary part in the direction of rotation [N]."""
-        return crank_frame(self.pin_load, self.theta[None, :], self.pin_throw[:, None])
+        real part along the throw, imaginary part in the direction of its crank's own
+        rotation [N]."""
+        load = self.pin_load
+        if self.pin_axis is not None and self.axis_sense is not None:
+            back = self.axis_sense[self.pin_axis][:, None] < 0
+            load = np.where(back, np.conj(load), load)  # the mirror's, whose throw is pin_throw
+        return crank_frame(load, self.theta[None, :], self.pin_throw[:, None])
 
 
 def analysis_bearings(
@@ -133,6 +153,7 @@ def analysis_bearings(
     mains: ArrayLike | None = None,
     gas: bool = True,
     curve_samples: int = 360,
+    tables: list[tuple[FloatArray, FloatArray]] | None = None,
 ) -> Bearings:
     r"""Bearing loads without and with counterweights, in one pass (:class:`Bearings`).
 
@@ -150,6 +171,13 @@ def analysis_bearings(
         Include the gas forces when the engine has them.
     curve_samples : int
         Crank angles per revolution of the curves.
+    tables : list of (ndarray, ndarray), optional
+        Each cylinder's pressure table (:class:`~balance.core.bearings.LoadModel`).
+
+    Returns
+    -------
+    Bearings
+        The loads without and with the counterweights.
 
     Notes
     -----
@@ -163,7 +191,7 @@ def analysis_bearings(
     cws = tuple((float(z), complex(u)) for z, u in counterweights)
     zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
     with_gas = gas and engine.gas is not None
-    model = LoadModel(engine, zm, (), with_gas)
+    model = LoadModel(engine, zm, (), with_gas, tables)
     n_pins, n_mains = model.pin_z.size, zm.size
     w2 = float(speed_squared(engine.speed))
     cw_z = np.array([z for z, _ in cws], dtype=np.float64)
@@ -257,6 +285,193 @@ def analysis_bearings(
         internal_moment=moment_curves,
         internal_moment_with_proposal=moment_curves_with,
         counterweights=cws,
+    )
+
+
+#: What the main-bearing loads of an engine with several crank axes leave out.
+GEAR_NOTE = (
+    "the gear mesh forces are not in the main-bearing loads: each crankshaft's loads are "
+    "those of its own cylinders, rods and counterweights"
+)
+
+
+def axis_engine(engine: Engine, axis: int) -> Engine:
+    r"""The one-crank engine of one crank axis of an engine with several.
+
+    Its cylinders are the axis's, at their crank angles from TDC: on a co-rotating axis
+    the cylinders themselves turned by the axis's phase (throw :math:`\text{throw} +
+    \varphi_s`), on a counter-rotating one their mirror image across the frame's ``y``
+    axis (throw :math:`\text{throw} - \varphi_s`, bank :math:`-\text{bank}`), which turns
+    forward (docs/several-crankshafts.md, "Bearing loads").  Its axis is the frame's ``z``
+    axis: its loads are relative to its own axis.
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with several crank axes (:attr:`Engine.geared`).
+    axis : int
+        The axis (0-based).
+
+    Returns
+    -------
+    Engine
+        The axis's cylinders as a one-crank engine (its pitch the layout's, else its own
+        bore pitch; no firing order; the layout's sections except ``bearings``).
+    """
+    from balance.core.engine import CYLINDER_FIELDS, bore_pitch
+
+    table = engine.axis_table()
+    idx = np.flatnonzero(table.axis == axis).astype(np.intp)
+    arrays = {name: getattr(engine, name)[idx] for name in CYLINDER_FIELDS}
+    phase, sense = float(table.phase[axis]), float(table.rotation[axis])
+    throw, bank = engine.throw[idx], engine.bank[idx]
+    arrays["throw"] = throw + phase if sense > 0 else throw - phase
+    arrays["bank"] = bank if sense > 0 else -bank
+    throws = None
+    if engine.throw_index is not None:
+        throws = np.unique(engine.throw_index[idx], return_inverse=True)[1].astype(np.intp)
+    pitch = engine.pitch if engine.pitch_given else bore_pitch(arrays["z"], arrays["bank"])
+    sections = {k: v for k, v in engine.sections.items() if k != "bearings"}
+    return replace(
+        engine.forward_equivalent(),  # one crank axis, at the origin
+        firing_order=None,
+        gas=engine.gas.reordered(idx) if engine.gas is not None else None,
+        mass_parts=engine.mass_parts.reordered(idx) if engine.mass_parts is not None else None,
+        links=None,
+        throw_index=throws,
+        sections=sections,
+        pitch=pitch,
+        **arrays,
+    )
+
+
+def axis_mains(engine: Engine, axis: int, one_crank: Engine | None = None) -> FloatArray:
+    """The main positions of one crank axis: its list in the ``bearings:`` section, else
+    the default mains of its own throws.
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with several crank axes; its ``bearings`` section, if any, a mapping from
+        axis name to mains [m] (a plain list is the first axis's).
+    axis : int
+        The axis (0-based).
+    one_crank : Engine, optional
+        The axis's one-crank engine (:func:`axis_engine`), if already made.
+
+    Returns
+    -------
+    ndarray
+        Strictly increasing main positions [m].
+    """
+    from balance.core.bearings import engine_default_mains
+
+    given = engine.section("bearings")
+    name = engine.axis_table().names[axis]
+    if isinstance(given, Mapping):
+        given = given.get(name)
+    elif given is not None and axis != 0:
+        given = None
+    if given is not None:
+        return np.asarray(given, dtype=np.float64)
+    return engine_default_mains(one_crank if one_crank is not None else axis_engine(engine, axis))
+
+
+def axes_bearings(engine: Engine, proposal: Any = None) -> Bearings:
+    r"""Crank-pin and main-bearing loads of an engine with several crank axes, axis by axis.
+
+    Each axis's loads are those of its one-crank engine (:func:`axis_engine`) with its own
+    counterweights of the proposal, :func:`analysis_bearings`; a counter-rotating axis's
+    are mirrored back across the frame's ``y`` axis (:math:`F \to \bar F` in the
+    :math:`y + \mathrm{i}x` convention), so every load is in the engine frame.  Gear mesh
+    forces are not included (:data:`GEAR_NOTE`).
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with several crank axes (:attr:`Engine.geared`).
+    proposal : Proposal or None
+        The proposal whose counterweights (each on its ``axis``) load the mains "with
+        proposal".
+
+    Returns
+    -------
+    Bearings
+        The pins and mains of every axis, axis by axis, with :attr:`Bearings.pin_axis`,
+        :attr:`Bearings.main_axis`, :attr:`Bearings.axis_names` and
+        :attr:`Bearings.axis_sense`.
+    """
+    from balance.core.bore_pairs import bore_pair_gas
+    from balance.core.torque import engine_pressure_tables, piston_travels
+
+    table = engine.axis_table()
+    tables = None
+    if engine.gas is not None:
+        forward = engine.forward_equivalent()
+        gas, travels = bore_pair_gas(engine, piston_travels(forward))
+        engine = replace(engine, gas=gas)
+        tables = engine_pressure_tables(replace(forward, gas=gas), travels)
+    weights = proposal.counterweights if proposal is not None else ()
+    parts: list[Bearings] = []
+    for s, name in enumerate(table.names):
+        idx = np.flatnonzero(table.axis == s)
+        one = axis_engine(engine, s)
+        sense = float(table.rotation[s])
+        own = [
+            (float(cw.z), complex(cw.unbalance) if sense > 0 else complex(cw.unbalance).conjugate())
+            for cw in weights
+            if cw.axis == name or (cw.axis is None and s == 0)
+        ]
+        theirs = [tables[i] for i in idx] if tables is not None else None
+        b = analysis_bearings(one, own, axis_mains(engine, s, one), tables=theirs)
+        if sense < 0:
+            b = replace(
+                b,
+                pin_load=np.conj(b.pin_load),
+                main_load=np.conj(b.main_load),
+                main_load_with_proposal=np.conj(b.main_load_with_proposal),
+                internal_moment=np.conj(b.internal_moment),
+                internal_moment_with_proposal=np.conj(b.internal_moment_with_proposal),
+                counterweights=tuple((z, u.conjugate()) for z, u in b.counterweights),
+            )
+        numbers = idx + 1
+        b = replace(
+            b, pin_cylinders=tuple(tuple(int(numbers[c - 1]) for c in p) for p in b.pin_cylinders)
+        )
+        parts.append(b)
+    first = parts[0]
+
+    def joined(name: str) -> Any:
+        return np.concatenate([getattr(b, name) for b in parts], axis=0)
+
+    arrays = [
+        "pin_z",
+        "pin_throw",
+        "pin_max",
+        "pin_mean",
+        "pin_max_angle",
+        "main_z",
+        "main_max",
+        "main_mean",
+        "main_max_with_proposal",
+        "main_mean_with_proposal",
+        "moment_max",
+        "moment_max_with_proposal",
+        "pin_load",
+        "main_load",
+        "main_load_with_proposal",
+        "internal_moment",
+        "internal_moment_with_proposal",
+    ]
+    return replace(
+        first,
+        **{name: joined(name) for name in arrays},
+        pin_cylinders=tuple(c for b in parts for c in b.pin_cylinders),
+        counterweights=tuple(cw for b in parts for cw in b.counterweights),
+        axis_names=tuple(table.names),
+        pin_axis=np.concatenate([np.full(b.pin_z.size, s, np.intp) for s, b in enumerate(parts)]),
+        main_axis=np.concatenate([np.full(b.main_z.size, s, np.intp) for s, b in enumerate(parts)]),
+        axis_sense=np.asarray(table.rotation, dtype=np.float64),
     )
 
 
@@ -376,12 +591,9 @@ def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool
     """
     from balance.core.analysis import compute
 
-    if engine.geared:  # docs/several-crankshafts.md, "Not in this version"
-        raise InputError(
-            "bearings: the crank-pin and main-bearing loads with several crankshafts is not in "
-            "this version"
-        )
     proposal = result.part("proposal")
+    if engine.geared:  # docs/several-crankshafts.md, "Bearing loads"
+        return _geared_part(engine, request, result, proposal, strategies)
     loads = analysis_bearings(engine, counterweights_of(proposal.proposal if proposal else None))
     by_strategy: list[tuple[str, Bearings]] = []
     if strategies:
@@ -399,6 +611,24 @@ def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool
             "factor_study",
             replace(study, largest_main_load=main_max, largest_internal_moment=moment_max),
         )
+    return result.with_part("bearings", BearingsPart(loads, tuple(by_strategy)))
+
+
+def _geared_part(engine: Engine, request: Any, result: Any, proposal: Any, strategies: bool) -> Any:
+    """:func:`bearings_part` of an engine with several crank axes (:func:`axes_bearings`)."""
+    from balance.core.analysis import compute
+
+    loads = axes_bearings(engine, proposal.proposal if proposal else None)
+    by_strategy: list[tuple[str, Bearings]] = []
+    if strategies:
+        asked = request.only("proposal")
+        for strategy in STRATEGIES:
+            options = {**asked.options("proposal"), "strategy": strategy}
+            other = replace(asked.with_sections(proposal=options), roll=True)
+            theirs = compute(engine, other).part("proposal")
+            by_strategy.append(
+                (strategy, axes_bearings(engine, theirs.proposal if theirs else None))
+            )
     return result.with_part("bearings", BearingsPart(loads, tuple(by_strategy)))
 
 
@@ -465,6 +695,12 @@ def _curves(
     )
 
 
+def _shaft_names(b: Bearings, which: NDArray[np.intp] | None) -> list[str]:
+    """The crank axis's name of each pin or main."""
+    assert which is not None
+    return [b.axis_names[int(a)] for a in which]
+
+
 _PIN, _MAIN = ("crank_pin",), ("main_bearing",)
 _PIN_CURVE = ("crank_pin", "bearing_crank_angle")
 _MAIN_CURVE = ("main_bearing", "bearing_crank_angle")
@@ -495,7 +731,23 @@ OUTPUTS: tuple[Output, ...] = (
         "crank angle of the largest crank-pin load",
         lambda b: np.degrees(b.pin_max_angle),
     ),
+    Output(
+        "crank_pin_crankshaft",
+        _PIN,
+        "1",
+        "crankshaft of the crank pin",
+        lambda r: _shaft_names(_loads(r), _loads(r).pin_axis),
+        when=lambda r: _loads(r).pin_axis is not None,
+    ),
     _output("main_bearing_z", _MAIN, "m", "axial position of the main bearing", lambda b: b.main_z),
+    Output(
+        "main_bearing_crankshaft",
+        _MAIN,
+        "1",
+        "crankshaft of the main bearing",
+        lambda r: _shaft_names(_loads(r), _loads(r).main_axis),
+        when=lambda r: _loads(r).main_axis is not None,
+    ),
     _output(
         "main_bearing_max_load", _MAIN, "N", "largest main-bearing load{gas}", lambda b: b.main_max
     ),

@@ -577,6 +577,11 @@ class LoadModel:
         ``(z [m], unbalance [kg m])`` of masses turning with the crank.
     with_gas : bool
         Include the gas forces (the engine must have a ``gas:`` section).
+    tables : list of (ndarray, ndarray), optional
+        Each cylinder's pressure table (default
+        :func:`balance.core.torque.engine_pressure_tables`): a crank axis of an engine with
+        several takes its cylinders' tables from the whole engine's, where the two pistons
+        of an opposed bore share one.
     """
 
     def __init__(
@@ -585,6 +590,7 @@ class LoadModel:
         mains: FloatArray,
         counterweights: Sequence[tuple[float, complex]],
         with_gas: bool,
+        tables: list[tuple[FloatArray, FloatArray]] | None = None,
     ) -> None:
         self.engine = engine
         group, pin_z, cylinders = pin_groups(engine)
@@ -605,7 +611,9 @@ class LoadModel:
         self.moment_pins = moment_arms(pin_z, mains)
         self.moment_cw = moment_arms(cw_z, mains) @ cw_u if cw_z.size else np.zeros(mains.size)
         self.with_gas = with_gas
-        self.tables = engine_pressure_tables(engine) if with_gas else None
+        if with_gas and tables is None:
+            tables = engine_pressure_tables(engine)
+        self.tables = tables if with_gas else None
         self.periodic = (
             periodic_tables(self.tables, engine.gas.cycle_deg)
             if self.tables is not None and engine.gas is not None

@@ -339,6 +339,12 @@ class Engine:
         return replace(self, sections={**self.sections, name: value})
 
     @property
+    def axes_named(self) -> bool:
+        """Whether the layout names its crank axes (a ``crankshafts:`` section), even one
+        that computes as one crankshaft."""
+        return self.crankshafts is not None
+
+    @property
     def geared(self) -> bool:
         """Whether the engine has crankshafts other than the one on the frame's ``z`` axis
         turning forward (:func:`balance.core.crankshafts.is_plain`): then its analysis is

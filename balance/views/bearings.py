@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from balance.core.bearing_loads import Bearings
+from balance.core.bearing_loads import GEAR_NOTE, Bearings
 from balance.views.figures import grid_figure, layout_heading, placeholder, title_text
 from balance.views.polar import format_number
 
@@ -106,11 +106,32 @@ _LOADS = ("main_max", "main_mean", "main_max_with_proposal", "main_mean_with_pro
 _MOMENTS = ("moment_max", "moment_max_with_proposal")
 
 
+def _shaft_names(b: Bearings, which: np.ndarray | None) -> list[str] | None:
+    """The crank axis's name of each pin or main (``which``: ``b.pin_axis`` or
+    ``b.main_axis``), None with one crank."""
+    if which is None:
+        return None
+    return [b.axis_names[int(a)] for a in which]
+
+
+def _shaft_column(b: Bearings) -> list[Any]:
+    """The tables' ``crankshaft`` column with several crank axes (none with one)."""
+    from balance.views.fitted import Column
+
+    return [] if b.pin_axis is None else [Column("crankshaft", justify="left")]
+
+
 def _main_rows(b: Bearings, v: dict[str, np.ndarray], names: Sequence[str]) -> list[list[str]]:
-    """One row of text per main (tables and report): number, z, then the _printed values
-    ``v`` (:func:`_printed`) of ``names``, in that order."""
+    """One row of text per main (tables and report): number, (crankshaft,) z, then the
+    _printed values ``v`` (:func:`_printed`) of ``names``, in that order."""
+    shaft = _shaft_names(b, b.main_axis)
     return [
-        [str(m + 1), _mm(float(b.main_z[m])), *(format_number(float(v[name][m])) for name in names)]
+        [
+            str(m + 1),
+            *([] if shaft is None else [shaft[m]]),
+            _mm(float(b.main_z[m])),
+            *(format_number(float(v[name][m])) for name in names),
+        ]
         for m in range(b.main_z.size)
     ]
 
@@ -120,9 +141,11 @@ def _pin_rows(b: Bearings, v: dict[str, np.ndarray], angle: bool) -> list[list[s
     (:func:`_printed`) of the largest load, its crank angle (with ``angle``) and the mean
     load."""
     rows = []
+    shaft = _shaft_names(b, b.pin_axis)
     for j in range(b.pin_z.size):
         row = [
             str(j + 1),
+            *([] if shaft is None else [shaft[j]]),
             _mm(float(b.pin_z[j])),
             " ".join(map(str, b.pin_cylinders[j])),
             format_number(float(v["pin_max"][j])),
@@ -137,14 +160,18 @@ def _pin_rows(b: Bearings, v: dict[str, np.ndarray], angle: bool) -> list[list[s
 # --------------------------------------------------------------------------- JSON
 
 
+def _entry(value: Any) -> Any:
+    """One value of a JSON record: a list of a tuple, a string as it is, else a float."""
+    if isinstance(value, tuple):
+        return list(value)
+    return value if isinstance(value, str) else float(value)
+
+
 def _records(columns: dict[str, Any]) -> list[dict[str, Any]]:
     """Rows of a JSON list from equal-length columns, in the order of the keys: numbers as
     ``float``, tuples (cylinder numbers) as lists."""
     n = len(next(iter(columns.values())))
-    return [
-        {k: list(v[i]) if isinstance(v[i], tuple) else float(v[i]) for k, v in columns.items()}
-        for i in range(n)
-    ]
+    return [{k: _entry(v[i]) for k, v in columns.items()} for i in range(n)]
 
 
 def json_block(result: Result) -> dict[str, Any]:
@@ -167,13 +194,25 @@ def json_block(result: Result) -> dict[str, Any]:
 
 
 def _bearings_json(b: Bearings) -> dict[str, Any]:
-    """The ``"bearings"`` block of the JSON result (docs/bearings.md)."""
-    return {
+    """The ``"bearings"`` block of the JSON result (docs/bearings.md); with several crank
+    axes each entry names its ``crankshaft`` and a ``note`` says what is left out
+    (docs/several-crankshafts.md, "Bearing loads")."""
+    pin_shaft, main_shaft = _shaft_names(b, b.pin_axis), _shaft_names(b, b.main_axis)
+    pin_key = {} if pin_shaft is None else {"crankshaft": pin_shaft}
+    main_key = {} if main_shaft is None else {"crankshaft": main_shaft}
+    block: dict[str, Any] = {
         "crank_pins": _records(
-            {"z_m": b.pin_z, "cylinders": b.pin_cylinders, "max_N": b.pin_max, "mean_N": b.pin_mean}
+            {
+                **pin_key,
+                "z_m": b.pin_z,
+                "cylinders": b.pin_cylinders,
+                "max_N": b.pin_max,
+                "mean_N": b.pin_mean,
+            }
         ),
         "mains": _records(
             {
+                **main_key,
                 "z_m": b.main_z,
                 "max_N": b.main_max,
                 "mean_N": b.main_mean,
@@ -183,12 +222,16 @@ def _bearings_json(b: Bearings) -> dict[str, Any]:
         ),
         "internal_moment": _records(
             {
+                **main_key,
                 "z_m": b.main_z,
                 "max_Nm": b.moment_max,
                 "max_with_proposal_Nm": b.moment_max_with_proposal,
             }
         ),
     }
+    if b.pin_axis is not None:
+        block["note"] = GEAR_NOTE
+    return block
 
 
 # --------------------------------------------------------------------------- tables
@@ -228,6 +271,7 @@ def _bearings_tables(b: Bearings) -> list[RenderableType]:
         f"Crank-pin loads ({gas})",
         [
             Column("pin", key=True),
+            *_shaft_column(b),
             Column("z", "mm"),
             Column("cylinders"),
             Column("max", "N"),
@@ -240,6 +284,7 @@ def _bearings_tables(b: Bearings) -> list[RenderableType]:
         f"Main-bearing loads ({gas}), without / with the proposed counterweights",
         [
             Column("main", key=True),
+            *_shaft_column(b),
             Column("z", "mm"),
             Column("max", "N"),
             Column("mean", "N"),
@@ -252,6 +297,7 @@ def _bearings_tables(b: Bearings) -> list[RenderableType]:
         "Internal moment of the crankshaft at the mains (inertia only)",
         [
             Column("main", key=True),
+            *_shaft_column(b),
             Column("z", "mm"),
             Column("moment max", "N m"),
             Column("moment max with proposal", "N m"),
@@ -269,6 +315,8 @@ def _bearings_tables(b: Bearings) -> list[RenderableType]:
             f"proposal {format_number(float(np.max(v['moment_max_with_proposal'])))} N m"
         ),
     ]
+    if b.pin_axis is not None:
+        notes.append(Text(f"Note: {GEAR_NOTE}."))
     return [pins, mains, moments, *notes]
 
 
@@ -419,7 +467,8 @@ def _plot_main_loads(result: Result, *, title: str | None = None) -> Figure:
             )
         _polar_diagram(ax, curves, "x [kN]", "y [kN]")
         z_mm, top = _mm(float(b.main_z[m])), format_number(float(v["main_max"][m]) / 1e3)
-        text = f"main {m + 1}, z = {z_mm} mm: max {top}"
+        shaft = "" if b.main_axis is None else f" ({b.axis_names[int(b.main_axis[m])]})"
+        text = f"main {m + 1}{shaft}, z = {z_mm} mm: max {top}"
         if with_cw:
             text += f" / {format_number(float(v['main_max_with_proposal'][m]) / 1e3)}"
         ax.set_title(text + " kN", fontsize=9)
@@ -444,9 +493,19 @@ def _plot_internal_moment(result: Result, *, title: str | None = None) -> Figure
     fig, (ax,) = grid_figure(1, (7.0, 4.2), 1)
     z = b.main_z * 1e3
     v = _printed(b)
-    ax.plot(z, v["moment_max"], "C0o-", label="without counterweights")
-    if b.counterweights:
-        ax.plot(z, v["moment_max_with_proposal"], "C1s--", label="with the proposal")
+    # one line per crank axis (its mains along its own crank), named with several
+    which = np.zeros(z.size, dtype=np.intp) if b.main_axis is None else b.main_axis
+    for k in np.unique(which):
+        on = which == k
+        name = "" if b.main_axis is None else f" ({b.axis_names[int(k)]})"
+        ax.plot(z[on], v["moment_max"][on], f"C{2 * k}o-", label=f"without counterweights{name}")
+        if b.counterweights:
+            ax.plot(
+                z[on],
+                v["moment_max_with_proposal"][on],
+                f"C{2 * k + 1}s--",
+                label=f"with the proposal{name}",
+            )
     for zp in np.unique(np.round(b.pin_z, 9)):
         ax.axvline(zp * 1e3, color="0.8", lw=0.8)
     ax.set_xlabel("z of the main bearing [mm] (grey: throw planes)")
@@ -518,14 +577,16 @@ def _bearings_report_section(
     ``escape(text)`` are the report's own helpers)."""
     v = _printed(b)
     gas = "with gas forces over the working cycle" if b.gas else "inertia only"
+    shaft = [] if b.pin_axis is None else ["crankshaft"]
     pins = table(
-        ["pin", "z [mm]", "cylinders", "max [N]", "mean [N]"],
+        ["pin", *shaft, "z [mm]", "cylinders", "max [N]", "mean [N]"],
         _pin_rows(b, v, angle=False),
         f"Crank-pin loads ({gas})",
     )
     mains = table(
         [
             "main",
+            *shaft,
             "z [mm]",
             "max [N]",
             "mean [N]",
@@ -536,7 +597,7 @@ def _bearings_report_section(
         f"Main-bearing loads ({gas})",
     )
     moments = table(
-        ["main", "z [mm]", "moment max [N m]", "moment max with proposal [N m]"],
+        ["main", *shaft, "z [mm]", "moment max [N m]", "moment max with proposal [N m]"],
         _main_rows(b, v, _MOMENTS),
         "Internal moments of the crankshaft at the mains (inertia only)",
     )
@@ -547,4 +608,6 @@ def _bearings_report_section(
         "'With proposal' adds the proposed counterweights (balance shafts run in their own "
         "bearings)."
     )
+    if b.pin_axis is not None:
+        text += f" Note: {GEAR_NOTE}."
     return f"<p>{escape(text)}</p>\n{pins}\n{mains}\n{moments}"
