@@ -10,6 +10,7 @@ functions and under ``TYPE_CHECKING``.
 from __future__ import annotations
 
 import ast
+import functools
 import re
 import sys
 from pathlib import Path
@@ -65,7 +66,12 @@ def _imports(path: Path) -> set[str]:
 
 
 MODULES = {_module_name(p): p for p in sorted(PACKAGE.rglob("*.py"))}
-GRAPH = {name: _imports(path) for name, path in MODULES.items()}
+
+
+@functools.cache
+def _graph() -> dict[str, set[str]]:
+    """Each module's imports (read when a test first asks: collecting the tests reads none)."""
+    return {name: _imports(path) for name, path in MODULES.items()}
 
 
 def _layer(module: str) -> str | None:
@@ -93,9 +99,9 @@ def test_the_command_line_is_the_application_over_its_commands():
     ``common`` imports none (so none imports the application, which imports them all)."""
     cli = {m for m in MODULES if m == "balance.cli" or m.startswith("balance.cli.")}
     assert cli == {"balance.cli", "balance.cli.common", *CLI_COMMANDS}, sorted(cli)
-    assert {"balance.cli.common", *CLI_COMMANDS} <= GRAPH["balance.cli"]
+    assert {"balance.cli.common", *CLI_COMMANDS} <= _graph()["balance.cli"]
     for module in sorted(cli - {"balance.cli"}):
-        own = {i for i in GRAPH[module] if i == "balance.cli" or i.startswith("balance.cli.")}
+        own = {i for i in _graph()[module] if i == "balance.cli" or i.startswith("balance.cli.")}
         allowed = {"balance.cli.common"} if module in CLI_COMMANDS else set()
         assert own <= allowed, f"{module} imports {sorted(own - allowed)}"
 
@@ -104,7 +110,7 @@ def test_the_command_line_is_the_application_over_its_commands():
 def test_imports_point_down(module):
     layer = _layer(module)
     assert layer is not None
-    for imported in GRAPH[module]:
+    for imported in _graph()[module]:
         top = imported.split(".")[0]
         if top == "balance":
             target = _layer(imported)
@@ -127,7 +133,7 @@ def test_imports_point_down(module):
 
 def test_core_is_numpy_and_the_standard_library_only():
     for module in (m for m in MODULES if _layer(m) == "core"):
-        for imported in GRAPH[module]:
+        for imported in _graph()[module]:
             top = imported.split(".")[0]
             assert (
                 top in sys.stdlib_module_names
@@ -182,7 +188,7 @@ def test_the_flag_check_sees_a_message_and_not_a_docstring(tmp_path):
 
 
 def test_no_import_cycle():
-    internal = {m: {i for i in GRAPH[m] if i in MODULES and i != m} for m in MODULES}
+    internal = {m: {i for i in _graph()[m] if i in MODULES and i != m} for m in MODULES}
     # the package __init__ is imported by every submodule's import machinery; its own
     # imports (lazy attributes) are not edges of the layered graph
     internal["balance"] = {i for i in internal["balance"] if i == "balance._version"}
@@ -208,8 +214,8 @@ def test_no_import_cycle():
 
 def test_the_checker_sees_a_cycle_and_an_upward_import(tmp_path):
     """The rules above could pass by reading nothing: show that they read imports."""
-    assert "balance.core.engine" in GRAPH["balance.core.analysis"]
-    assert "balance.core.kinematics" in GRAPH["balance.core.analysis"]
+    assert "balance.core.engine" in _graph()["balance.core.analysis"]
+    assert "balance.core.kinematics" in _graph()["balance.core.analysis"]
     fake = tmp_path / "balance" / "core" / "fake.py"
     fake.parent.mkdir(parents=True)
     fake.write_text("from balance.views import table\nimport xarray\n")

@@ -204,6 +204,7 @@ def test_per_throw_counterweights_unload_the_centre_main_of_an_inline_4():
     assert np.max(per.moment_max_with_proposal) < np.max(two.moment_max_with_proposal)
 
 
+@pytest.mark.xdist_group("sections_report")  # one worker builds the session fixture once
 def test_plots_and_report(tmp_path, sections_report):
     """The bearing kinds drawn by 'balance plot' (inline-4), and the report's bearings
     section (conftest.sections_report: the inline-4 on its mounts, with --bearings)."""

@@ -300,6 +300,7 @@ def test_compare_column_of_the_largest_mount_force():
     assert "mount F" not in r.stdout
 
 
+@pytest.mark.xdist_group("sections_report")  # one worker builds the session fixture once
 def test_dataset_netcdf_figure_and_report(tmp_path, sections_report):
     """The Dataset, its netCDF file, the mounts figure, and the report's mounts section
     (conftest.sections_report: the report of the inline-4 on its mounts, which also has

@@ -478,6 +478,7 @@ def test_every_kind_draws_what_was_computed(options):
         assert synthesis.roll_of(result)[0].size == 0
 
 
+@pytest.mark.xdist_group("fresh_process")  # one worker builds the session fixture once
 def test_no_pyplot_and_lazy_matplotlib(fresh_process):
     """Importing balance.views.plots loads no matplotlib; drawing never loads pyplot, and
     the figures, ``balance report`` and ``balance plot`` read the Result: no xarray

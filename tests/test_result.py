@@ -145,3 +145,9 @@ def test_printing_a_result_imports_no_data_frame_units_or_plot_library():
         assert "balance.core.analysis" in imported  # the listing is complete
         heavy = sorted(m for m in imported if m.split(".")[0] in HEAVY)
         assert heavy == [], f"{' '.join(args)} imported {heavy}"
+    # a section that has nothing to say about an engine is not imported for it: the
+    # inline-4 has no gas forces (no speed model) and one crankshaft
+    for imported in listings[:3]:
+        unused = {"balance.core.dynamics", "balance.core.crank_motion", "balance.core.geared"}
+        assert not unused & set(imported), unused & set(imported)
+    assert "balance.core.dynamics" in listings[3]  # inline-4-gas: its speed model's bound

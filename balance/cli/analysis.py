@@ -95,7 +95,7 @@ def _prepare(
     with another kind of output (a directory of figures) checks it before calling this.
     """
     from balance.io.fields import parse_orders
-    from balance.io.layout_file import load_layout
+    from balance.io.layout_reader import load_layout
     from balance.io.request import build_request
 
     order_list = parse_orders(orders, "--orders")

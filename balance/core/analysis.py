@@ -519,6 +519,9 @@ def compute(engine: Engine, request: Request) -> Result:
         warnings=check_engine(engine, radius),
     )
     for section in SECTIONS:
-        if request.wants(section.name):
-            result = load(section.part)(engine, request, result, **request.options(section.name))
+        if not request.wants(section.name):
+            continue
+        options = request.options(section.name)
+        if section.needed is None or section.needed(engine, request, result, options):
+            result = load(section.part)(engine, request, result, **options)
     return result

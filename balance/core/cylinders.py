@@ -17,7 +17,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from balance.core.catalogue import Output
 from balance.core.engine import Engine, Links
-from balance.core.links import link_dead_centres, link_geometry
 
 __all__ = [
     "CYLINDER_OUTPUTS",
@@ -80,7 +79,7 @@ def dead_centres(
     A plain crank slider is at its dead centres when rod and crank are in line:
     :math:`\sin\beta_{TDC} = e/(l + r)`, :math:`s_{TDC} = \sqrt{(l+r)^2 - e^2}`,
     :math:`\beta_{BDC} = \pi + \arcsin(e/(l - r))`, :math:`s_{BDC} = \sqrt{(l-r)^2 - e^2}`;
-    a link piston's dead centres are found by :func:`link_dead_centres`.  Then
+    a link piston's dead centres are found by :func:`~balance.core.links.link_dead_centres`.  Then
     :math:`\theta_{TDC} = \beta_{TDC} + \psi - \varphi`.
     """
     phi = np.asarray(throw, dtype=np.float64)
@@ -109,6 +108,8 @@ def _top_and_stroke(
             e == 0.0, 2.0 * r, np.sqrt((length + r) ** 2 - e**2) - np.sqrt((length - r) ** 2 - e**2)
         )
     if links is not None and np.any(links.master >= 0):
+        from balance.core.links import link_dead_centres, link_geometry  # link rods only
+
         geometry = link_geometry(r, length, e, bank, links)
         top, s_top, s_bottom = link_dead_centres(geometry)
         j = geometry.cylinder
@@ -131,7 +132,8 @@ def dead_centre_lag(
     The crank angle :math:`\beta_{TDC}` from the cylinder's nominal TDC direction (:math:`\theta +
     \varphi - \psi = 0`, docs/conventions.md, "Frame and angles") at which the piston pin is
     farthest from the crank axis, in :math:`(-\pi, \pi]`: :math:`\arcsin(e/(l + r))` for a plain
-    crank slider (exactly 0 without offset), :func:`link_dead_centres` for a link piston.
+    crank slider (exactly 0 without offset), :func:`~balance.core.links.link_dead_centres` for a
+    link piston.
 
     Parameters
     ----------

@@ -37,6 +37,7 @@ Engines*, Mir 1984 (indicator diagram, gas force :math:`P_g = (p - p_0)F_p`).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -467,9 +468,22 @@ def pressure_tables(
             out.append(link_tables[travel.key])
             continue
         if key not in tables:
-            tables[key] = model_pressure(gas.model, gas.bore, *key, cycle)
+            tables[key] = _plain_model_pressure(gas.model, gas.bore, *key, cycle)
         out.append(tables[key])
     return out
+
+
+@functools.lru_cache(maxsize=16)
+def _plain_model_pressure(
+    spec: GasModel, bore: float, radius: float, length: float, offset: float, cycle: str
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`model_pressure` of a plain crank slider, kept for the geometries last asked
+    (an analysis asks for the same table for its torque and its bearing loads, a sweep at
+    every speed); the arrays are read-only, since every caller shares them."""
+    angle, pressure = model_pressure(spec, bore, radius, length, offset, cycle)
+    angle.flags.writeable = False
+    pressure.flags.writeable = False
+    return angle, pressure
 
 
 def periodic_tables(

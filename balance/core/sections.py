@@ -27,6 +27,7 @@ is in docs/architecture.md, "Adding a physical concern".
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
 from importlib import import_module
@@ -60,6 +61,11 @@ class Section:
     figure_options : tuple of (str, object)
         Options that its figures need beyond what it computes for a table (the mounts'
         speed sweep): a request for figures gives them (``build_request(figures=True)``).
+    needed : callable, optional
+        ``needed(engine, request, result, options)``: False where the part would return
+        the result as it is, so that a default section's module is not even imported for
+        an engine it has nothing to say about (the start of a command is part of its
+        time).  None: the part is always run.
     """
 
     name: str
@@ -70,6 +76,23 @@ class Section:
     default: bool = False
     options: tuple[str, ...] = ()
     figure_options: tuple[tuple[str, Any], ...] = ()
+    needed: Callable[[Any, Any, Any, dict[str, Any]], bool] | None = None
+
+
+def _several_crank_axes(engine: Any, request: Any, result: Any, options: dict[str, Any]) -> bool:
+    """The ``crankshafts`` part has something to add: the engine has several crank axes."""
+    return result.shafts is not None
+
+
+def _speed_model_applies(engine: Any, request: Any, result: Any, options: dict[str, Any]) -> bool:
+    """The ``dynamics`` part has something to add: gas forces (the constant rung's bound, or
+    the dynamic rung), a ``dynamics:`` section, or a speed model asked for (the dynamic one
+    without gas forces is refused there, with its reason)."""
+    return (
+        result.part("torque") is not None
+        or engine.section("dynamics") is not None
+        or options.get("speed_model") is not None
+    )
 
 
 #: Every section, in the order in which :func:`balance.core.analysis.compute` runs them (a
@@ -103,6 +126,7 @@ SECTIONS: tuple[Section, ...] = (
         part="balance.core.geared:geared_part",
         outputs="balance.core.geared:OUTPUTS",
         default=True,
+        needed=_several_crank_axes,
     ),
     Section(
         "dynamics",
@@ -113,6 +137,7 @@ SECTIONS: tuple[Section, ...] = (
         default=True,
         options=("speed_model", "load", "flywheel", "figures"),
         figure_options=(("figures", True),),
+        needed=_speed_model_applies,
     ),
     Section(
         "proposal",

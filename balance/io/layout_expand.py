@@ -171,8 +171,20 @@ def _flow(value: Any) -> str:
 
     if isinstance(value, dict):
         return "{" + ", ".join(f"{k}: {_flow(v)}" for k, v in value.items()) + "}"
-    text: str = yaml.safe_dump([value], default_flow_style=True, width=10**9, allow_unicode=True)
-    return text.strip()[1:-1]
+    # the cylinders of a layout repeat the same texts: each is dumped once (the key tells
+    # -0.0 from 0.0 and 1 from 1.0 and True, which are equal as keys of their own)
+    key = (type(value), repr(value))
+    text = _FLOWN.get(key)
+    if text is None:
+        dumped = yaml.safe_dump([value], default_flow_style=True, width=10**9, allow_unicode=True)
+        text = _FLOWN[key] = dumped.strip()[1:-1]
+        if len(_FLOWN) > 4096:
+            _FLOWN.clear()
+    return text
+
+
+#: :func:`_flow`'s texts of the values it dumped, by type and ``repr``.
+_FLOWN: dict[tuple[type, str], str] = {}
 
 
 def _cylinders_text(

@@ -28,6 +28,7 @@ refused as ambiguous.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Callable
@@ -459,8 +460,14 @@ def _arithmetic(text: str, kind: str, valid: str) -> tuple[float, str] | None:
     return number, unit
 
 
+@functools.lru_cache(maxsize=4096)
 def _from_text(text: str, kind: str, valid: str) -> tuple[float, bool]:
-    """The value of a quantity's text in the kind's SI unit, and whether it was bare."""
+    """The value of a quantity's text in the kind's SI unit, and whether it was bare.
+
+    Kept for each text read (a pure function of its arguments; text that is refused is
+    refused again, since an exception is not kept): a layout read again, a sweep's points
+    and ``layout expand``'s check that each number it writes reads back parse the same
+    texts many times."""
     if len(text) > 80:
         raise UnitProblem("value text is too long", valid)
     check_thousands(text)
