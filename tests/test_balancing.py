@@ -18,7 +18,8 @@ from balance.api import Engine, analyse, load_layout
 from balance.core import kinematics as kin
 from balance.core import sampled as td
 from balance.core.analysis import compute_phasors
-from balance.core.proposal import balance_engine, balance_factor_study, optimal_balance_factor
+from balance.core.factor_study import balance_factor_study, optimal_balance_factor
+from balance.core.proposal import balance_engine
 
 ORDERS = np.arange(1, 9)
 
