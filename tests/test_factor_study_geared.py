@@ -133,3 +133,51 @@ def test_factor_note_with_a_counter_rotating_crank_in_closed_form():
     assert "; and " in note
     full = compute_result(engine, 2, balance_factor=1.0).part("proposal").proposal.notes[0]
     assert full.endswith("leave no first-order force or moment in either sense")
+
+
+TWIN_WITH_GAS = """\
+name: twin crank with gas
+speed: 7500 rpm
+geometry: {bore: 90 mm, stroke: 68 mm, conrod_length: 125 mm}
+masses: {reciprocating: 0.51 kg, rotating: 0.27 kg}
+crankshafts:
+  - {name: left, x: -50 mm}
+  - {name: right, x: 50 mm, rotation: opposite}
+crank:
+  - {crankshaft: left, throws: [0], spacing: 100 mm}
+  - {crankshaft: right, throws: [0], spacing: 100 mm}
+firing_order: [1, 2]
+gas:
+  model: {compression_ratio: 10.5, heat_released: 0.5 kJ, combustion_start: -20 deg}
+"""
+
+
+@pytest.mark.parametrize(
+    ("gas", "strategy", "factors"), [(False, "two-plane", (0.0, 0.6)), (True, "per-throw", (0.6,))]
+)
+def test_study_bearing_columns_are_each_factors_loads(tmp_path, gas, strategy, factors):
+    """With the bearing loads, the study's largest main load and internal moment at each
+    factor are those of the analysis with that factor's proposal, shaft by shaft (the
+    counter-rotating one mirrored), without and with gas forces, to 1e-12."""
+    from balance.core.bearing_loads import axes_bearings
+
+    if gas:
+        path = tmp_path / "twin.yaml"
+        path.write_text(TWIN_WITH_GAS)
+        engine = load_layout(str(path))
+    else:
+        engine = load_layout("twin-crank-2")
+    result = compute_result(
+        engine, 2, factors=factors, bearings=True, strategy=strategy, balance_factor=0.6
+    )
+    study = result.part("factor_study")
+    for i, factor in enumerate(factors):
+        if factor == 0.6:  # the analysis's own loads, with its proposal at 60 %
+            loads = result.part("bearings").loads
+        else:
+            proposal = compute_result(engine, 2, balance_factor=factor, strategy=strategy)
+            loads = axes_bearings(engine, proposal.part("proposal").proposal)
+        assert loads.counterweights and loads.gas == gas
+        main, moment = loads.main_max_with_proposal.max(), loads.moment_max_with_proposal.max()
+        assert study.largest_main_load[i] == pytest.approx(main, rel=1e-12)
+        assert study.largest_internal_moment[i] == pytest.approx(moment, rel=1e-12)
