@@ -379,7 +379,7 @@ def geared_factor_study(
     f = f.ravel()
     free = FreeForces(result.phasors, result.coefficients, result.model, result.link_pins)
     p = result.phasors
-    if 1 not in p.orders:
+    if 1 not in p.orders or not p.has("moment"):
         model = result.model
         p = compute_phasors(
             layout, [1], model=model.name, terms=model.terms, samples=model.samples or None
