@@ -25,16 +25,6 @@ def needs(module: str, extra: str) -> pytest.MarkDecorator:
     )
 
 
-@functools.cache
-def one_crank_builtins() -> list[str]:
-    """The built-in layouts with one crankshaft: those the one-crank references of the
-    proposal tests check (the several-crankshaft proposals have their own brute force in
-    test_geared_brute_force.py)."""
-    from balance.api import builtin_layout_names, load_layout
-
-    return [n for n in builtin_layout_names() if not load_layout(n).geared]
-
-
 def _with_unit(value: float | str, unit: str) -> str:
     """A number as layout text in ``unit`` (``repr`` round-trips it exactly); text as it is."""
     return value if isinstance(value, str) else f"{value!r} {unit}"

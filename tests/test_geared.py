@@ -229,7 +229,6 @@ def test_the_table_and_csv_show_the_crankshafts():
 @pytest.mark.parametrize(
     ("settings", "message"),
     [
-        ({"factor_study": True}, "factors: the balance-factor study"),
         ({"speed_model": "dynamic"}, "speed_model: 'dynamic' is for one crankshaft; this"),
     ],
 )

@@ -598,7 +598,7 @@ def test_expansion_shows_the_link_geometry_and_loads_back(tmp_path):
 def test_proposal_and_factor_study_take_the_link_pins_first_order():
     """The counterweights take the whole forward first order (link pins included); the
     balance-factor study's residual equals the phasors with the counterweight added."""
-    from balance.core.proposal import factor_study
+    from balance.core.factor_study import factor_study
 
     engine = load_layout("radial-5")
     result = compute(engine, Request())

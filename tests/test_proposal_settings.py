@@ -9,11 +9,12 @@ import json
 import math
 import re
 import textwrap
+from dataclasses import replace
 
 import numpy as np
 import pytest
-from helpers import one_crank_builtins
 from oracles import proposal_force_samples
+from test_geared_brute_force import _with_proposal, brute_force
 from typer.testing import CliRunner
 
 import balance
@@ -125,19 +126,44 @@ def _sampled(layout, proposal, lever: bool = False):
     ]
 
 
+def _brute_forced(layout, proposal):
+    """Several crankshafts: the first order of the pistons alone and of the whole residual
+    (pistons, rotating masses and every proposed mass as point masses on their axes), force
+    and moment, forward and backward, from the bodies of the brute force
+    (test_geared_brute_force.py), which shares nothing with the package."""
+    first = np.array([1])
+    pistons = brute_force(replace(layout, rotating_mass=np.zeros(layout.n_cylinders)), first)
+    whole = _with_proposal(layout, proposal, first)
+    return {
+        (what, j): (complex(pistons[what][j][0]), complex(whole[what][j][0]))
+        for what in ("force", "moment")
+        for j in (0, 1)
+    }
+
+
 def _rods_per_throw(layout) -> set[int]:
-    """Rods on each throw, counted from the cylinder table (pins at one angle and one z)."""
+    """Rods on each throw, counted from the cylinder table (pins at one angle and one z, on
+    one crankshaft)."""
+    shaft = layout.crankshafts.of_cylinder if layout.geared else np.zeros(layout.n_cylinders)
     keys = [
-        (round(math.degrees(t) % 360.0, 6) % 360.0, round(z, 9))
-        for t, z in zip(layout.throw, layout.z, strict=True)
+        (int(s), round(math.degrees(t) % 360.0, 6) % 360.0, round(z, 9))
+        for s, t, z in zip(shaft, layout.throw, layout.z, strict=True)
     ]
     return {keys.count(key) for key in keys}
 
 
-def _check_part(part: str, core: complex, sampled: complex, pistons: complex, unit: float, what):
+def _check_part(
+    part: str,
+    core: complex,
+    sampled: complex,
+    pistons: complex,
+    unit: float,
+    what,
+    sense: str = "forward",
+):
     """One part of the factor note (force or moment) against the residual's numbers."""
     if core == 0:
-        assert part == f"no forward first-order {what}", part
+        assert part == f"no {sense} first-order {what}", part
         assert abs(sampled) <= 1e-9 * unit
         return
     number = float(part.split(" ", 1)[0])
@@ -156,9 +182,7 @@ def _check_part(part: str, core: complex, sampled: complex, pistons: complex, un
 
 
 @pytest.mark.parametrize("factor", FACTORS, ids=[f"{100 * f:g}%" for f in FACTORS])
-# with several crankshafts the factor note speaks of the forward first order only
-# (docs/several-crankshafts.md, "Balancing proposals")
-@pytest.mark.parametrize("name", one_crank_builtins())
+@pytest.mark.parametrize("name", builtin_layout_names())
 def test_factor_note_says_what_the_residual_holds(name, factor):
     """Issue 22: the balance factor's note is computed from the residual.  Nothing left when
     the residual's forward first-order force and moment are 0; otherwise the force and moment
@@ -166,7 +190,9 @@ def test_factor_note_says_what_the_residual_holds(name, factor):
     every proposed mass), under-balanced or overbalanced by the sign of the residual along
     the pistons' forward first order, with the share printed; and the factor in the other
     convention from the rods per throw.  The orders the header calls not cancelled in full
-    are exactly those whose residual force or moment is not 0."""
+    are exactly those whose residual force or moment is not 0.  With several crankshafts the
+    reference is the brute force's bodies; where a shaft counter-rotates the note says the
+    same of the backward first order (issue 25)."""
     layout = load_layout(name)
     result = compute(layout, build_request(layout, [1, 2], balance_factor=factor))
     part = result.part("proposal")
@@ -177,25 +203,47 @@ def test_factor_note_says_what_the_residual_holds(name, factor):
         n = rods.pop()
         where = "one rod per throw" if n == 1 else f"{n} rods per throw"
         assert f"(= {100 * factor * n:.4g} % of one cylinder's on each throw: {where})" in note
-    core_f = complex(part.residual.force_forward[0])
-    core_m = complex(part.residual.moment_forward[0])
-    pistons_f, sampled_f = _sampled(layout, part.proposal)
-    pistons_m, sampled_m = _sampled(layout, part.proposal, lever=True)
+    res = part.residual
+    core = {
+        ("force", 0): complex(res.force_forward[0]),
+        ("moment", 0): complex(res.moment_forward[0]),
+        ("force", 1): complex(res.force_backward[0]),
+        ("moment", 1): complex(res.moment_backward[0]),
+    }
+    if layout.geared:
+        reference = _brute_forced(layout, part.proposal)
+    else:
+        reference = {
+            ("force", 0): _sampled(layout, part.proposal),
+            ("moment", 0): _sampled(layout, part.proposal, lever=True),
+        }
+    backward = layout.geared and bool(np.any(layout.crankshafts.rotation < 0))
     f_unit = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
     m_unit = f_unit * max(float(np.ptp(layout.z)), 2 * float(layout.crank_radius[0]))
+    units = {"force": f_unit, "moment": m_unit}
     said = note.split(": the counterweights leave ", 1)[1]
-    if said == "no forward first-order force or moment":
-        assert core_f == 0 and core_m == 0
-        assert abs(sampled_f) <= 1e-9 * f_unit and abs(sampled_m) <= 1e-9 * m_unit
+    senses = (0, 1) if backward else (0,)
+    keys = [(what, j) for j in senses for what in ("force", "moment")]
+    nothing = "no first-order force or moment in either sense"
+    if said == (nothing if backward else "no forward first-order force or moment"):
+        for key in keys:
+            assert core[key] == 0, key
+            assert abs(reference[key][1]) <= 1e-9 * units[key[0]], key
     else:
-        cut = said.rindex(" and ", 0, said.index("first-order moment"))
-        _check_part(said[:cut], core_f, sampled_f, pistons_f, f_unit, "force")
-        _check_part(said[cut + 5 :], core_m, sampled_m, pistons_m, m_unit, "moment")
-    peaks = part.residual.peak("force"), part.residual.peak("moment")
+        parts = said.split("; and ") if backward else [said]
+        assert len(parts) == len(senses), said
+        for j, text in zip(senses, parts, strict=True):
+            sense = ("forward", "backward")[j]
+            cut = text.rindex(" and ", 0, text.index("first-order moment"))
+            for what, piece in (("force", text[:cut]), ("moment", text[cut + 5 :])):
+                pistons, sampled = reference[(what, j)]
+                args = (core[(what, j)], sampled, pistons, units[what], what, sense)
+                _check_part(piece, *args)
+    peaks = res.peak("force"), res.peak("moment")
     left = tuple(k for k in (1, 2) if peaks[0][k - 1] != 0 or peaks[1][k - 1] != 0)
     assert part.left == left
     assert set(left) <= {1}  # only the factor leaves anything here, and only of order 1
-    assert (1 in left) == (core_f != 0 or core_m != 0)
+    assert (1 in left) == any(core[key] != 0 for key in keys)
 
 
 @pytest.mark.parametrize(

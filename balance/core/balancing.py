@@ -34,14 +34,14 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from balance.core.balance_factor import BalanceFactor, FactorEquivalents, cylinder_shares
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
 from balance.core.phasors import rounding_threshold
 from balance.core.speed import speed_squared
-from balance.core.throws import crank_pins, rods_per_pin
+from balance.core.throws import crank_pins, group_least, rods_per_pin
 
 __all__ = [
     "DEFAULT_ORDERS",
@@ -51,13 +51,15 @@ __all__ = [
     "Counterweight",
     "Proposal",
     "balance_shafts",
+    "completed_proposal",
     "default_axes",
-    "group_least",
     "propose",
     "shaft_roll_phasors",
 ]
 
 ComplexArray = NDArray[np.complex128]
+#: Force forward, force backward, moment forward, moment backward per order [N, N m].
+ByOrder = tuple[dict[int, complex], dict[int, complex], dict[int, complex], dict[int, complex]]
 FloatArray = NDArray[np.float64]
 
 DEFAULT_ORDERS = (1, 2)
@@ -192,30 +194,6 @@ def _deg(z: complex) -> float:
     value = math.degrees(math.atan2(z.imag, z.real)) % 360.0
     value = round(value, 9)
     return 0.0 if value >= 360.0 or abs(z) == 0 else value + 0.0
-
-
-def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float64]:
-    """The least member value of each group of :func:`~balance.core.throws.crank_pins`.
-
-    The rods of a pin agree only to the rounding of
-    :func:`~balance.core.throws.crank_pins`; taking the least of them, rather than the first
-    or last, keeps the pin where it is whatever the cylinders' numbering.
-
-    Parameters
-    ----------
-    values : array_like
-        One value per cylinder (a throw's plane [m] or angle [rad]).
-    groups : ndarray of int
-        The pin of each cylinder (:func:`~balance.core.throws.crank_pins`).
-
-    Returns
-    -------
-    ndarray
-        One value per pin, in the unit of ``values``.
-    """
-    out = np.full(int(groups.max()) + 1, np.inf)
-    np.minimum.at(out, groups, np.asarray(values, dtype=np.float64))
-    return out
 
 
 def _counterweight_targets(
@@ -364,7 +342,6 @@ def propose(
     z_min, z_max = float(z.min()), float(z.max())
     lever = z - z_ref
     n = layout.n_cylinders
-    notes: list[str] = []
     factor = (
         BalanceFactor(float(balance_factor))
         if isinstance(balance_factor, int | float)
@@ -419,22 +396,68 @@ def propose(
         ff[1] = _zero_below(ff[1], f_scale + abs(cw_force), n + 2)
         mf[1] = _zero_below(mf[1], f_scale * (float(np.abs(lever).max()) + 1e-300), n + 2)
 
-    shafts, shaft_notes = balance_shafts(
+    return completed_proposal(
+        layout,
+        counterweights,
+        (ks, wanted, (ff, fb, mf, mb), roll),
+        strategy=strategy,
+        radius=radius,
+        equivalents=equivalents,
+        fixed_shafts=fixed_shafts,
+        cancel_roll=cancel_roll,
+    )
+
+
+def completed_proposal(
+    layout: Engine,
+    counterweights: Sequence[Counterweight],
+    left: tuple[Sequence[int], Sequence[int], ByOrder, ComplexArray | None],
+    *,
+    strategy: str,
+    radius: float,
+    equivalents: FactorEquivalents | None,
+    fixed_shafts: Sequence[ShaftPosition] | None,
+    cancel_roll: bool,
+    counterweight_senses: tuple[int, ...] = (1,),
+) -> Proposal:
+    """The proposal from its counterweights: the shafts for what they leave and the notes
+    (:func:`balance_shafts`), the tail of :func:`propose` and of
+    :func:`balance.core.counterweights.propose_geared`.
+
+    Parameters
+    ----------
+    layout : Engine
+        The engine.
+    counterweights : sequence of Counterweight
+        The counterweights proposed.
+    left : tuple
+        ``(ks, wanted, phasors, roll)`` as :func:`balance_shafts` takes them (the phasors
+        with the counterweights' part in the first order [N, N m], the roll [N m] or None).
+    strategy, radius, equivalents
+        The counterweights' strategy, radius [m] and balance factor (or None).
+    fixed_shafts, cancel_roll, counterweight_senses
+        As :func:`balance_shafts`.
+
+    Returns
+    -------
+    Proposal
+    """
+    ks, wanted, phasors, roll = left
+    shafts, notes = balance_shafts(
         layout,
         ks,
         wanted,
-        (ff, fb, mf, mb),
+        phasors,
         fixed_shafts=fixed_shafts,
         cancel_roll=cancel_roll,
         roll=roll,
+        counterweight_senses=counterweight_senses,
     )
-    notes.extend(shaft_notes)
-
     return Proposal(
         counterweights=tuple(counterweights),
         shafts=tuple(shafts),
         strategy=strategy,
-        orders=wanted,
+        orders=tuple(wanted),
         balance_factor=equivalents.each_cylinder if equivalents is not None else None,
         counterweight_radius=radius,
         cancel_roll=cancel_roll,
@@ -447,7 +470,7 @@ def balance_shafts(
     layout: Engine,
     ks: Sequence[int],
     wanted: Sequence[int],
-    phasors: tuple[dict[int, complex], dict[int, complex], dict[int, complex], dict[int, complex]],
+    phasors: ByOrder,
     *,
     fixed_shafts: Sequence[ShaftPosition] | None = None,
     cancel_roll: bool = False,

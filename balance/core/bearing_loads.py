@@ -41,6 +41,7 @@ __all__ = [
     "BearingsPart",
     "analysis_bearings",
     "axes_bearings",
+    "axes_largest_loads",
     "axis_engine",
     "axis_mains",
     "bearings_part",
@@ -401,27 +402,14 @@ def axes_bearings(engine: Engine, proposal: Any = None) -> Bearings:
         :attr:`Bearings.main_axis`, :attr:`Bearings.axis_names` and
         :attr:`Bearings.axis_sense`.
     """
-    from balance.core.bore_pairs import bore_pair_gas
-    from balance.core.torque import engine_pressure_tables, piston_travels
-
     table = engine.axis_table()
-    tables = None
-    if engine.gas is not None:
-        forward = engine.forward_equivalent()
-        gas, travels = bore_pair_gas(engine, piston_travels(forward))
-        engine = replace(engine, gas=gas)
-        tables = engine_pressure_tables(replace(forward, gas=gas), travels)
-    weights = proposal.counterweights if proposal is not None else ()
+    engine, tables = _with_bore_gas(engine)
     parts: list[Bearings] = []
     for s, name in enumerate(table.names):
         idx = np.flatnonzero(table.axis == s)
         one = axis_engine(engine, s)
         sense = float(table.rotation[s])
-        own = [
-            (float(cw.z), complex(cw.unbalance) if sense > 0 else complex(cw.unbalance).conjugate())
-            for cw in weights
-            if cw.axis == name or (cw.axis is None and s == 0)
-        ]
+        own = _axis_counterweights(proposal, name, s, sense)
         theirs = [tables[i] for i in idx] if tables is not None else None
         b = analysis_bearings(one, own, axis_mains(engine, s, one), tables=theirs)
         if sense < 0:
@@ -475,11 +463,72 @@ def axes_bearings(engine: Engine, proposal: Any = None) -> Bearings:
     )
 
 
+def _with_bore_gas(engine: Engine) -> tuple[Engine, Any]:
+    """An engine with several crank axes with each bore's gas (opposed pistons share one
+    pressure), and each cylinder's pressure table; the engine as it is without gas."""
+    from balance.core.bore_pairs import bore_pair_gas
+    from balance.core.torque import engine_pressure_tables, piston_travels
+
+    if engine.gas is None:
+        return engine, None
+    forward = engine.forward_equivalent()
+    gas, travels = bore_pair_gas(engine, piston_travels(forward))
+    return replace(engine, gas=gas), engine_pressure_tables(replace(forward, gas=gas), travels)
+
+
+def _axis_counterweights(
+    proposal: Any, name: str, s: int, sense: float
+) -> list[tuple[float, complex]]:
+    """The ``(z, unbalance)`` of a proposal's counterweights on axis ``s`` in its one-crank
+    engine's frame (mirrored on a counter-rotating axis, :func:`axes_bearings`)."""
+    weights = proposal.counterweights if proposal is not None else ()
+    return [
+        (float(cw.z), complex(cw.unbalance) if sense > 0 else complex(cw.unbalance).conjugate())
+        for cw in weights
+        if cw.axis == name or (cw.axis is None and s == 0)
+    ]
+
+
+def axes_largest_loads(engine: Engine, proposals: Sequence[Any]) -> tuple[FloatArray, FloatArray]:
+    """Largest main-bearing load and internal moment with each proposal's counterweights, for
+    an engine with several crank axes: :func:`largest_loads` axis by axis (each axis's
+    one-crank engine, as :func:`axes_bearings` loads it), the largest over the axes.
+
+    Parameters
+    ----------
+    engine : Engine
+        An engine with several crank axes (:attr:`Engine.geared`).
+    proposals : sequence of Proposal or None
+        One set of counterweights each (each on its ``axis``).
+
+    Returns
+    -------
+    main_max, moment_max : ndarray
+        Shape (proposals,): the largest over all mains of every axis of the largest magnitude
+        over the cycle [N, N m].
+    """
+    table = engine.axis_table()
+    engine, tables = _with_bore_gas(engine)
+    main_max = np.zeros(len(proposals))
+    moment_max = np.zeros(len(proposals))
+    for s, name in enumerate(table.names):
+        idx = np.flatnonzero(table.axis == s)
+        one = axis_engine(engine, s)
+        sense = float(table.rotation[s])
+        sets = [_axis_counterweights(p, name, s, sense) for p in proposals]
+        theirs = [tables[i] for i in idx] if tables is not None else None
+        mains, moments = largest_loads(one, sets, axis_mains(engine, s, one), tables=theirs)
+        main_max = np.maximum(main_max, mains)
+        moment_max = np.maximum(moment_max, moments)
+    return main_max, moment_max
+
+
 def largest_loads(
     engine: Engine,
     counterweight_sets: Sequence[Iterable[tuple[float, complex]]],
     mains: ArrayLike | None = None,
     gas: bool = True,
+    tables: list[tuple[FloatArray, FloatArray]] | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     """Largest main-bearing load and internal moment for each set of counterweights.
 
@@ -492,6 +541,8 @@ def largest_loads(
         As for :func:`~balance.core.bearings.bearing_loads`.
     counterweight_sets : sequence of iterable of (float, complex)
         The ``(z [m], unbalance [kg m])`` of each set's counterweights.
+    tables : list of (ndarray, ndarray), optional
+        Each cylinder's pressure table (:class:`~balance.core.bearings.LoadModel`).
 
     Returns
     -------
@@ -501,7 +552,7 @@ def largest_loads(
     """
     zm = engine_mains(engine) if mains is None else np.asarray(mains, dtype=np.float64)
     with_gas = gas and engine.gas is not None
-    model = LoadModel(engine, zm, (), with_gas)
+    model = LoadModel(engine, zm, (), with_gas, tables)
     n_pins, n_mains, n_sets = model.pin_z.size, zm.size, len(counterweight_sets)
     w2 = float(speed_squared(engine.speed))
     cw_main = np.zeros((n_sets, n_mains), dtype=np.complex128)
@@ -629,7 +680,33 @@ def _geared_part(engine: Engine, request: Any, result: Any, proposal: Any, strat
             by_strategy.append(
                 (strategy, axes_bearings(engine, theirs.proposal if theirs else None))
             )
+    study = result.part("factor_study")
+    if study is not None:  # each factor's proposal, its loads shaft by shaft
+        settings = request.options("proposal")
+        proposals = [
+            _factor_proposal(engine, factor, settings)
+            for factor in np.asarray(study.factor, dtype=np.float64)
+        ]
+        main_max, moment_max = axes_largest_loads(engine, proposals)
+        study = replace(study, largest_main_load=main_max, largest_internal_moment=moment_max)
+        result = result.with_part("factor_study", study)
     return result.with_part("bearings", BearingsPart(loads, tuple(by_strategy)))
+
+
+def _factor_proposal(engine: Engine, factor: float, settings: Mapping[str, Any]) -> Any:
+    """The proposal made at ``factor`` with the request's ``strategy`` and
+    ``counterweight_radius`` (the rest as the engine's ``balance:`` section, else the
+    defaults), as :func:`_factor_loads` makes it; None where none is made."""
+    from balance.core.analysis import compute
+    from balance.core.result import Request
+
+    proposal = {
+        "balance_factor": float(factor),
+        "strategy": settings.get("strategy"),
+        "counterweight_radius": settings.get("counterweight_radius"),
+    }
+    part = compute(engine, Request(orders=(1, 2), sections={"proposal": proposal})).part("proposal")
+    return part.proposal if part is not None else None
 
 
 def _factor_loads(
@@ -639,20 +716,10 @@ def _factor_loads(
     the proposal makes at each balance factor (its ``strategy`` and
     ``counterweight_radius`` from ``settings``, the rest as the engine's ``balance:``
     section, else the defaults)."""
-    from balance.core.analysis import compute
-    from balance.core.result import Request
-
-    sets = []
-    for factor in np.asarray(factors, dtype=np.float64):
-        proposal = {
-            "balance_factor": float(factor),
-            "strategy": settings.get("strategy"),
-            "counterweight_radius": settings.get("counterweight_radius"),
-        }
-        part = compute(engine, Request(orders=(1, 2), sections={"proposal": proposal})).part(
-            "proposal"
-        )
-        sets.append(counterweights_of(part.proposal if part is not None else None))
+    sets = [
+        counterweights_of(_factor_proposal(engine, factor, settings))
+        for factor in np.asarray(factors, dtype=np.float64)
+    ]
     return largest_loads(engine, sets)
 
 

@@ -65,12 +65,12 @@ from balance.core._numerics import (
     series_on_grid,
     series_stats,
 )
-from balance.core.balancing import Proposal, group_least
+from balance.core.balancing import Proposal
 from balance.core.engine import Engine
 from balance.core.gas import cylinder_pressure, periodic_tables, piston_gas_force
 from balance.core.kinematics import conrod_angle_derivatives, normalised_slider
 from balance.core.speed import speed_squared
-from balance.core.throws import crank_pins, crank_throws, throw_spans
+from balance.core.throws import crank_pins, crank_throws, group_least, throw_spans
 from balance.core.torque import engine_pressure_tables
 
 __all__ = [

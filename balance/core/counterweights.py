@@ -41,7 +41,7 @@ from balance.core.balancing import (
     Proposal,
     _planes_for,
     _zero_below,
-    balance_shafts,
+    completed_proposal,
     shaft_roll_phasors,
 )
 from balance.core.engine import Engine, ShaftPosition
@@ -340,24 +340,14 @@ def propose_geared(
         mb[1] = _zero_below(mb[1] + added["mb"], f_scale * (arm + 1e-300), n)
         if roll is not None and counterweights:
             roll[ks.index(1)] += sum(counterweight_moment_z(cw, w2) for cw in counterweights)
-    shafts, notes = balance_shafts(
+    return completed_proposal(
         layout,
-        ks,
-        wanted,
-        (ff, fb, mf, mb),
+        counterweights,
+        (ks, wanted, (ff, fb, mf, mb), roll),
+        strategy=strategy,
+        radius=radius,
+        equivalents=equivalents,
         fixed_shafts=fixed_shafts,
         cancel_roll=cancel_roll,
-        roll=roll,
         counterweight_senses=(1, -1) if np.any(layout.axis_table().rotation < 0) else (1,),
-    )
-    return Proposal(
-        counterweights=tuple(counterweights),
-        shafts=tuple(shafts),
-        strategy=strategy,
-        orders=wanted,
-        balance_factor=equivalents.each_cylinder if equivalents is not None else None,
-        counterweight_radius=radius,
-        cancel_roll=cancel_roll,
-        notes=tuple(notes),
-        factor=equivalents,
     )

@@ -7,8 +7,8 @@ numbers, so that each says what the residual holds:
 
 * :func:`factor_note`: what a balance factor leaves of the forward first order, force and
   moment, and whether that is short of the pistons' forward first order (under-balanced) or
-  beyond it (overbalanced); with the factor in both conventions
-  (:mod:`balance.core.balance_factor`);
+  beyond it (overbalanced); with a counter-rotating crankshaft the same of the backward
+  first order; with the factor in both conventions (:mod:`balance.core.balance_factor`);
 * :func:`orders_left`: the orders asked to be cancelled whose residual force or moment is
   not zero;
 * :func:`cancel_roll_notes`: what ``cancel_roll`` did where the notes of the placement say
@@ -51,11 +51,11 @@ def relation(left: complex, whole: complex) -> float | None:
     return float(cross.real / abs(whole) ** 2)
 
 
-def _part(value: complex, pistons: complex, unit: str, what: str) -> str:
+def _part(value: complex, pistons: complex, unit: str, what: str, sense: str = "forward") -> str:
     """``12.3 N of forward first-order force (25 % of the pistons' 49.2 N: under-balanced)``."""
     if value == 0:
-        return f"no forward first-order {what}"
-    text = f"{abs(value):.4g} {unit} of forward first-order {what}"
+        return f"no {sense} first-order {what}"
+    text = f"{abs(value):.4g} {unit} of {sense} first-order {what}"
     share = relation(value, pistons)
     if share is None:
         return text
@@ -69,8 +69,11 @@ def _part(value: complex, pistons: complex, unit: str, what: str) -> str:
     )
 
 
-def factor_note(proposal: Proposal, pistons: Phasors, residual: Phasors) -> str | None:
-    """The note of the balance factor: what it leaves of the forward first order.
+def factor_note(
+    proposal: Proposal, pistons: Phasors, residual: Phasors, backward: bool = False
+) -> str | None:
+    """The note of the balance factor: what it leaves of the forward first order (and of
+    the backward one, with a counter-rotating crankshaft).
 
     Parameters
     ----------
@@ -80,6 +83,10 @@ def factor_note(proposal: Proposal, pistons: Phasors, residual: Phasors) -> str 
         The engine's reciprocating phasors, with order 1 and moments [N, N m].
     residual : Phasors
         The residual at the same orders [N, N m].
+    backward : bool
+        Counterweights turn backwards too (a counter-rotating crankshaft,
+        docs/several-crankshafts.md): say what is left in both senses, each against the
+        pistons' first order of that sense.
 
     Returns
     -------
@@ -96,13 +103,27 @@ def factor_note(proposal: Proposal, pistons: Phasors, residual: Phasors) -> str 
     assert residual.moment_forward is not None and pistons.moment_forward is not None
     force = complex(residual.force_forward[at])
     moment = complex(residual.moment_forward[at])
-    if force == 0 and moment == 0:
-        return f"{head}: the counterweights leave no forward first-order force or moment"
-    return (
-        f"{head}: the counterweights leave "
-        f"{_part(force, complex(pistons.force_forward[at]), 'N', 'force')} and "
-        f"{_part(moment, complex(pistons.moment_forward[at]), 'N m', 'moment')}"
-    )
+    if not backward:
+        if force == 0 and moment == 0:
+            return f"{head}: the counterweights leave no forward first-order force or moment"
+        return (
+            f"{head}: the counterweights leave "
+            f"{_part(force, complex(pistons.force_forward[at]), 'N', 'force')} and "
+            f"{_part(moment, complex(pistons.moment_forward[at]), 'N m', 'moment')}"
+        )
+    assert residual.moment_backward is not None and pistons.moment_backward is not None
+    left = (force, moment, complex(residual.force_backward[at]), residual.moment_backward[at])
+    if all(value == 0 for value in left):
+        return f"{head}: the counterweights leave no first-order force or moment in either sense"
+    senses = [
+        f"{_part(complex(left[0 + j]), complex(f[at]), 'N', 'force', sense)} and "
+        f"{_part(complex(left[1 + j]), complex(m[at]), 'N m', 'moment', sense)}"
+        for j, sense, f, m in (
+            (0, "forward", pistons.force_forward, pistons.moment_forward),
+            (2, "backward", pistons.force_backward, pistons.moment_backward),
+        )
+    ]
+    return f"{head}: the counterweights leave {senses[0]}; and {senses[1]}"
 
 
 def orders_left(proposal: Proposal, residual: Phasors) -> tuple[int, ...]:

@@ -157,8 +157,8 @@ SECTIONS: tuple[Section, ...] = (
     Section(
         "factor_study",
         "Balance-factor study",
-        part="balance.core.proposal:factor_study_part",
-        outputs="balance.core.proposal:STUDY_OUTPUTS",
+        part="balance.core.factor_study:factor_study_part",
+        outputs="balance.core.factor_study:STUDY_OUTPUTS",
         options=("factors",),
     ),
     Section(

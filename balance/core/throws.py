@@ -35,6 +35,7 @@ __all__ = [
     "crank_throws",
     "default_throws",
     "first_appearance",
+    "group_least",
     "pin_keys",
     "rods_per_pin",
     "rods_per_throw",
@@ -222,3 +223,27 @@ def throw_spans(z: ArrayLike, throws: ArrayLike) -> tuple[FloatArray, FloatArray
             starts.append(a)
             ends.append(b)
     return np.asarray(starts, dtype=np.float64), np.asarray(ends, dtype=np.float64)
+
+
+def group_least(values: ArrayLike, groups: NDArray[np.intp]) -> NDArray[np.float64]:
+    """The least member value of each group of :func:`crank_pins`.
+
+    The rods of a pin agree only to the rounding of
+    :func:`crank_pins`; taking the least of them, rather than the first
+    or last, keeps the pin where it is whatever the cylinders' numbering.
+
+    Parameters
+    ----------
+    values : array_like
+        One value per cylinder (a throw's plane [m] or angle [rad]).
+    groups : ndarray of int
+        The pin of each cylinder (:func:`crank_pins`).
+
+    Returns
+    -------
+    ndarray
+        One value per pin, in the unit of ``values``.
+    """
+    out = np.full(int(groups.max()) + 1, np.inf)
+    np.minimum.at(out, groups, np.asarray(values, dtype=np.float64))
+    return out

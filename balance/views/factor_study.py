@@ -13,10 +13,17 @@ from balance.views.polar import format_number, json_number
 if TYPE_CHECKING:  # pragma: no cover
     from rich.console import RenderableType
 
-    from balance.core.proposal import FactorStudy
+    from balance.core.factor_study import FactorStudy
     from balance.core.result import Result
 
 __all__ = ["json_block", "tables"]
+
+#: The table's note with several crankshafts (docs/several-crankshafts.md).
+_GEARED = (
+    "several crankshafts: each factor is the proposal with that balance_factor on each "
+    "crankshaft's own cylinders, without a balance shaft at +1 or -1; forward and backward: "
+    "the residual first order turning with and against crankshaft 1",
+)
 
 
 def _part(result: Result) -> FactorStudy:
@@ -40,6 +47,7 @@ def json_block(result: Result) -> dict[str, Any]:
     """
     study = _part(result)
     one = study.equivalents(study.optimal).one_cylinder
+    senses = _senses(study)
     return {
         "balance_factor_study": {
             "factor_of": "each-cylinder",
@@ -51,11 +59,28 @@ def json_block(result: Result) -> dict[str, Any]:
                     "vertical_peak": json_number(study.vertical_peak[i]),
                     "horizontal_peak": json_number(study.horizontal_peak[i]),
                     "moment_peak": json_number(study.moment_peak[i]),
+                    **{key: json_number(values[i]) for key, _, _, values in senses},
                 }
                 for i, f in enumerate(np.asarray(study.factor))
             ],
         }
     }
+
+
+def _senses(study: FactorStudy) -> list[tuple[str, str, str, Any]]:
+    """Several crankshafts: the residual's first order in each sense, as (JSON key, column,
+    unit, values); empty for one crankshaft."""
+    out = []
+    for key, column, unit in (
+        ("force_forward", "forward force", "N"),
+        ("force_backward", "backward force", "N"),
+        ("moment_forward", "forward moment", "N m"),
+        ("moment_backward", "backward moment", "N m"),
+    ):
+        values = getattr(study, key)
+        if values is not None:
+            out.append((key, column, unit, values))
+    return out
 
 
 def _render_factor_study(study: FactorStudy) -> list[RenderableType]:
@@ -70,6 +95,9 @@ def _render_factor_study(study: FactorStudy) -> list[RenderableType]:
         Column("moment peak", "N m"),
     ]
     values = [study.vertical_peak, study.horizontal_peak, study.moment_peak]
+    senses = _senses(study)
+    columns += [Column(column, unit) for _, column, unit, _ in senses]
+    values += [v for *_, v in senses]
     if study.largest_main_load is not None and study.largest_internal_moment is not None:
         columns += [
             Column("largest main load", "N"),
@@ -89,6 +117,7 @@ def _render_factor_study(study: FactorStudy) -> list[RenderableType]:
             notes=(
                 "balance factor: the share of each cylinder's reciprocating mass put on the "
                 "crank (balance_factor of: each-cylinder)",
+                *(_GEARED if senses else ()),
             ),
         ),
         Text(
