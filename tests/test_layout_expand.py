@@ -42,9 +42,7 @@ SETTINGS = settings(
 
 
 def _analysis(path: Path | str) -> xr.Dataset:
-    # the bearing loads of several crankshafts are not in this version
-    several = balance.load_layout(str(path)).crankshafts is not None
-    ds = balance.analyse(str(path), bearings=not several)
+    ds = balance.analyse(str(path), bearings=True)  # each crankshaft's loads where several
     ds.attrs.pop("source_file")
     return ds
 
