@@ -2,6 +2,10 @@
 crank angle 0, forward and backward, one panel per order on its own scale or all orders on
 one (:func:`plot_phasors`).
 
+With several crankshafts each order's panel also draws how the shafts' phasors add up to
+the engine's, head to tail (the parts a section's ``phasor_layers`` gives,
+:mod:`balance.views.sections`; this module names no section).
+
 The polar frame of a panel is drawn as lines and text (:func:`_phasor_frame`), on plain
 axes or on polar ones given, alike.  The helpers every figure shares are in
 :mod:`balance.views.figures`.
@@ -44,7 +48,16 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.phasors import Phasors
     from balance.core.result import Result
 
-__all__ = ["BACKWARD_ARROW", "FORWARD_ARROW", "PHASOR_COLUMNS", "phasor_panels", "plot_phasors"]
+__all__ = [
+    "BACKWARD_ARROW",
+    "FORWARD_ARROW",
+    "PART_BACKWARD_ARROW",
+    "PART_COLOURS",
+    "PART_FORWARD_ARROW",
+    "PHASOR_COLUMNS",
+    "phasor_panels",
+    "plot_phasors",
+]
 
 #: Phasor arrows: forward wide and light, backward thin and dashed on top, so that equal
 #: forward and backward phasors (a line locus) both show.
@@ -81,8 +94,9 @@ def phasor_panels(
 ) -> list[tuple[Quantity, list[int]]]:
     """The panels of :func:`plot_phasors` with ``scale="per-order"``: for the force and the
     moment, the orders that have a phasor not zero next to the largest of that quantity
-    (:data:`balance.views.figures.ZERO_SHARE`); an empty list draws one panel that says why
-    (zero, not computed).
+    (:data:`balance.views.figures.ZERO_SHARE`), the engine's or, where a section splits
+    them into parts (several crankshafts), a part's; an empty list draws one panel that
+    says why (zero, not computed).
 
     Parameters
     ----------
@@ -112,8 +126,9 @@ class _PanelPhasors(NamedTuple):
     shown: list[int]
     #: what the one panel of a quantity without any says: not computed, or all zero
     note: str
-    #: the parts whose phasors add up to these (:func:`_layers`): their names and forward
-    #: and backward phasors, shape (parts, orders); none for a one-part engine
+    #: the parts whose phasors add up to these (:func:`_layers`): the legend's heading, their
+    #: names and forward and backward phasors, shape (parts, orders); none for one part
+    heading: str = ""
     parts: tuple[str, ...] = ()
     parts_forward: signals.ComplexArray | None = None
     parts_backward: signals.ComplexArray | None = None
@@ -126,7 +141,7 @@ def _panel_phasors(
     the orders of its panels and the note of a panel without any; the phasors are computed
     once for both :func:`phasor_panels` and :func:`plot_phasors`."""
     out = []
-    _, layers = _layers(result, source)
+    heading, layers = _layers(result, source)
     for quantity in signals.QUANTITIES:
         ks, fwd, bwd = signals.phasors_of(result, quantity, source)
         keep = pick_orders(ks, orders)
@@ -144,7 +159,9 @@ def _panel_phasors(
             significant = np.asarray(np.asarray(significant_mask(size)).any(axis=1), dtype=bool)
             shown = [int(k) for k, s in zip(ks[keep], significant, strict=True) if s]
         note = "not computed" if np.isnan(fwd).all() else "all zero"
-        out.append(_PanelPhasors(quantity, ks, fwd, bwd, shown, note, names, parts_fwd, parts_bwd))
+        out.append(
+            _PanelPhasors(quantity, ks, fwd, bwd, shown, note, heading, names, parts_fwd, parts_bwd)
+        )
     return out
 
 
@@ -190,6 +207,15 @@ def plot_phasors(
     :data:`PHASOR_COLUMNS` to a row.  ``scale="common"`` draws all orders of a quantity on
     one linear scale, two panels.
 
+    Where a section of the result splits the engine's phasors into parts that add up to
+    them (its views module's ``phasor_layers``, :mod:`balance.views.sections`: each
+    crankshaft of an engine with several), each order's panel draws the parts' forward
+    phasors head to tail from the centre, each in its colour (:data:`PART_COLOURS`) and
+    named in the legend, ending at the engine's forward phasor, and their backward ones
+    alike (dashed); an order whose parts are not zero has a panel though they cancel, and
+    the panel's scale takes in the chains.  Per order only (``scale="common"`` draws the
+    engine's alone).
+
     The polar frame of each panel (circle, rings with their values, spokes every 45 deg,
     angle labels) is drawn as lines and text (:func:`_phasor_frame`): on the plain axes of
     the figure this function makes, and on the polar axes given as ``ax``, alike.
@@ -224,7 +250,9 @@ def plot_phasors(
 
     groups = []
     chains: list[tuple[tuple[str, ...], Any, Any]] = []
+    heading = ""
     for panel in _panel_phasors(result, source, orders):
+        heading = panel.heading
         quantity, ks, fwd, bwd, ks_shown, note = panel[:6]
         divisor, unit, _ = scale_of(result, quantity, normalised)
         name = "force" if quantity == "force" else "moment Σ Δz·F"
@@ -242,7 +270,7 @@ def plot_phasors(
             fig, axes_list, title_y = _phasor_figure(
                 [(label, len(ks_shown)) for _, _, _, label, ks_shown, _ in groups],
                 default_title if title is None else title,
-                _part_legend(_layers(result, source)[0], colours) if colours else [],
+                _part_legend(heading, colours) if colours else [],
             )
             owned = True
         else:
