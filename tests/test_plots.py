@@ -27,6 +27,7 @@ from balance.io.request import build_request
 from balance.views import plots
 from balance.views import proposal as proposal_views
 from balance.views import signals as synthesis
+from balance.views.figures import significant_mask
 from balance.views.torque import GAS_KINDS
 
 #: The figure kinds of the bearing loads' section (balance.views.bearings).
@@ -282,6 +283,149 @@ def test_crankshaft_forces_draw_each_shafts_force_at_its_axis():
         r = result.engine.crank_radius[i] * 1e3
         tip = (table.x[s] * 1e3 + r * np.sin(alpha[i]), table.y[s] * 1e3 + r * np.cos(alpha[i]))
         assert (round(float(tip[0]), 9), round(float(tip[1]), 9)) in tips
+
+
+@image_compare
+def test_phasors_deltic_like():
+    """Several crankshafts: each shaft's phasors head to tail, ending at the engine's."""
+    from tests.test_geared_brute_force import deltic_like
+
+    return plots.plot_phasors(computed(deltic_like()))
+
+
+def _arrow_phasor(axes: Any, point: Any) -> complex:
+    """The phasor ``y + i x`` of an arrow's end: ``(x, y)`` on plain axes, ``(angle,
+    radius)`` on polar ones."""
+    a, b = (float(v) for v in point)
+    if axes.name == "polar":
+        return complex(b * np.exp(1j * a))
+    return complex(b + 1j * a)
+
+
+def _drawn_arrows(axes: Any) -> list[tuple[str, complex, complex]]:
+    """Each phasor arrow of a panel as drawn: its label, tail and head."""
+    return [
+        (t.get_label(), _arrow_phasor(axes, t.xyann), _arrow_phasor(axes, t.xy))
+        for t in axes.texts
+        if getattr(t, "arrow_patch", None) is not None
+    ]
+
+
+def _phasor_panel_axes(result: Result, fig: Any, **options: Any) -> list[tuple[str, int, Any]]:
+    """The panels of the per-order phasor figure: quantity, order and axes."""
+    out, axes = [], iter(fig.axes)
+    for quantity, ks in plots.phasor_panels(result, **options):
+        if not ks:
+            next(axes)  # the note
+        out += [(quantity, k, next(axes)) for k in ks]
+    return out
+
+
+def _assert_shaft_chains(result: Result, fig: Any, source: str = "free") -> set[int]:
+    """Every panel of the phasor figure: each shaft's forward (backward) phasor of the
+    order is an arrow from the head of the shaft's before it, the first from the centre,
+    the last ending at the engine's phasor (1e-9 of the panel's sum of magnitudes); a shaft
+    without an arrow has a phasor of zero.  Returns the orders of the force panels."""
+    part = result.part("crankshafts")
+    bundle = part.force.free() if source == "free" else part.force
+    at = {int(k): j for j, k in enumerate(result.orders)}
+    forces = set()
+    for quantity, k, axes in _phasor_panel_axes(result, fig, source=source):
+        forces |= {k} if quantity == "force" else set()
+        drawn = _drawn_arrows(axes)
+        _, engine_fwd, engine_bwd = synthesis.phasors_of(result, quantity, source)
+        shafts = bundle.pair(quantity)
+        for d, direction in enumerate(("forward", "backward")):
+            phasors = shafts[d][:, at[k]]
+            engine = (engine_fwd, engine_bwd)[d][at[k]]
+            tol = REL * (float(np.abs(phasors).sum()) + abs(engine))
+            arrows = {
+                label.rsplit(" ", 1)[0]: (tail, head)
+                for label, tail, head in drawn
+                if label.endswith(" " + direction)
+            }
+            assert set(arrows) <= set(part.names)
+            end = 0j
+            for name, phasor in zip(part.names, phasors, strict=True):
+                if name not in arrows:
+                    assert abs(phasor) <= tol, (quantity, k, name, direction)
+                    continue
+                tail, head = arrows[name]
+                assert abs(tail - end) <= tol, (quantity, k, name, direction)
+                assert abs((head - tail) - phasor) <= tol, (quantity, k, name, direction)
+                end = head
+            assert abs(end - engine) <= tol, (quantity, k, direction)
+        # the engine's own arrows stay, from the centre
+        for label, tail, head in drawn:
+            if not label.endswith(("forward", "backward")):
+                assert tail == 0
+                assert min(abs(head - engine_fwd[at[k]]), abs(head - engine_bwd[at[k]])) <= tol
+    return forces
+
+
+@pytest.mark.parametrize("sense", [1.0, -1.0])
+def test_phasors_draw_each_shafts_phasors_head_to_tail(sense):
+    """Two one-cylinder cranks side by side, co- or counter-rotating (the phasors figure
+    through ``plot_kind``): each order's force panel chains the two shafts' phasors to the
+    engine's, and names both shafts in the legend.  Counter-rotating, their first orders
+    cancel (the engine's is zero) and its panel is drawn all the same."""
+    from tests.geared_engines import twin_crank
+
+    result = computed(twin_crank(sense))
+    fig = plots.plot_kind("phasors")(result)
+    forces = _assert_shaft_chains(result, fig)
+    assert forces == {1, 2, 4, 6, 8}
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert {"shaft1", "shaft2"} <= set(legend)
+    labels = {
+        label for _, _, ax in _phasor_panel_axes(result, fig) for label, *_ in _drawn_arrows(ax)
+    }
+    assert {"shaft1 forward", "shaft2 forward", "shaft1 backward", "shaft2 backward"} <= labels
+    _, forward, backward = synthesis.phasors_of(result, "force")
+    if sense < 0:
+        assert forward[0] == backward[0] == 0.0  # cancelled, and the shafts drawn
+    # on polar axes given, alike
+    from matplotlib.figure import Figure
+
+    n = sum(max(len(ks), 1) for _, ks in plots.phasor_panels(result))
+    polar = Figure().subplots(1, n, subplot_kw={"projection": "polar"})
+    _assert_shaft_chains(result, plots.plot_phasors(result, ax=polar))
+
+
+def test_phasors_deltic_18_shafts_add_up_to_the_engines():
+    """The deltic-18 built-in: three shafts, one counter-rotating; the forces of order 6 and
+    the moments of orders 2, 4 and 8 chain to the engine's, free and reciprocating; the
+    residual (not split by shaft) draws the engine's alone."""
+    result = balance.compute_result("deltic-18")
+    for source in ("free", "reciprocating"):
+        fig = plots.plot_phasors(result, source=source)
+        _assert_shaft_chains(result, fig, source)
+        legend = [t.get_text() for t in fig.legends[0].get_texts()]
+        assert set(result.part("crankshafts").names) <= set(legend)
+    assert plots.phasor_panels(result) == [("force", [6]), ("moment", [2, 4, 8])]
+    residual = plots.plot_phasors(result, source="residual")
+    assert len(residual.legends[0].get_texts()) == 2
+    for axes in residual.axes:
+        assert all(label == "" for label, *_ in _drawn_arrows(axes))
+
+
+@pytest.mark.parametrize("name", ["inline-4", "v8-crossplane", "inline-3"])
+def test_phasors_one_crankshaft_draws_nothing_new(name):
+    """One crankshaft: the engine's arrows only, from the centre (one per phasor not zero
+    of each panel), and the legend's two entries."""
+    result = analysed(name)
+    fig = plots.plot_phasors(result)
+    assert [t.get_text().split(":")[0] for t in fig.legends[0].get_texts()] == [
+        "forward (wide)",
+        "backward (dashed)",
+    ]
+    at = {int(k): j for j, k in enumerate(result.orders)}
+    for quantity, k, axes in _phasor_panel_axes(result, fig):
+        _, forward, backward = synthesis.phasors_of(result, quantity)
+        pair = np.array([abs(forward[at[k]]), abs(backward[at[k]])])
+        drawn = _drawn_arrows(axes)
+        assert len(drawn) == int(np.count_nonzero(significant_mask(pair)))
+        assert all(label == "" and tail == 0 for label, tail, _ in drawn)
 
 
 #: One layout of each family for the smoke test of every kind: inline with gas forces (half

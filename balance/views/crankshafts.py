@@ -23,6 +23,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from rich.console import RenderableType
 
     from balance.core.geared import GearedParts
+    from balance.core.phasors import Phasors
     from balance.core.result import Result
 
 __all__ = [
@@ -32,6 +33,7 @@ __all__ = [
     "csv_columns",
     "drawn",
     "json_block",
+    "phasor_layers",
     "plot_crankshaft_forces",
     "report_section",
     "tables",
@@ -296,6 +298,59 @@ def drawn(result: Result) -> bool:
     bool
     """
     return result.part("crankshafts") is not None
+
+
+def phasor_layers(result: Result, source: str) -> tuple[str, list[tuple[str, Phasors]]] | None:
+    r"""Each crankshaft's phasors, which add up to the engine's: what the ``phasors`` figure
+    draws head to tail in each order's panel (:func:`balance.views.phasor_plots.plot_phasors`).
+
+    A shaft's force is that of its pistons, rods and masses; its moment is
+    :math:`\sum (z_i - z_{ref}) F_i` over its cylinders, about the engine's reference plane
+    and the frame's ``x`` and ``y`` axes through the origin, which a transverse force's
+    place in ``x`` and ``y`` does not change: the shafts' moments add up to the engine's
+    as their forces do (the moment about ``z``, which depends on where each shaft sits, is
+    in the section's table).
+
+    Parameters
+    ----------
+    result : Result
+        An analysis with the ``crankshafts`` section.
+    source : {'free', 'reciprocating', 'residual'}
+        Which phasors (:mod:`balance.views.signals`): ``free`` with each shaft's rotating
+        masses at order 1 (forward, or backward on a counter-rotating shaft; a sum that
+        cancels to rounding set to 0 as for the engine's,
+        :func:`balance.views.polar.free_phasors`), ``reciprocating`` without them.
+
+    Returns
+    -------
+    (str, list of (str, Phasors)) or None
+        The legend's heading and each shaft's name and phasors (orders of the result's);
+        None for ``residual`` (the proposal's residual is not split by shaft).
+    """
+    from balance.views.polar import free_phasors
+
+    part = _part(result)
+    if source == "residual":
+        return None
+    force = part.force
+    if source == "free":
+        force = free_phasors(force, result.engine.n_cylinders)
+    layers = []
+    for s, name in enumerate(part.names):
+        layers.append((name, _one_shaft(force, s)))
+    return "crankshafts,\nhead to tail:", layers
+
+
+def _one_shaft(bundle: Phasors, s: int) -> Phasors:
+    """The phasors of shaft ``s`` of a bundle with a leading axis of shafts."""
+    from dataclasses import fields, replace
+
+    changes = {}
+    for field in fields(bundle):
+        value = getattr(bundle, field.name)
+        if field.name != "orders" and value is not None and np.ndim(value) > 0:
+            changes[field.name] = np.asarray(value)[s]
+    return replace(bundle, **changes)
 
 
 PLOTS = {"crankshaft_forces": plot_crankshaft_forces}

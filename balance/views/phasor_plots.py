@@ -2,6 +2,10 @@
 crank angle 0, forward and backward, one panel per order on its own scale or all orders on
 one (:func:`plot_phasors`).
 
+With several crankshafts each order's panel also draws how the shafts' phasors add up to
+the engine's, head to tail (the parts a section's ``phasor_layers`` gives,
+:mod:`balance.views.sections`; this module names no section).
+
 The polar frame of a panel is drawn as lines and text (:func:`_phasor_frame`), on plain
 axes or on polar ones given, alike.  The helpers every figure shares are in
 :mod:`balance.views.figures`.
@@ -41,9 +45,19 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from balance.core.phasors import Phasors
     from balance.core.result import Result
 
-__all__ = ["BACKWARD_ARROW", "FORWARD_ARROW", "PHASOR_COLUMNS", "phasor_panels", "plot_phasors"]
+__all__ = [
+    "BACKWARD_ARROW",
+    "FORWARD_ARROW",
+    "PART_BACKWARD_ARROW",
+    "PART_COLOURS",
+    "PART_FORWARD_ARROW",
+    "PHASOR_COLUMNS",
+    "phasor_panels",
+    "plot_phasors",
+]
 
 #: Phasor arrows: forward wide and light, backward thin and dashed on top, so that equal
 #: forward and backward phasors (a line locus) both show.
@@ -80,8 +94,9 @@ def phasor_panels(
 ) -> list[tuple[Quantity, list[int]]]:
     """The panels of :func:`plot_phasors` with ``scale="per-order"``: for the force and the
     moment, the orders that have a phasor not zero next to the largest of that quantity
-    (:data:`balance.views.figures.ZERO_SHARE`); an empty list draws one panel that says why
-    (zero, not computed).
+    (:data:`balance.views.figures.ZERO_SHARE`), the engine's or, where a section splits
+    them into parts (several crankshafts), a part's; an empty list draws one panel that
+    says why (zero, not computed).
 
     Parameters
     ----------
@@ -111,6 +126,12 @@ class _PanelPhasors(NamedTuple):
     shown: list[int]
     #: what the one panel of a quantity without any says: not computed, or all zero
     note: str
+    #: the parts whose phasors add up to these (:func:`_layers`): the legend's heading, their
+    #: names and forward and backward phasors, shape (parts, orders); none for one part
+    heading: str = ""
+    parts: tuple[str, ...] = ()
+    parts_forward: signals.ComplexArray | None = None
+    parts_backward: signals.ComplexArray | None = None
 
 
 def _panel_phasors(
@@ -120,17 +141,46 @@ def _panel_phasors(
     the orders of its panels and the note of a panel without any; the phasors are computed
     once for both :func:`phasor_panels` and :func:`plot_phasors`."""
     out = []
+    heading, layers = _layers(result, source)
     for quantity in signals.QUANTITIES:
         ks, fwd, bwd = signals.phasors_of(result, quantity, source)
         keep = pick_orders(ks, orders)
         size = signals.magnitude_of(result, quantity, source)[keep]  # (orders, 2)
+        names: tuple[str, ...] = ()
+        parts_fwd = parts_bwd = None
+        if layers and all(bundle.has(quantity) for _, bundle in layers):
+            names = tuple(name for name, _ in layers)
+            parts_fwd = np.stack([np.asarray(b.pair(quantity)[0]) for _, b in layers])
+            parts_bwd = np.stack([np.asarray(b.pair(quantity)[1]) for _, b in layers])
+            # an order whose parts are not zero has a panel, though they cancel
+            size = np.concatenate([size, np.abs(parts_fwd).T[keep], np.abs(parts_bwd).T[keep]], 1)
         shown: list[int] = []
         if not np.isnan(size).all():  # computed
             significant = np.asarray(np.asarray(significant_mask(size)).any(axis=1), dtype=bool)
             shown = [int(k) for k, s in zip(ks[keep], significant, strict=True) if s]
         note = "not computed" if np.isnan(fwd).all() else "all zero"
-        out.append(_PanelPhasors(quantity, ks, fwd, bwd, shown, note))
+        out.append(
+            _PanelPhasors(quantity, ks, fwd, bwd, shown, note, heading, names, parts_fwd, parts_bwd)
+        )
     return out
+
+
+def _layers(result: Result, source: Source) -> tuple[str, list[tuple[str, Phasors]]]:
+    """The parts whose phasors add up to the engine's, from every section of the result
+    whose views module has ``phasor_layers(result, source)`` (:mod:`balance.views.sections`;
+    several crankshafts, docs/several-crankshafts.md): the legend's heading and each part's
+    name and :class:`~balance.core.phasors.Phasors`; no parts when no section splits the
+    engine's phasors."""
+    from balance.views.sections import views_of
+
+    heading, layers = "", []
+    for _, module in views_of(result):
+        split = getattr(module, "phasor_layers", None)
+        got = None if split is None else split(result, source)
+        if got is not None:
+            heading, parts = got
+            layers.extend(parts)
+    return heading, layers
 
 
 def plot_phasors(
@@ -156,6 +206,15 @@ def plot_phasors(
     and has no zero at the centre).  The force panels come first, then the moment panels,
     :data:`PHASOR_COLUMNS` to a row.  ``scale="common"`` draws all orders of a quantity on
     one linear scale, two panels.
+
+    Where a section of the result splits the engine's phasors into parts that add up to
+    them (its views module's ``phasor_layers``, :mod:`balance.views.sections`: each
+    crankshaft of an engine with several), each order's panel draws the parts' forward
+    phasors head to tail from the centre, each in its colour (:data:`PART_COLOURS`) and
+    named in the legend, ending at the engine's forward phasor, and their backward ones
+    alike (dashed); an order whose parts are not zero has a panel though they cancel, and
+    the panel's scale takes in the chains.  Per order only (``scale="common"`` draws the
+    engine's alone).
 
     The polar frame of each panel (circle, rings with their values, spokes every 45 deg,
     angle labels) is drawn as lines and text (:func:`_phasor_frame`): on the plain axes of
@@ -190,16 +249,28 @@ def plot_phasors(
         return _phasors_common(result, ax, source, orders, normalised, title)
 
     groups = []
-    for quantity, ks, fwd, bwd, ks_shown, note in _panel_phasors(result, source, orders):
+    chains: list[tuple[tuple[str, ...], Any, Any]] = []
+    heading = ""
+    for panel in _panel_phasors(result, source, orders):
+        heading = panel.heading
+        quantity, ks, fwd, bwd, ks_shown, note = panel[:6]
         divisor, unit, _ = scale_of(result, quantity, normalised)
         name = "force" if quantity == "force" else "moment Σ Δz·F"
         groups.append((ks, fwd / divisor, bwd / divisor, axis_label(name, unit), ks_shown, note))
+        if panel.parts_forward is None or panel.parts_backward is None:
+            chains.append(((), None, None))
+        else:
+            chains.append(
+                (panel.parts, panel.parts_forward / divisor, panel.parts_backward / divisor)
+            )
+    colours = _part_colours(chains)
     default_title = f"{layout_heading(result)}: phasors at θ\u00a0=\u00a00, {source_label(source)}"
     with styled():
         if ax is None:
             fig, axes_list, title_y = _phasor_figure(
                 [(label, len(ks_shown)) for _, _, _, label, ks_shown, _ in groups],
                 default_title if title is None else title,
+                _part_legend(heading, colours) if colours else [],
             )
             owned = True
         else:
@@ -210,8 +281,8 @@ def plot_phasors(
                 axes_list.append(given[start : start + n])
                 start += n
             title_y = None
-        for axes_group, (ks, fwd, bwd, label, ks_shown, note) in zip(
-            axes_list, groups, strict=True
+        for axes_group, (ks, fwd, bwd, label, ks_shown, note), (parts, parts_fwd, parts_bwd) in zip(
+            axes_list, groups, chains, strict=True
         ):
             if not ks_shown:
                 note_axes = axes_group[0]
@@ -226,11 +297,17 @@ def plot_phasors(
                     color="0.4",
                 )
                 continue
-            shown = {k: (fwd[i], bwd[i]) for i, k in enumerate(ks) if int(k) in ks_shown}
+            shown = {k: (i, fwd[i], bwd[i]) for i, k in enumerate(ks) if int(k) in ks_shown}
             for axes, k in zip(axes_group, ks_shown, strict=True):
-                pf, pb = shown[k]
+                i, pf, pb = shown[k]
                 largest = max(abs(pf), abs(pb))
+                if parts_fwd is not None and parts_bwd is not None:
+                    # the chains of the parts' phasors, head to tail, in the panel too
+                    heads = np.concatenate([np.cumsum(parts_fwd[:, i]), np.cumsum(parts_bwd[:, i])])
+                    largest = max(largest, float(np.abs(heads).max()))
                 _phasor_frame(axes, 1.12 * largest, [largest / 2.0, largest])
+                if parts_fwd is not None and parts_bwd is not None:
+                    _part_chains(axes, parts, parts_fwd[:, i], parts_bwd[:, i], colours)
                 colour = order_colour(k)
                 significant = significant_mask(np.array([abs(pf), abs(pb)]))
                 for phasor, arrow, visible in (
@@ -263,7 +340,7 @@ def _direction_legend(
 
 
 def _phasor_figure(
-    groups: Sequence[tuple[str, int]], title: str
+    groups: Sequence[tuple[str, int]], title: str, more: Sequence[Any] = ()
 ) -> tuple[Figure, list[list[Axes]], float]:
     """The figure of the per-order phasor panels, laid out here, in inches: the size of
     everything in it is known (two-line panel titles, angle labels of one size), so it needs
@@ -272,7 +349,8 @@ def _phasor_figure(
 
     ``groups``: for the force and the moment, the title of its group of panels and how many
     panels it has (0: a low row for the note that says why).  Returns the figure, the axes
-    of each group and where the top of the figure title goes (figure fraction).
+    of each group and where the top of the figure title goes (figure fraction).  ``more``:
+    legend entries after those of the arrows (the parts', :func:`_part_legend`).
     """
     from matplotlib.figure import Figure
 
@@ -319,7 +397,7 @@ def _phasor_figure(
             axes_groups.append(panels)
         y += h
     fig.legend(
-        handles=_direction_legend(),
+        handles=[*_direction_legend(), *more],
         loc="center left",
         bbox_to_anchor=((left + column * ncols) / width, 1.0 - (top + height) / 2.0 / height),
         bbox_transform=fig.transFigure,
@@ -336,14 +414,90 @@ def _plane_point(axes: Any, angle: Any, radius: Any) -> tuple[Any, Any]:
     return radius * np.sin(angle), radius * np.cos(angle)
 
 
-def _phasor_arrow(axes: Any, phasor: complex, colour: str, arrow: dict[str, Any]) -> None:
-    """A phasor as an arrow from the centre (``phasor`` = y + i x: its angle from +y)."""
+def _phasor_arrow(
+    axes: Any,
+    phasor: complex,
+    colour: str,
+    arrow: dict[str, Any],
+    start: complex = 0j,
+    label: str | None = None,
+) -> None:
+    """A phasor as an arrow (``phasor`` = y + i x: its angle from +y), from the centre or
+    from the point ``start``, the artist labelled ``label`` (not a legend entry)."""
+    end, tail = phasor, (0.0, 0.0)
+    if start != 0:
+        end, tail = start + phasor, _plane_point(axes, float(np.angle(start)), abs(start))
     axes.annotate(
         "",
-        xy=_plane_point(axes, float(np.angle(phasor)), float(abs(phasor))),
-        xytext=(0.0, 0.0),
+        xy=_plane_point(axes, float(np.angle(end)), float(abs(end))),
+        xytext=tail,
         arrowprops={"color": colour, "shrinkA": 0, "shrinkB": 0, **arrow},
+        **({} if label is None else {"label": label}),
     )
+
+
+#: Colours of the parts whose phasors add up to the engine's (several crankshafts), apart
+#: from the colours of the orders (tab10): Dark2.
+PART_COLOURS = ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d")
+
+#: A part's phasor arrows, head to tail: thinner than the engine's, on top of them.
+PART_FORWARD_ARROW: dict[str, Any] = {"arrowstyle": "-|>", "lw": 1.6, "mutation_scale": 12}
+PART_BACKWARD_ARROW: dict[str, Any] = {
+    "arrowstyle": "->",
+    "lw": 1.1,
+    "linestyle": "--",
+    "mutation_scale": 10,
+}
+
+
+def _part_colours(chains: Sequence[tuple[tuple[str, ...], Any, Any]]) -> dict[str, str]:
+    """The colour of each part (:data:`PART_COLOURS`, in turn); none when no part has a
+    phasor not zero (nothing of theirs is drawn)."""
+    names: tuple[str, ...] = ()
+    drawn = False
+    for parts, forward, backward in chains:
+        if parts:
+            names = parts
+            drawn = drawn or bool(np.nan_to_num(np.abs(forward)).any())
+            drawn = drawn or bool(np.nan_to_num(np.abs(backward)).any())
+    if not drawn:
+        return {}
+    return {name: PART_COLOURS[i % len(PART_COLOURS)] for i, name in enumerate(names)}
+
+
+def _part_legend(heading: str, colours: dict[str, str]) -> list[Any]:
+    """Legend entries of the parts: a heading, then each part's name in its colour."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color="none", label=heading)]
+    handles += [Line2D([], [], color=c, lw=2.0, label=name) for name, c in colours.items()]
+    return handles
+
+
+def _part_chains(
+    axes: Any,
+    parts: Sequence[str],
+    forward: Any,
+    backward: Any,
+    colours: dict[str, str],
+) -> None:
+    """The parts' forward phasors of one order head to tail from the centre, each in its
+    colour and labelled ``"NAME forward"``, ending at their sum, the engine's forward
+    phasor; the backward ones alike (dashed, ``"NAME backward"``).  A part's phasor that is
+    zero beside the others (:func:`balance.views.figures.significant_mask`) is not drawn."""
+    for phasors, arrow, direction in (
+        (forward, PART_FORWARD_ARROW, "forward"),
+        (backward, PART_BACKWARD_ARROW, "backward"),
+    ):
+        visible = significant_mask(np.abs(phasors))
+        start = 0j
+        for name, phasor, shown in zip(parts, phasors, visible, strict=True):
+            if shown:
+                arrow_of = {**arrow, "zorder": 4}
+                _phasor_arrow(
+                    axes, complex(phasor), colours[name], arrow_of, start, f"{name} {direction}"
+                )
+            start = start + complex(phasor)
 
 
 def _phasor_frame(

@@ -12,10 +12,16 @@ named in :data:`VIEWS`.  Such a module may define
 - ``report_columns(result) -> list``: the ``(header, cells)`` columns it adds to the
   review's table of cylinders, one cell per cylinder;
 - ``PLOTS``: a mapping of the figure kinds it draws to their functions
-  (``function(result, **options) -> Figure``).
+  (``function(result, **options) -> Figure``), and ``drawn(result) -> bool``: whether they
+  have something to draw;
+- ``phasor_layers(result, source)``: the parts whose phasors add up to the engine's (the
+  legend's heading and each part's name and ``Phasors``, or None), which the ``phasors``
+  figure draws head to tail in each order's panel
+  (:func:`balance.views.phasor_plots.plot_phasors`).
 
 The writers (:mod:`balance.views.json`, :mod:`balance.views.table`,
-:mod:`balance.views.report`, :mod:`balance.views.plots`) loop over :func:`views_of` and
+:mod:`balance.views.report`, :mod:`balance.views.plots`, :mod:`balance.views.phasor_plots`)
+loop over :func:`views_of` and
 never name a section.  A module is imported only when a result holds its section.
 """
 
