@@ -94,7 +94,7 @@ def phasor_panels(
 ) -> list[tuple[Quantity, list[int]]]:
     """The panels of :func:`plot_phasors` with ``scale="per-order"``: for the force and the
     moment, the orders that have a phasor not zero next to the largest of that quantity
-    (:data:`balance.views.figures.ZERO_SHARE`), the engine's or, where a section splits
+    (:func:`balance.views.figures.significant_mask`), the engine's or, where a section splits
     them into parts (several crankshafts), a part's; an empty list draws one panel that
     says why (zero, not computed).
 
