@@ -44,6 +44,7 @@ from balance.core.kinematics import (
     offset_ratio,
     rod_ratio,
     shared_coefficients,
+    unique_pairs,
 )
 from balance.core.phasors import Phasors
 from balance.core.speed import speed_squared
@@ -154,10 +155,7 @@ def torque_coefficients(
     """
     # once per distinct geometry: each function's coefficients do not depend on the batch
     # it is computed in (:func:`balance.core.kinematics.fourier_coefficients`)
-    pairs = np.stack(
-        [np.asarray(ratio, dtype=np.float64), np.asarray(offset, dtype=np.float64)], axis=-1
-    )
-    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    unique, inverse = unique_pairs(ratio, offset)
     lam = unique[:, :1]
     eps = unique[:, 1:]
 
@@ -167,7 +165,6 @@ def torque_coefficients(
         return np.stack([d2s * ds, dg * d2g])
 
     coeffs, _ = fourier_coefficients(sample, orders, (2, lam.shape[0]))
-    inverse = inverse.ravel()
     return coeffs[0][inverse], coeffs[1][inverse]
 
 
