@@ -97,6 +97,7 @@ __all__ = [
     "link_motion",
     "link_reach",
     "link_rod_forces",
+    "link_torque_coefficients",
     "pin_masses",
     "pin_roll",
 ]
@@ -596,6 +597,64 @@ def _link_coefficients(
         pin_forward=0.5 * (g_re + 1j * g_im),
         pin_backward=0.5 * (np.conj(g_re) + 1j * np.conj(g_im)),
         samples=used,
+    )
+
+
+def link_torque_coefficients(
+    geometry: LinkGeometry, orders: ArrayLike
+) -> tuple[ComplexArray, ComplexArray, ComplexArray]:
+    r"""Fourier coefficients of the rates of kinetic energy of each link cylinder's parts.
+
+        The torque the rods of a crank put on it, in its own sense, is minus the rate of the
+        kinetic energy of what they drive per crank angle: with the link cylinder's piston
+        (:math:`m_{rec}`), link-pin mass (:math:`m`, :func:`pin_masses`) and link rod's inertia
+        beyond its two masses (:math:`\Delta I`) that is
+
+        .. math::
+
+            M_j = -\omega^2\left[m_{rec} r^2\,(s''/r)(s'/r)
+                + m r^2 \operatorname{Re}(ar\Lambda'\Lambda'')
+                + \Delta I\,\gamma_l'\gamma_l''
+    ight],
+
+        the energy parts of the roll's functions (:class:`LinkCoefficients`).
+
+        Parameters
+        ----------
+        geometry : LinkGeometry
+            The link cylinders.
+        orders : array_like of int
+            The orders.
+
+        Returns
+        -------
+        piston, pin, rod : ndarray of complex
+            :math:`G_k` of :math:`(s''/r)(s'/r)`, :math:`\operatorname{Re}(\bar\Lambda'\Lambda'')`
+            and :math:`\gamma_l'\gamma_l''` in :math:`\beta_j`, shape (links, orders).
+    """
+    ks = np.asarray(orders, dtype=np.intp).ravel()
+    if geometry.size == 0:
+        empty = np.zeros((0, ks.size), dtype=np.complex128)
+        return empty, empty, empty
+    unique, inverse = unique_rows(np.stack(geometry.columns(), axis=0)[..., 0].T)
+    cols = tuple(unique[:, i : i + 1] for i in range(7))
+    n_l = unique.shape[0]
+
+    def sample(beta: FloatArray) -> FloatArray:
+        m = link_motion(beta, *cols)
+        return np.concatenate(
+            [m.d2s * m.ds, m.dpin_y * m.d2pin_y + m.dpin_x * m.d2pin_x, m.drod * m.d2rod], axis=0
+        )
+
+    # the rounding of the samples as for the roll's functions (:func:`_link_coefficients`)
+    reach_link = np.minimum(unique[:, 5] * (1.0 + unique[:, 2] + np.abs(unique[:, 6])), 0.999)
+    x_l = np.maximum(reach_link, unique[:, 0] * (1.0 + np.abs(unique[:, 1])))
+    floor = rounding_floor(x_l, 0.0) / np.sqrt(1.0 - x_l)
+    coeffs, _ = fourier_coefficients(sample, ks, (3 * n_l,), noise_floor=np.tile(floor, 3))
+    return (
+        np.asarray(coeffs[:n_l][inverse]),
+        np.asarray(coeffs[n_l : 2 * n_l][inverse]),
+        np.asarray(coeffs[2 * n_l :][inverse]),
     )
 
 
