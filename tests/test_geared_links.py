@@ -270,3 +270,48 @@ def test_layout_expand_writes_each_link_cylinders_own_dead_centre(tmp_path):
     written = [float(line.split("TDC at ")[1].split(" deg")[0]) for line in lines]
     np.testing.assert_allclose(written, tdc, rtol=1e-5)
     assert "link rod on cylinder 5's rod" in lines[5]
+
+
+RADIAL_ROW = """\
+  - throws: [0]
+    spacing: 100 mm
+    banks: [{banks}]
+    link: {{master: 1, pin_radius: 50 mm, length: 200 mm, conrod: 0.7 kg,
+            conrod_cg_to_big_end: 70 mm}}
+"""
+RADIAL_HEAD = """\
+name: radial rows
+speed: 2000 rpm
+geometry: {stroke: 120 mm, conrod_length: 250 mm}
+masses: {piston_group: 1.0 kg, conrod: 2.5 kg, conrod_cg_to_big_end: 60 mm,
+         crank_unbalance: 0.5 kg}
+reference_z: 100 mm
+"""
+FRONT = RADIAL_ROW.format(banks="0 deg, 72 deg, 144 deg, 216 deg, 288 deg")
+REAR = RADIAL_ROW.format(banks="36 deg, 108 deg, 180 deg, 252 deg, 324 deg")
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_a_two_row_radial_on_two_crankshafts_in_the_compact_form(model):
+    """Two five-cylinder radial rows, each a block of the compact form with its master and
+    four link rods, on two crankshafts (the rear one counter-rotating): the front row's
+    quantities are the one-row radial's bit for bit, and each link rod hangs on its own
+    row's master (cylinder 6 for the rear row)."""
+    two = layout_from_text(
+        RADIAL_HEAD
+        + "crankshafts:\n  - {name: front}\n"
+        + "  - {name: rear, x: 300 mm, rotation: opposite, phase: 20 deg}\n"
+        + "crank:\n"
+        + FRONT.replace("  - throws", "  - crankshaft: front\n    throws")
+        + REAR.replace("  - throws", "  - crankshaft: rear\n    z0: 200 mm\n    throws")
+    )
+    assert two.links.master.tolist() == [-1, 0, 0, 0, 0, -1, 5, 5, 5, 5]
+    one = layout_from_text(RADIAL_HEAD + "crank:\n" + FRONT)
+    geared = compute_result(two, model=model, proposal=False)
+    alone = compute_result(one, model=model, proposal=False)
+    part, p = geared.part("crankshafts"), alone.phasors
+    for name in ("force_forward", "force_backward", "moment_forward", "moment_backward"):
+        np.testing.assert_array_equal(getattr(part.force, name)[0], getattr(p, name))
+    np.testing.assert_array_equal(part.force.roll[0], p.roll)
+    # a radial row's link rods leave a second order that plain rods would not
+    assert abs(p.force_forward[1]) > 5.0  # N

@@ -605,32 +605,31 @@ def link_torque_coefficients(
 ) -> tuple[ComplexArray, ComplexArray, ComplexArray]:
     r"""Fourier coefficients of the rates of kinetic energy of each link cylinder's parts.
 
-        The torque the rods of a crank put on it, in its own sense, is minus the rate of the
-        kinetic energy of what they drive per crank angle: with the link cylinder's piston
-        (:math:`m_{rec}`), link-pin mass (:math:`m`, :func:`pin_masses`) and link rod's inertia
-        beyond its two masses (:math:`\Delta I`) that is
+    The torque the rods of a crank put on it, in its own sense, is minus the rate of the
+    kinetic energy of what they drive per crank angle: with the link cylinder's piston
+    (:math:`m_{rec}`), link-pin mass (:math:`m`, :func:`pin_masses`) and link rod's inertia
+    beyond its two masses (:math:`\Delta I`) that is
 
-        .. math::
+    .. math::
 
-            M_j = -\omega^2\left[m_{rec} r^2\,(s''/r)(s'/r)
-                + m r^2 \operatorname{Re}(ar\Lambda'\Lambda'')
-                + \Delta I\,\gamma_l'\gamma_l''
-    ight],
+        M_j = -\omega^2\left[m_{rec} r^2\,(s''/r)(s'/r)
+              + m r^2 \operatorname{Re}(\bar\Lambda'\Lambda'')
+              + \Delta I\,\gamma_l'\gamma_l''\right],
 
-        the energy parts of the roll's functions (:class:`LinkCoefficients`).
+    the energy parts of the roll's functions (:class:`LinkCoefficients`).
 
-        Parameters
-        ----------
-        geometry : LinkGeometry
-            The link cylinders.
-        orders : array_like of int
-            The orders.
+    Parameters
+    ----------
+    geometry : LinkGeometry
+        The link cylinders.
+    orders : array_like of int
+        The orders.
 
-        Returns
-        -------
-        piston, pin, rod : ndarray of complex
-            :math:`G_k` of :math:`(s''/r)(s'/r)`, :math:`\operatorname{Re}(\bar\Lambda'\Lambda'')`
-            and :math:`\gamma_l'\gamma_l''` in :math:`\beta_j`, shape (links, orders).
+    Returns
+    -------
+    piston, pin, rod : ndarray of complex
+        :math:`G_k` of :math:`(s''/r)(s'/r)`, :math:`\operatorname{Re}(\bar\Lambda'\Lambda'')`
+        and :math:`\gamma_l'\gamma_l''` in :math:`\beta_j`, shape (links, orders).
     """
     ks = np.asarray(orders, dtype=np.intp).ravel()
     if geometry.size == 0:
