@@ -603,25 +603,17 @@ def _link_coefficients(
 def link_torque_coefficients(
     geometry: LinkGeometry, orders: ArrayLike
 ) -> tuple[ComplexArray, ComplexArray, ComplexArray]:
-    r"""Fourier coefficients of the rates of kinetic energy of each link cylinder's parts.
-
-    The torque the rods of a crank put on it, in its own sense, is minus the rate of the
-    kinetic energy of what they drive per crank angle: with the link cylinder's piston
-    (:math:`m_{rec}`), link-pin mass (:math:`m`, :func:`pin_masses`) and link rod's inertia
-    beyond its two masses (:math:`\Delta I`) that is
-
-    .. math::
-
-        M_j = -\omega^2\left[m_{rec} r^2\,(s''/r)(s'/r)
-              + m r^2 \operatorname{Re}(\bar\Lambda'\Lambda'')
-              + \Delta I\,\gamma_l'\gamma_l''\right],
-
-    the energy parts of the roll's functions (:class:`LinkCoefficients`).
+    r"""Fourier coefficients of the rates of kinetic energy of link cylinders' parts: the
+    torque the rods put on their crank, in its own sense, is minus the rate of the kinetic
+    energy they drive, :math:`M_j = -\omega^2[m_{rec} r^2 (s''/r)(s'/r) + m r^2
+    \operatorname{Re}(\bar\Lambda'\Lambda'') + \Delta I\,\gamma_l'\gamma_l'']` with the
+    piston, link-pin mass (:func:`pin_masses`) and rod inertia beyond its two masses (the
+    energy parts of the roll's functions, :class:`LinkCoefficients`).
 
     Parameters
     ----------
     geometry : LinkGeometry
-        The link cylinders.
+        The link cylinders (at least one).
     orders : array_like of int
         The orders.
 
@@ -632,9 +624,6 @@ def link_torque_coefficients(
         and :math:`\gamma_l'\gamma_l''` in :math:`\beta_j`, shape (links, orders).
     """
     ks = np.asarray(orders, dtype=np.intp).ravel()
-    if geometry.size == 0:
-        empty = np.zeros((0, ks.size), dtype=np.complex128)
-        return empty, empty, empty
     unique, inverse = unique_rows(np.stack(geometry.columns(), axis=0)[..., 0].T)
     cols = tuple(unique[:, i : i + 1] for i in range(7))
     n_l = unique.shape[0]
@@ -650,11 +639,8 @@ def link_torque_coefficients(
     x_l = np.maximum(reach_link, unique[:, 0] * (1.0 + np.abs(unique[:, 1])))
     floor = rounding_floor(x_l, 0.0) / np.sqrt(1.0 - x_l)
     coeffs, _ = fourier_coefficients(sample, ks, (3 * n_l,), noise_floor=np.tile(floor, 3))
-    return (
-        np.asarray(coeffs[:n_l][inverse]),
-        np.asarray(coeffs[n_l : 2 * n_l][inverse]),
-        np.asarray(coeffs[2 * n_l :][inverse]),
-    )
+    piston, pin, rod = (np.asarray(coeffs[i * n_l : (i + 1) * n_l][inverse]) for i in range(3))
+    return piston, pin, rod
 
 
 # --------------------------------------------------------------------------- phasor sums
