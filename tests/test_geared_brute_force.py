@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 
 from balance.api import Engine, compute_result
+from balance.core.engine import Links
 from tests.geared_engines import cylinders, with_crankshafts
 
 N = 512  # crank angles per revolution
@@ -51,26 +52,37 @@ class Bodies:
 
 
 def place(engine: Engine, theta: Any) -> Bodies:
-    """Every body of every cylinder from the geometry."""
+    """Every body of every cylinder from the geometry.  A link rod's lower end is its link
+    pin on its master's rod, ``pin_radius`` from the crank pin at ``pin_angle`` from the
+    master rod's centre line (engine-frame sense); there its cylinder's rotating mass sits
+    (the test engines' link cylinders have no share of a crank unbalance)."""
     shafts = engine.crankshafts
     assert shafts is not None
-    pistons, pins, angles = [], [], []
-    for i in range(engine.n_cylinders):
+    links = engine.links
+    n = engine.n_cylinders
+    pistons, pins, angles = [None] * n, [None] * n, [None] * n
+    linked = [links is not None and links.master[i] >= 0 for i in range(n)]
+    # masters and plain rods first: a link rod hangs on its master's
+    for i in sorted(range(n), key=lambda i: linked[i]):
         s = int(shafts.of_cylinder[i])
         sigma = float(shafts.rotation[s])
         axis = np.array([shafts.x[s], shafts.y[s]])[:, None]
         r, length, e = engine.crank_radius[i], engine.conrod_length[i], engine.offset[i]
         alpha = shafts.phase[s] + sigma * (theta + engine.throw[i])
         c = r * _unit(alpha)  # crank pin from the axis
+        if linked[i]:
+            assert links is not None
+            m = int(links.master[i])
+            c = c + links.pin_radius[i] * _unit(angles[m] + links.pin_angle[i])
         u = _unit(engine.bank[i])  # along the bore, crank to head
         w = _unit(engine.bank[i] + sigma * math.pi / 2)  # the offset's side
         c_u, c_w = u @ c, w @ c
         s_along = c_u + np.sqrt(length**2 - (e - c_w) ** 2)
         p = e * w[:, None] + s_along[None, :] * u[:, None]
-        pistons.append(axis + p)
-        pins.append(axis + c)
+        pistons[i] = axis + p
+        pins[i] = axis + c
         d = p - c
-        angles.append(np.unwrap(np.arctan2(d[0], d[1])))
+        angles[i] = np.unwrap(np.arctan2(d[0], d[1]))
     return Bodies(pistons, pins, angles)
 
 
@@ -202,11 +214,47 @@ def h16_like() -> Engine:
     )
 
 
+def link_rods_on_three_shafts() -> Engine:
+    """A 60 deg V-twin with a link rod on crankshaft 1; a W-3 (master at 10 deg, link rods
+    at -40 and +65 deg with pin angles off the bank differences, offsets, rod inertias) on
+    a displaced counter-rotating shaft with a phase; a V-twin with a link rod on a
+    displaced co-rotating shaft with a phase."""
+    base = cylinders(
+        [0.0, 0.0, 40.0, 40.0, 40.0, 120.0, 120.0],
+        [-30.0, 30.0, 10.0, -40.0, 65.0, -30.0, 30.0],
+        [0.0, 0.0, 0.06, 0.06, 0.06, 0.12, 0.12],
+    )
+    base = replace(
+        base,
+        conrod_length=np.array([0.143, 0.11, 0.15, 0.12, 0.118, 0.143, 0.11]),
+        offset=np.array([0.0, 0.002, 0.003, -0.002, 0.004, -0.001, 0.0]),
+        conrod_inertia_correction=np.array([2e-4, 1e-4, -1e-4, 3e-4, 1.5e-4, 0.0, 2e-4]),
+        reciprocating_mass=np.array([0.6, 0.5, 0.7, 0.45, 0.55, 0.6, 0.5]),
+        # a link cylinder's rotating mass is its link rod's share at the link pin
+        rotating_mass=np.array([0.4, 0.15, -0.2, 0.12, 0.18, 0.4, 0.15]),
+        links=Links(
+            master=np.array([-1, 0, -1, 2, 2, -1, 5], dtype=np.intp),
+            pin_radius=np.array([0.0, 0.03, 0.0, 0.032, 0.028, 0.0, 0.025]),
+            pin_angle=np.radians([0.0, 64.0, 0.0, -47.0, 58.0, 0.0, 60.0]),
+        ),
+    )
+    return with_crankshafts(
+        base,
+        [0, 0, 1, 1, 1, 2, 2],
+        x=[0.0, 0.21, -0.05],
+        y=[0.0, -0.04, 0.23],
+        rotation=[1.0, -1.0, 1.0],
+        phase_deg=[0.0, 37.0, -22.0],
+        output=-1.0,
+    )
+
+
 ENGINES = {
     "counter-rotating pair, output same": lambda: counter_rotating_pair(1.0),
     "counter-rotating pair, output opposite": lambda: counter_rotating_pair(-1.0),
     "Deltic-like triangle": deltic_like,
     "H16-like, 90 deg phase": h16_like,
+    "link rods on three shafts": link_rods_on_three_shafts,
 }
 
 
@@ -340,3 +388,29 @@ def test_the_proposals_residual_matches_the_brute_force_with_its_masses(name, st
         assert abs(expected["force"][1][0]) < 1e-9 * force_scale
         assert abs(expected["moment"][0][0]) < 1e-9 * force_scale
         assert abs(expected["moment"][1][0]) < 1e-9 * force_scale
+
+
+def test_the_brute_force_sees_the_link_rods():
+    """The oracle is not blind to the link rods of a counter-rotating shaft: the link pins'
+    angles taken the other way (what treating each cylinder as its own mirror image would
+    do) or the link pins put on the crank pins change its force and torque by far more than
+    the tolerance."""
+    engine = link_rods_on_three_shafts()
+    orders = np.arange(1, 7)
+    expected = brute_force(engine, orders)
+    links = engine.links
+    on_b = engine.crankshafts.of_cylinder == 1
+    flipped = replace(
+        engine,
+        links=replace(links, pin_angle=np.where(on_b, -links.pin_angle, links.pin_angle)),
+    )
+    on_pins = replace(engine, links=replace(links, pin_radius=np.zeros_like(links.pin_radius)))
+    w2 = engine.speed**2
+    force_scale = float(np.sum(engine.reciprocating_mass * engine.crank_radius)) * w2
+    torque_scale = float(np.sum(engine.reciprocating_mass * engine.crank_radius**2)) * w2
+    for other in (flipped, on_pins):
+        got = brute_force(other, orders)
+        assert np.max(np.abs(got["shaft_force"][1][0] - expected["shaft_force"][1][0])) > (
+            1e-4 * force_scale
+        )
+        assert np.max(np.abs(got["torque"][1] - expected["torque"][1])) > 1e-4 * torque_scale

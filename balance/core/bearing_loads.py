@@ -302,9 +302,10 @@ def axis_engine(engine: Engine, axis: int) -> Engine:
     Its cylinders are the axis's, at their crank angles from TDC: on a co-rotating axis
     the cylinders themselves turned by the axis's phase (throw :math:`\text{throw} +
     \varphi_s`), on a counter-rotating one their mirror image across the frame's ``y``
-    axis (throw :math:`\text{throw} - \varphi_s`, bank :math:`-\text{bank}`), which turns
-    forward (docs/several-crankshafts.md, "Bearing loads").  Its axis is the frame's ``z``
-    axis: its loads are relative to its own axis.
+    axis (throw :math:`\text{throw} - \varphi_s`, bank and link-pin angle negated), which
+    turns forward (docs/several-crankshafts.md, "Bearing loads"); its link rods renumbered
+    with its cylinders.  Its axis is the frame's ``z`` axis: its loads are relative to its
+    own axis.
 
     Parameters
     ----------
@@ -328,6 +329,9 @@ def axis_engine(engine: Engine, axis: int) -> Engine:
     throw, bank = engine.throw[idx], engine.bank[idx]
     arrays["throw"] = throw + phase if sense > 0 else throw - phase
     arrays["bank"] = bank if sense > 0 else -bank
+    links = engine.links.reordered(idx) if engine.has_links and engine.links is not None else None
+    if links is not None and sense < 0:  # the mirror turns the link pins too
+        links = replace(links, pin_angle=-links.pin_angle)
     throws = None
     if engine.throw_index is not None:
         throws = np.unique(engine.throw_index[idx], return_inverse=True)[1].astype(np.intp)
@@ -338,7 +342,7 @@ def axis_engine(engine: Engine, axis: int) -> Engine:
         firing_order=None,
         gas=engine.gas.reordered(idx) if engine.gas is not None else None,
         mass_parts=engine.mass_parts.reordered(idx) if engine.mass_parts is not None else None,
-        links=None,
+        links=links,
         throw_index=throws,
         sections=sections,
         pitch=pitch,

@@ -159,10 +159,14 @@ def axis_rods_per_pin(layout: Engine) -> FloatArray:
 
 
 def _targets(
-    layout: Engine, first_order: ComplexArray, shares: FloatArray | None
+    layout: Engine,
+    first_order: ComplexArray,
+    shares: FloatArray | None,
+    link_pins: tuple[ComplexArray, ComplexArray] | None = None,
 ) -> list[tuple[int, float, complex, Any]]:
     """What the counterweights set out to cancel, as ``(axis, z, unbalance, key)`` [kg m]:
-    the key groups the terms of one throw (``per-throw``)."""
+    the key groups the terms of one throw (``per-throw``); ``link_pins`` adds each link
+    pin's first order (forward, backward [N])."""
     table = layout.axis_table()
     r = layout.crank_radius
     angle = table.axis_phase + table.sense * layout.throw  # engine frame at theta = 0
@@ -180,6 +184,9 @@ def _targets(
     half = 0.5 * layout.reciprocating_mass * r
     forward = half * g1 * np.exp(1j * phi)
     backward = half * np.conj(g1) * np.exp(1j * (2.0 * layout.bank - phi))
+    if link_pins is not None:
+        w2 = speed_squared(layout.speed)
+        forward, backward = forward + link_pins[0] / w2, backward + link_pins[1] / w2
     for i in range(layout.n_cylinders):
         s = int(table.axis[i])
         ahead = table.sense[i] > 0
@@ -250,6 +257,7 @@ def propose_geared(
     counterweight_radius: float | None = None,
     fixed_shafts: Sequence[ShaftPosition] | None = None,
     cancel_roll: bool = False,
+    link_pins: tuple[ComplexArray, ComplexArray] | None = None,
 ) -> Proposal:
     r"""Propose counterweights on each crank axis and balance shafts for an engine with
     several (:attr:`Engine.geared`).
@@ -267,6 +275,10 @@ def propose_geared(
         As :func:`balance.core.balancing.propose`; the roll the shafts are placed for, and
         the notes speak of, is the engine's geared roll with the counterweights' moment
         about ``z``.
+    link_pins : tuple of ndarray of complex, optional
+        With link rods: each cylinder's link pin's first-order forward and backward phasors
+        relative to its crank pin [N] (:attr:`balance.core.result.FreeForces.link_pins`),
+        cancelled with the rest of its cylinder's first order.
 
     Returns
     -------
@@ -307,7 +319,7 @@ def propose_geared(
     counterweights: list[Counterweight] = []
     if 1 in wanted:
         shares = cylinder_shares(factor, rods) if factor is not None and rods is not None else None
-        targets = _targets(layout, first_order, shares)
+        targets = _targets(layout, first_order, shares, link_pins)
         counterweights = _placed(layout, targets, strategy, radius)
         z_ref = layout.reference_z
         lever = layout.z - z_ref

@@ -168,13 +168,14 @@ def engine_dead_centres(engine: Engine) -> tuple[FloatArray, FloatArray]:
     tdc : ndarray
         Crank angle in :math:`[0, 2\pi)` of each cylinder's top dead centre [rad].
     """
+    forward = engine.forward_equivalent()  # each cylinder at its crank angle from TDC
     return dead_centres(
-        engine.forward_throw(),
-        engine.bank,
+        forward.throw,
+        forward.bank,
         engine.crank_radius,
         engine.conrod_length,
         engine.offset,
-        engine.links,
+        forward.links,
     )
 
 

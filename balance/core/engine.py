@@ -173,9 +173,10 @@ class Links:
         return np.unique(self.master[self.linked]).astype(np.intp)
 
     def reordered(self, idx: NDArray[np.intp]) -> Links:
-        """The links of renumbered cylinders (``idx[new] = old``): every master reference
-        follows its cylinder to its new number."""
-        new_of_old = np.empty_like(idx)
+        """The links of renumbered cylinders (``idx[new] = old``, a permutation or some of
+        the cylinders): every master reference follows its cylinder to its new number (-1,
+        a plain rod, where the master is left out)."""
+        new_of_old = np.full(self.master.size, -1, dtype=np.intp)
         new_of_old[idx] = np.arange(idx.size, dtype=np.intp)
         old_master = self.master[idx]
         master = np.where(old_master >= 0, new_of_old[np.maximum(old_master, 0)], -1)
@@ -397,6 +398,12 @@ class Engine:
         its forces along the bore and its torque on its crank in the crank's own sense are
         computed on (docs/several-crankshafts.md, "The angles α and β").
 
+        An engine with link rods has every cylinder of a counter-rotating crankshaft
+        mirrored across the frame's ``y`` axis instead (throw ``throw - phase``, bank and
+        link-pin angle negated, offset kept), so that a master and its link rods stay one
+        mechanism (docs/several-crankshafts.md, "Articulated rods"); each cylinder is at the
+        same crank angle from TDC either way.
+
         Returns
         -------
         Engine
@@ -404,7 +411,20 @@ class Engine:
         """
         if not self.geared:
             return self
-        return replace(self, throw=self.forward_throw(), crankshafts=None)
+        if not self.has_links:
+            return replace(self, throw=self.forward_throw(), crankshafts=None)
+        assert self.links is not None
+        table = self.axis_table()
+        back = table.sense < 0
+        return replace(
+            self,
+            throw=np.where(back, self.throw - table.axis_phase, self.throw + table.axis_phase),
+            bank=np.where(back, -self.bank, self.bank),
+            links=replace(
+                self.links, pin_angle=np.where(back, -self.links.pin_angle, self.links.pin_angle)
+            ),
+            crankshafts=None,
+        )
 
     @property
     def n_cylinders(self) -> int:

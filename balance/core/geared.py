@@ -44,6 +44,7 @@ from balance.core.kinematics import (
     offset_ratio,
     rod_ratio,
     shared_coefficients,
+    unique_pairs,
 )
 from balance.core.phasors import Phasors
 from balance.core.speed import speed_squared
@@ -154,10 +155,7 @@ def torque_coefficients(
     """
     # once per distinct geometry: each function's coefficients do not depend on the batch
     # it is computed in (:func:`balance.core.kinematics.fourier_coefficients`)
-    pairs = np.stack(
-        [np.asarray(ratio, dtype=np.float64), np.asarray(offset, dtype=np.float64)], axis=-1
-    )
-    unique, inverse = np.unique(pairs, axis=0, return_inverse=True)
+    unique, inverse = unique_pairs(ratio, offset)
     lam = unique[:, :1]
     eps = unique[:, 1:]
 
@@ -167,7 +165,6 @@ def torque_coefficients(
         return np.stack([d2s * ds, dg * d2g])
 
     coeffs, _ = fourier_coefficients(sample, orders, (2, lam.shape[0]))
-    inverse = inverse.ravel()
     return coeffs[0][inverse], coeffs[1][inverse]
 
 
@@ -217,6 +214,148 @@ def _axis_engine(base: Engine, layout: Engine, on: NDArray[np.bool_]) -> Engine:
     )
 
 
+def _axis_cylinders(forward: Engine, idx: NDArray[np.intp]) -> Engine:
+    """Some cylinders of a one-crank engine as an engine of their own, link rods renumbered
+    (:meth:`Links.reordered`)."""
+    from balance.core.engine import CYLINDER_FIELDS
+
+    arrays = {name: getattr(forward, name)[idx] for name in CYLINDER_FIELDS}
+    throws = None
+    if forward.throw_index is not None:
+        throws = np.unique(forward.throw_index[idx], return_inverse=True)[1].astype(np.intp)
+    return replace(
+        forward,
+        firing_order=None,
+        gas=None,
+        mass_parts=forward.mass_parts.reordered(idx) if forward.mass_parts is not None else None,
+        links=forward.links.reordered(idx) if forward.links is not None else None,
+        throw_index=throws,
+        **arrays,
+    )
+
+
+def _mirrored(bundle: Phasors | None) -> Phasors | None:
+    r"""Force and moment phasors mirrored across the frame's ``y`` axis: :math:`F \to \bar F`
+    (:math:`y + ix`), so :math:`P^+ \to \overline{P^-}` and :math:`P^- \to \overline{P^+}`."""
+    if bundle is None:
+        return None
+
+    def conj(value: ComplexArray | None) -> ComplexArray | None:
+        return None if value is None else np.conj(value)
+
+    return replace(
+        bundle,
+        force_forward=np.conj(bundle.force_backward),
+        force_backward=np.conj(bundle.force_forward),
+        moment_forward=conj(bundle.moment_backward),
+        moment_backward=conj(bundle.moment_forward),
+    )
+
+
+def _link_axes(
+    layout: Engine, phasors_of: Callable[[Engine], FreeForces], *, roll: bool
+) -> tuple[list[FreeForces], list[ComplexArray] | None, FreeForces]:
+    r"""The axes of an engine with link rods, each its cylinders as a one-crank engine.
+
+    Each axis's cylinders of :meth:`Engine.forward_equivalent` (a counter-rotating axis
+    mirrored across the frame's ``y`` axis as a whole, so that its masters and link rods
+    stay one mechanism), link rods renumbered; a mirrored axis's forces and moments are
+    mirrored back (:func:`_mirrored`), its roll left in its own sense as a forward axis's.
+
+    Returns
+    -------
+    free_of : list of FreeForces
+        Per axis, its one-crank analysis with the forces in the engine frame.
+    torque : list of ndarray of complex, or None
+        Per axis, :math:`M_s` per order [N m] (with ``roll``).
+    first : FreeForces
+        The engine's acceleration coefficients and link pins per cylinder (each from its
+        axis's analysis, in the engine frame) and the model rung with the largest error
+        bound of the axes.
+    """
+    from balance.core.links import engine_geometry, link_torque_coefficients, pin_masses
+
+    assert layout.links is not None
+    table = layout.axis_table()
+    linked = layout.links.linked
+    master_axis = table.axis[np.maximum(layout.links.master, 0)]
+    if np.any(linked & (master_axis != table.axis)):
+        i = int(np.flatnonzero(linked & (master_axis != table.axis))[0])
+        raise InputError(
+            f"links: link cylinder {i + 1} hangs on a master rod of another crankshaft; "
+            "a link rod hangs on a master rod of its own crankshaft"
+        )
+    forward = layout.forward_equivalent()
+    w2 = speed_squared(layout.speed)
+    out: list[FreeForces] = []
+    torques: list[ComplexArray] = []
+    coefficients: ComplexArray | None = None
+    pins: list[tuple[NDArray[np.intp], Phasors]] = []
+    bounds: list[float] = []
+    for s in range(len(table.names)):
+        idx = np.flatnonzero(table.axis == s).astype(np.intp)
+        one = _axis_cylinders(forward, idx)
+        free = phasors_of(one)
+        mirror = float(table.rotation[s]) < 0
+        bundle = _mirrored(free.phasors) if mirror else free.phasors
+        assert bundle is not None
+        out.append(replace(free, phasors=bundle))
+        if coefficients is None:
+            coefficients = np.zeros((layout.n_cylinders, free.coefficients.shape[-1]), complex)
+        coefficients[idx] = free.coefficients
+        if free.link_pins is not None:
+            pin = _mirrored(free.link_pins) if mirror else free.link_pins
+            assert pin is not None
+            pins.append((idx, pin))
+        bounds.append(free.model.error_bound)
+        if not roll:
+            continue
+        ks = free.phasors.orders
+        ratio = rod_ratio(one.crank_radius, one.conrod_length)
+        eps = offset_ratio(one.offset, one.crank_radius)
+        g_rec = np.zeros((one.n_cylinders, ks.size), dtype=np.complex128)
+        g_rod = np.zeros_like(g_rec)
+        g_pin = np.zeros_like(g_rec)
+        a_pin = np.zeros(one.n_cylinders)
+        plain = np.ones(one.n_cylinders, dtype=bool)
+        if one.has_links:
+            geometry = engine_geometry(one)
+            j = geometry.cylinder
+            plain[j] = False
+            g_rec[j], g_pin[j], g_rod[j] = link_torque_coefficients(geometry, ks)
+            a_pin[j] = pin_masses(one)[j] * one.crank_radius[j] ** 2
+        if np.any(plain):
+            g_rec[plain], g_rod[plain] = torque_coefficients(ratio[plain], eps[plain], ks)
+        turn = np.exp(1j * ks.astype(np.float64) * (one.throw - one.bank)[:, None])
+        m_r2 = one.reciprocating_mass * one.crank_radius**2
+        torques.append(
+            phasors.weighted_phasor_sum(
+                [
+                    (-m_r2, g_rec * turn),
+                    (-one.conrod_inertia_correction, g_rod * turn),
+                    (-a_pin, g_pin * turn),
+                ]
+            )
+            * w2
+        )
+    assert coefficients is not None
+    first = out[0]
+    link_pins = None
+    if pins:
+        shape = (layout.n_cylinders, first.phasors.orders.size)
+        fwd, bwd = np.zeros(shape, complex), np.zeros(shape, complex)
+        for idx, pin in pins:
+            fwd[idx], bwd[idx] = pin.force_forward, pin.force_backward
+        link_pins = Phasors(orders=first.phasors.orders, force_forward=fwd, force_backward=bwd)
+    whole = replace(
+        first,
+        coefficients=coefficients,
+        model=replace(first.model, error_bound=float(np.max(bounds))),
+        link_pins=link_pins,
+    )
+    return out, torques if roll else None, whole
+
+
 def geared_free_forces(
     layout: Engine, phasors_of: Callable[[Engine], FreeForces], *, moments: bool, roll: bool
 ) -> tuple[Phasors, GearedParts, FreeForces]:
@@ -249,10 +388,8 @@ def geared_free_forces(
     Raises
     ------
     InputError
-        For link rods with several crank axes (not in this version).
+        For a link rod whose master is on another crank axis.
     """
-    if layout.has_links:
-        raise InputError("links: articulated rods on several crankshafts is not in this version")
     table = layout.axis_table()
     n_axes = len(table.names)
     base = layout.forward_equivalent()
@@ -271,10 +408,17 @@ def geared_free_forces(
     rot: dict[str, list[Any]] = {k: [] for k in ("ff", "fb", "mf", "mb")}
     members = []
     coeffs = None
-    # the axes' one-crank analyses differ in their masses only: their coefficients are
-    # computed once (bit for bit the same arrays)
-    with shared_coefficients():
-        free_of = [phasors_of(_axis_engine(base, layout, table.axis == s)) for s in range(n_axes)]
+    link_torque = None
+    if layout.has_links:  # each axis's cylinders a one-crank engine of their own
+        free_of, link_torque, whole_first = _link_axes(layout, phasors_of, roll=roll)
+        first = whole_first
+    else:
+        # the axes' one-crank analyses differ in their masses only: their coefficients are
+        # computed once (bit for bit the same arrays)
+        with shared_coefficients():
+            free_of = [
+                phasors_of(_axis_engine(base, layout, table.axis == s)) for s in range(n_axes)
+            ]
     for s in range(n_axes):
         on = table.axis == s
         members.append(np.flatnonzero(on).astype(np.intp))
@@ -295,6 +439,9 @@ def geared_free_forces(
         if roll:
             assert p.roll is not None
             stacks["roll"].append(p.roll if forward else -p.roll)
+            if link_torque is not None:
+                stacks["torque"].append(link_torque[s])
+                continue
             if coeffs is None:
                 coeffs = torque_coefficients(ratio, eps, p.orders)
             m_r2 = np.where(on, layout.reciprocating_mass * layout.crank_radius**2, 0.0)

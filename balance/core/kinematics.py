@@ -88,6 +88,7 @@ __all__ = [
     "series_coefficients_centred",
     "shared_coefficients",
     "textbook_slider",
+    "unique_pairs",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -532,16 +533,30 @@ def rounding_floor(ratio: ArrayLike, offset_ratio: ArrayLike) -> FloatArray:
     return np.asarray(1e-14 * (1.0 - x) ** -1.5, dtype=np.float64)
 
 
-def _unique_pairs(
+def unique_pairs(
     ratio: FloatArray, offset_ratio: FloatArray
 ) -> tuple[FloatArray, NDArray[np.intp]]:
-    """The distinct (ratio, offset ratio) pairs and, for each entry, the index of its pair.
+    r"""The distinct (ratio, offset ratio) pairs and, for each entry, the index of its pair.
 
     Each pair's coefficients depend on that pair alone (:func:`fourier_coefficients`
     decides per function), so computing them once per distinct pair changes no bit.
+
+    Parameters
+    ----------
+    ratio : ndarray
+        :math:`\lambda = r/l` per entry [1] (any shape).
+    offset_ratio : ndarray
+        :math:`\varepsilon = e/r` per entry [1], shaped as ``ratio``.
+
+    Returns
+    -------
+    unique : ndarray
+        The distinct pairs, shape (pairs, 2): :math:`\lambda` then :math:`\varepsilon`.
+    inverse : ndarray of int
+        For each entry (``ratio`` flattened), the row of its pair in ``unique``.
     """
-    lam = ratio.ravel()
-    eps = offset_ratio.ravel()
+    lam = np.asarray(ratio, dtype=np.float64).ravel()
+    eps = np.asarray(offset_ratio, dtype=np.float64).ravel()
     if lam.size and np.all(lam == lam[0]) and np.all(eps == eps[0]):  # one geometry
         return np.array([[lam[0], eps[0]]]), np.zeros(lam.size, dtype=np.intp)
     unique, inverse = np.unique(np.stack([lam, eps], axis=-1), axis=0, return_inverse=True)
@@ -549,7 +564,7 @@ def _unique_pairs(
 
 
 def _exact(ratio: FloatArray, offset_ratio: FloatArray, orders: NDArray[np.intp]) -> ComplexArray:
-    unique, inverse = _unique_pairs(ratio, offset_ratio)
+    unique, inverse = unique_pairs(ratio, offset_ratio)
     lam_u = unique[:, :1]
     eps_u = unique[:, 1:]
     coeffs, _ = fourier_coefficients(
@@ -760,7 +775,7 @@ def _roll_coefficients(
     lam: FloatArray, eps: FloatArray, orders_arr: NDArray[np.intp]
 ) -> tuple[ComplexArray, ComplexArray]:
     """:func:`roll_coefficients` of checked, broadcast inputs."""
-    unique, inverse = _unique_pairs(lam, eps)
+    unique, inverse = unique_pairs(lam, eps)
     lam_u = unique[:, :1]
     eps_u = unique[:, 1:]
 

@@ -97,6 +97,7 @@ __all__ = [
     "link_motion",
     "link_reach",
     "link_rod_forces",
+    "link_torque_coefficients",
     "pin_masses",
     "pin_roll",
 ]
@@ -597,6 +598,49 @@ def _link_coefficients(
         pin_backward=0.5 * (np.conj(g_re) + 1j * np.conj(g_im)),
         samples=used,
     )
+
+
+def link_torque_coefficients(
+    geometry: LinkGeometry, orders: ArrayLike
+) -> tuple[ComplexArray, ComplexArray, ComplexArray]:
+    r"""Fourier coefficients of the rates of kinetic energy of link cylinders' parts: the
+    torque the rods put on their crank, in its own sense, is minus the rate of the kinetic
+    energy they drive, :math:`M_j = -\omega^2[m_{rec} r^2 (s''/r)(s'/r) + m r^2
+    \operatorname{Re}(\bar\Lambda'\Lambda'') + \Delta I\,\gamma_l'\gamma_l'']` with the
+    piston, link-pin mass (:func:`pin_masses`) and rod inertia beyond its two masses (the
+    energy parts of the roll's functions, :class:`LinkCoefficients`).
+
+    Parameters
+    ----------
+    geometry : LinkGeometry
+        The link cylinders (at least one).
+    orders : array_like of int
+        The orders.
+
+    Returns
+    -------
+    piston, pin, rod : ndarray of complex
+        :math:`G_k` of :math:`(s''/r)(s'/r)`, :math:`\operatorname{Re}(\bar\Lambda'\Lambda'')`
+        and :math:`\gamma_l'\gamma_l''` in :math:`\beta_j`, shape (links, orders).
+    """
+    ks = np.asarray(orders, dtype=np.intp).ravel()
+    unique, inverse = unique_rows(np.stack(geometry.columns(), axis=0)[..., 0].T)
+    cols = tuple(unique[:, i : i + 1] for i in range(7))
+    n_l = unique.shape[0]
+
+    def sample(beta: FloatArray) -> FloatArray:
+        m = link_motion(beta, *cols)
+        return np.concatenate(
+            [m.d2s * m.ds, m.dpin_y * m.d2pin_y + m.dpin_x * m.d2pin_x, m.drod * m.d2rod], axis=0
+        )
+
+    # the rounding of the samples as for the roll's functions (:func:`_link_coefficients`)
+    reach_link = np.minimum(unique[:, 5] * (1.0 + unique[:, 2] + np.abs(unique[:, 6])), 0.999)
+    x_l = np.maximum(reach_link, unique[:, 0] * (1.0 + np.abs(unique[:, 1])))
+    floor = rounding_floor(x_l, 0.0) / np.sqrt(1.0 - x_l)
+    coeffs, _ = fourier_coefficients(sample, ks, (3 * n_l,), noise_floor=np.tile(floor, 3))
+    piston, pin, rod = (np.asarray(coeffs[i * n_l : (i + 1) * n_l][inverse]) for i in range(3))
+    return piston, pin, rod
 
 
 # --------------------------------------------------------------------------- phasor sums

@@ -150,8 +150,13 @@ def balance_engine(
         if 1 in wanted
         else np.ones(layout.n_cylinders, dtype=np.complex128)
     )
+    pins = None
     if 1 in wanted and source.link_pins is not None:
-        first_order = first_order + _link_pin_first_order(layout, source.link_pins)
+        if layout.geared:  # forward and backward apart: counterweights turn either way
+            at = int(np.searchsorted(source.link_pins.orders, 1))
+            pins = (source.link_pins.force_forward[:, at], source.link_pins.force_backward[:, at])
+        else:
+            first_order = first_order + _link_pin_first_order(layout, source.link_pins)
     if layout.geared:
         proposal = propose_geared(
             layout,
@@ -163,6 +168,7 @@ def balance_engine(
             counterweight_radius=counterweight_radius,
             fixed_shafts=fixed_shafts,
             cancel_roll=cancel_roll,
+            link_pins=pins,
         )
     else:
         proposal = propose(

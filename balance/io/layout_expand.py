@@ -265,16 +265,10 @@ def _link_comments(layout: Engine) -> str:
     if not layout.has_links:
         return ""
     assert layout.links is not None
-    from balance.core.cylinders import dead_centres
+    from balance.core.cylinders import engine_dead_centres
 
-    stroke, tdc = dead_centres(
-        layout.throw,
-        layout.bank,
-        layout.crank_radius,
-        layout.conrod_length,
-        layout.offset,
-        layout.links,
-    )
+    # each cylinder at its own crank angle from TDC (several crankshafts: its shaft's sense)
+    stroke, tdc = engine_dead_centres(layout)
     lines = ["# articulated rods: each cylinder's actual stroke and top dead centre (computed)"]
     for i in range(layout.n_cylinders):
         m = int(layout.links.master[i])

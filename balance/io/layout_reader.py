@@ -393,10 +393,13 @@ def build_layout(doc: SourceDocument) -> tuple[LayoutSpec, Engine]:
     gas = None
     if spec.gas is not None and links_checked:
         # each cylinder fires at its own top dead centre: on a crankshaft of its own, at
-        # the crank angle of a one-crank cylinder's (Engine.forward_throw; the throw itself
-        # on one crankshaft)
-        at_tdc = {**arrays, "throw": engine.forward_throw()}
-        gas = _collect(problems, lambda: _gas(spec, doc, cylinders, prefix, at_tdc, firing, links))
+        # the crank angle of a one-crank cylinder's (Engine.forward_equivalent; the engine
+        # itself on one crankshaft)
+        forward = engine.forward_equivalent()
+        at_tdc = {**arrays, "throw": forward.throw, "bank": forward.bank}
+        gas = _collect(
+            problems, lambda: _gas(spec, doc, cylinders, prefix, at_tdc, firing, forward.links)
+        )
         engine = dataclasses.replace(engine, gas=gas)
     built: dict[str, Any] = {}
     if spec.flywheel is not None and gas is None:  # a crank that coasts (docs/dynamics.md)

@@ -242,12 +242,16 @@ def expand_block(
     """
     if block.opposed is None:
         made = plain(block)
-        if block.crankshaft is not None or block.z0:
+        if block.crankshaft is not None or block.z0 or start:
+            # a link rod's master is numbered in the file: after the blocks before
             made = [
                 c.model_copy(
                     update={
                         "crankshaft": block.crankshaft,
                         "z": c.z + block.z0 if block.z0 else c.z,
+                        "link": c.link.model_copy(update={"master": c.link.master + start})
+                        if c.link is not None and start
+                        else c.link,
                     }
                 )
                 for c in made
