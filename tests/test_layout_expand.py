@@ -65,6 +65,33 @@ def test_every_builtin_layout_expands_to_the_same_engine(name, tmp_path):
     _round_trip(name, tmp_path)
 
 
+TWO_SHAFTS = """\
+name: two shafts, one cylinder each
+speed: 6000 rpm
+geometry: {stroke: 40 mm, conrod_length: 80 mm, bore: 50 mm}
+masses: {reciprocating: 1 kg, rotating: 0 kg}
+crank:
+- {throws: [0 deg], banks: [0 deg], crankshaft: a}
+- {throws: [0 deg], banks: [0 deg], crankshaft: b, z0: 1 mm}
+crankshafts:
+- {name: a}
+- {name: b, y: 300 mm}
+"""
+
+
+def test_several_crankshafts_keep_their_own_mains(tmp_path):
+    """A layout without a pitch: each shaft's default mains are its own throw's (one stroke
+    either side of a lone throw), not half the spacing of cylinders on different shafts; the
+    expansion does not turn the engine-wide spacing into a given pitch (found by the random
+    round trip below)."""
+    source = tmp_path / "two-shafts.yaml"
+    source.write_text(TWO_SHAFTS, encoding="utf-8")
+    assert "pitch" not in expand_layout(source)
+    _round_trip(source, tmp_path)
+    mains = balance.analyse(str(source), bearings=True)["main_bearing_z"].values
+    np.testing.assert_allclose(np.sort(mains), [-0.04, -0.039, 0.04, 0.041], atol=1e-15)
+
+
 # --- random layouts ------------------------------------------------------------------------
 
 

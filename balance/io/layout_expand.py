@@ -110,7 +110,10 @@ def expand_layout(source: str | Path) -> str:
         entries.append(entry)
     out["cylinders"] = entries
     out["reference_z"] = _written("reference_z", layout.reference_z)
-    if math.isfinite(layout.pitch):
+    # the pitch made explicit: with several crank axes only a pitch the file gives (the
+    # engine-wide spacing of its cylinders is no shaft's throw pitch, and each shaft's
+    # default mains take the layout's pitch only where it is given)
+    if math.isfinite(layout.pitch) and (layout.pitch_given or not layout.geared):
         out["pitch"] = written(layout.pitch, "length", exact=True)
     if layout.firing_order:
         out["firing_order"] = list(layout.firing_order)
