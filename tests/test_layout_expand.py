@@ -41,14 +41,15 @@ SETTINGS = settings(
 )
 
 
-def _analysis(path: Path | str) -> xr.Dataset:
-    ds = balance.analyse(str(path), bearings=True)  # each crankshaft's loads where several
+def _analysis(path: Path | str, bearings: bool = True) -> xr.Dataset:
+    ds = balance.analyse(str(path), bearings=bearings)  # each crankshaft's loads where several
     ds.attrs.pop("source_file")
     return ds
 
 
-def _round_trip(source: Path | str, tmp_path: Path) -> None:
-    """The expansion of ``source`` analyses to the same Dataset, and expands to itself."""
+def _round_trip(source: Path | str, tmp_path: Path, bearings: bool = True) -> None:
+    """The expansion of ``source`` analyses to the same Dataset (with the bearing loads
+    unless told not to), and expands to itself."""
     text = expand_layout(source)
     expanded = tmp_path / "expanded.yaml"
     expanded.write_text(text, encoding="utf-8")
@@ -57,7 +58,7 @@ def _round_trip(source: Path | str, tmp_path: Path) -> None:
         (a, b) for a, b in zip(text.splitlines()[1:], again.splitlines()[1:], strict=True) if a != b
     ]
     assert not changed
-    xr.testing.assert_identical(_analysis(expanded), _analysis(source))
+    xr.testing.assert_identical(_analysis(expanded, bearings), _analysis(source, bearings))
 
 
 @pytest.mark.parametrize("name", builtin_layout_names())
@@ -403,4 +404,8 @@ def test_random_layouts_expand_to_the_same_engine(data, tmp_path_factory):
     source = tmp_path / "random.yaml"
     data = _firing_in_tdc_order(data)
     source.write_text(yaml.safe_dump(copy.deepcopy(data), sort_keys=False), encoding="utf-8")
-    _round_trip(source, tmp_path)
+    # the bearing loads of every layout but those with several crankshafts and gas forces,
+    # whose search for the largest load runs on every shaft (about a second per analysis;
+    # the built-ins with several crankshafts and gas are compared with them above)
+    several_with_gas = "crankshafts" in data and "gas" in data
+    _round_trip(source, tmp_path, bearings=not several_with_gas)
