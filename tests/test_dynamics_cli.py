@@ -178,10 +178,10 @@ def test_bad_dynamics_sections(tmp_path, section, words):
     assert f"{path}:" in out.stderr
 
 
-def test_figures_and_report_solve_the_motion_of_a_layout_with_gas_and_flywheel(tmp_path):
-    """docs/dynamics.md: `balance plot` and `balance report` of a layout with gas: and
-    flywheel: draw the variable-speed figures (the motion solved for them, mean load), while
-    `balance analyse` stays at constant speed; a layout without gas draws none."""
+def test_figures_solve_the_motion_of_a_layout_with_gas_and_flywheel(tmp_path):
+    """docs/dynamics.md: `balance plot` of a layout with gas: and flywheel: draws the
+    variable-speed figures (the motion solved for them, mean load), while `balance analyse`
+    stays at constant speed."""
     out = run("plot", "inline-4-gas", "-o", str(tmp_path / "gas"), "-q")
     assert out.exit_code == 0, out.output
     names = {p.name for p in (tmp_path / "gas").iterdir()}
@@ -192,9 +192,17 @@ def test_figures_and_report_solve_the_motion_of_a_layout_with_gas_and_flywheel(t
     assert shown.speed_fluctuation == exact.speed_fluctuation
     doc = json.loads(run("analyse", "inline-4-gas", "-f", "json").stdout)
     assert doc["accuracy"]["speed_model"] == "constant"
+
+
+def test_a_layout_without_gas_draws_no_variable_speed_figure(tmp_path):
     out = run("plot", "inline-4", "-o", str(tmp_path / "plain"), "-q")
     assert out.exit_code == 0, out.output
-    assert not any("crank_speed" in p.name for p in (tmp_path / "plain").iterdir())
+    drawn = [p.name for p in (tmp_path / "plain").iterdir()]
+    assert "inline-4-crank_star.png" in drawn  # the figures were drawn
+    assert not any("crank_speed" in name for name in drawn)
+
+
+def test_the_report_of_a_layout_with_gas_and_flywheel_has_the_variable_speed(tmp_path):
     report = tmp_path / "r.html"
     assert run("report", "inline-4-gas", "-o", str(report), "-q").exit_code == 0
     assert "Variable crank speed" in report.read_text()
