@@ -13,7 +13,7 @@ counterweights leave, forward and backward (:func:`geared_factor_study`).  The s
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -234,14 +234,7 @@ def optimal_balance_factor(
         study = balance_factor_study(layout, first_order, [factor], pin_first_order)
         return float(max(study["vertical_peak"][0], study["horizontal_peak"][0]))
 
-    lo, hi = 0.0, 1.0
-    for _ in range(200):
-        m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
-        if worst(m1) <= worst(m2):
-            hi = m2
-        else:
-            lo = m1
-    return 0.5 * (lo + hi)
+    return _least_on_unit_interval(worst)
 
 
 def factor_study(layout: Engine, factors: ArrayLike | None = None) -> FactorStudy:
@@ -450,14 +443,7 @@ def _optimal_on_line(at_0: tuple[complex, complex], at_1: tuple[complex, complex
         fwd, bwd = f0 + x * (f1 - f0), (b0 + x * (b1 - b0)).conjugate()
         return max(abs(fwd + bwd), abs(fwd - bwd))
 
-    lo, hi = 0.0, 1.0
-    for _ in range(200):
-        m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
-        if worst(m1) <= worst(m2):
-            hi = m2
-        else:
-            lo = m1
-    return round(0.5 * (lo + hi), 12)  # 0, not 3e-36, where every factor leaves 0
+    return round(_least_on_unit_interval(worst), 12)  # 0, not 3e-36, where every factor leaves 0
 
 
 def _study(result: Any) -> FactorStudy:
@@ -539,3 +525,16 @@ STUDY_OUTPUTS: tuple[Output, ...] = (
         kind="coord",
     ),
 )
+
+
+def _least_on_unit_interval(worst: Callable[[float], float]) -> float:
+    """Where a unimodal function of the balance factor is least in [0, 1]: ternary search
+    to the rounding of the factor (200 steps of two thirds)."""
+    lo, hi = 0.0, 1.0
+    for _ in range(200):
+        m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
+        if worst(m1) <= worst(m2):
+            hi = m2
+        else:
+            lo = m1
+    return 0.5 * (lo + hi)

@@ -27,7 +27,7 @@ is in docs/architecture.md, "Adding a physical concern".
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import cache
 from importlib import import_module
@@ -76,15 +76,17 @@ class Section:
     default: bool = False
     options: tuple[str, ...] = ()
     figure_options: tuple[tuple[str, Any], ...] = ()
-    needed: Callable[[Any, Any, Any, dict[str, Any]], bool] | None = None
+    needed: Callable[[Any, Any, Any, Mapping[str, Any]], bool] | None = None
 
 
-def _several_crank_axes(engine: Any, request: Any, result: Any, options: dict[str, Any]) -> bool:
+def _several_crank_axes(engine: Any, request: Any, result: Any, options: Mapping[str, Any]) -> bool:
     """The ``crankshafts`` part has something to add: the engine has several crank axes."""
     return result.shafts is not None
 
 
-def _speed_model_applies(engine: Any, request: Any, result: Any, options: dict[str, Any]) -> bool:
+def _speed_model_applies(
+    engine: Any, request: Any, result: Any, options: Mapping[str, Any]
+) -> bool:
     """The ``dynamics`` part has something to add: gas forces (the constant rung's bound, or
     the dynamic rung), a ``dynamics:`` section, or a speed model asked for (the dynamic one
     without gas forces is refused there, with its reason)."""
