@@ -148,6 +148,11 @@ def test_printing_a_result_imports_no_data_frame_units_or_plot_library():
     # a section that has nothing to say about an engine is not imported for it: the
     # inline-4 has no gas forces (no speed model) and one crankshaft
     for imported in listings[:3]:
-        unused = {"balance.core.dynamics", "balance.core.crank_motion", "balance.core.geared"}
+        unused = {
+            "balance.core.dynamics",
+            "balance.core.crank_motion",
+            "balance.core.geared",
+            "balance.core.torque",
+        }
         assert not unused & set(imported), unused & set(imported)
     assert "balance.core.dynamics" in listings[3]  # inline-4-gas: its speed model's bound

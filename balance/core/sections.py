@@ -79,6 +79,11 @@ class Section:
     needed: Callable[[Any, Any, Any, Mapping[str, Any]], bool] | None = None
 
 
+def _with_gas(engine: Any, request: Any, result: Any, options: Mapping[str, Any]) -> bool:
+    """The ``torque`` part has something to add: the engine has a ``gas:`` section."""
+    return engine.gas is not None
+
+
 def _several_crank_axes(engine: Any, request: Any, result: Any, options: Mapping[str, Any]) -> bool:
     """The ``crankshafts`` part has something to add: the engine has several crank axes."""
     return result.shafts is not None
@@ -114,6 +119,7 @@ SECTIONS: tuple[Section, ...] = (
         outputs="balance.core.torque:OUTPUTS",
         layout_key="gas",
         default=True,
+        needed=_with_gas,
     ),
     Section(
         "guide_forces",
