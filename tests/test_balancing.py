@@ -111,6 +111,26 @@ def _one_plane(n: int, reference_z: float) -> Engine:
     )
 
 
+def _pins_2e_17_apart() -> Engine:
+    """Three cylinders on one throw, the third pin 2.1e-17 m from the others (hypothesis)."""
+    n = 3
+    return Engine(
+        name="random",
+        speed=10.0,
+        throw=np.zeros(n),
+        bank=np.zeros(n),
+        z=np.array([0.0, 0.0, 2.08093905e-17]),
+        crank_radius=np.full(n, 0.0625),
+        conrod_length=np.full(n, 0.125),
+        offset=np.zeros(n),
+        reciprocating_mass=np.ones(n),
+        rotating_mass=np.zeros(n),
+        conrod_inertia_correction=np.zeros(n),
+        reference_z=0.0,
+        pitch=0.1,
+    )
+
+
 # Moments about a subnormal reference_z (hypothesis found 2.2e-311 m): lever arms of
 # 2.2e-311 m give terms of 1e-313 N m per unit of omega^2, where floating point rounds by
 # absolute units of 4.9e-324, not relative ones.  With all cylinders in one plane the
@@ -123,6 +143,7 @@ def _one_plane(n: int, reference_z: float) -> Engine:
 @example(layout=_one_plane(3, 2.2e-311), per_throw=True)
 @example(layout=_one_plane(2, 2.2e-311), per_throw=False)
 @example(layout=_one_plane(1, -2.2e-311), per_throw=True)
+@example(layout=_pins_2e_17_apart(), per_throw=True)
 @given(layout=random_layouts(max_cylinders=8), per_throw=st.booleans())
 def test_random_layout_proposals_cancel_orders_one_to_three(layout, per_throw):
     result = compute_phasors(layout, ORDERS)
@@ -132,14 +153,18 @@ def test_random_layout_proposals_cancel_orders_one_to_three(layout, per_throw):
     f1 = float(np.max(layout.reciprocating_mass * layout.crank_radius) * layout.speed**2)
     f1 += float(np.sum(layout.rotating_mass * layout.crank_radius) * layout.speed**2)
     # lever arms are resolved to 1e-12 m: pins closer than that share a throw (crank_pins),
-    # so a per-throw counterweight may sit up to 1e-12 m from a pin's plane
+    # so a per-throw counterweight may sit up to 1e-12 m from a pin's plane, and leave the
+    # couple of its throw's force (at most every cylinder's) over that distance: hypothesis
+    # found pins at 0 and 2.1e-17 m whose counterweight at 0 leaves 6.5e-17 N m, against
+    # 1e-9 of a moment scale of 6.25e-12 N m
     lever = float(np.ptp(layout.z)) + float(np.max(np.abs(layout.z - layout.reference_z)))
     m1 = f1 * (lever + 1e-12)
+    planes = 1e-12 * f1 * layout.z.size if per_throw else 0.0
     for i in range(3):
         for key in ("ff", "fb"):
             assert abs(residual[key][i]) <= 1e-9 * f1
         for key in ("mf", "mb"):
-            assert abs(residual[key][i]) <= 1e-9 * m1
+            assert abs(residual[key][i]) <= 1e-9 * m1 + planes
 
 
 def test_per_throw_counterweight_plane_does_not_depend_on_numbering():
