@@ -212,6 +212,20 @@ def test_fuzzed_layouts_end_in_0_or_2(tmp_path, text):
     _check(path)
 
 
+@pytest.mark.parametrize("key", ["<", "<tag>", "<<<"])
+def test_a_key_that_looks_like_a_union_tag_is_an_unknown_key(tmp_path, key):
+    """The fuzzer renamed a key to '<' (a union member's location tag begins with '<'): the
+    error's location lost the key and the reader failed with an internal error."""
+    path = tmp_path / "odd.yaml"
+    layout = "name: odd\nspeed: 6000 rpm\ngeometry: {stroke: 86 mm, conrod_length: 143 mm}\n"
+    layout += "masses: {reciprocating: 0.6 kg, rotating: 0.4 kg}\n"
+    layout += f"cylinders: [{{throw: 0, bank: 0, z: 0 mm}}]\n'{key}': '0'\n"
+    path.write_text(layout, encoding="utf-8")
+    result = runner.invoke(app, ["analyse", str(path)])
+    assert result.exit_code == 2, result.output
+    assert f"odd.yaml:6:1: {key}: unknown key '{key}'" in result.output
+
+
 @settings(
     max_examples=FUZZ_EXAMPLES // 3, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )

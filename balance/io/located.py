@@ -137,14 +137,14 @@ def _located_errors(
     misspelt = set()
     for err in errors:
         if err["type"] == "extra_forbidden":
-            loc = _clean_loc(err["loc"])
+            loc = _error_loc(err)
             names = _keys(model, loc[:-1], also)
             for hint in difflib.get_close_matches(str(loc[-1]), names, n=1):
                 misspelt.add((*loc[:-1], hint))
     return [
         _one_error(err, doc, model, prefix, hints, also)
         for err in errors
-        if not (err["type"] == "missing" and _clean_loc(err["loc"]) in misspelt)
+        if not (err["type"] == "missing" and _error_loc(err) in misspelt)
     ]
 
 
@@ -193,6 +193,15 @@ def _clean_loc(raw: Any) -> Path:
     loc = tuple(p for p in raw if isinstance(p, str | int))
     # a validator's name, and the tag of a union's member (``crank:``'s ``<block>``)
     return tuple(p for p in loc if not (isinstance(p, str) and (p.startswith(("function-", "<")))))
+
+
+def _error_loc(err: Any) -> Path:
+    """Where a pydantic error is, in the file's keys: an unknown key's location ends with
+    the key itself, whatever it is (a fuzzed layout had one named '<', which a union
+    member's tag also begins with)."""
+    if err["type"] == "extra_forbidden" and err["loc"]:
+        return (*_clean_loc(err["loc"][:-1]), err["loc"][-1])
+    return _clean_loc(err["loc"])
 
 
 def _model_at(model: type[BaseModel], path: Path) -> type[BaseModel] | None:
@@ -259,7 +268,7 @@ def _one_error(
     also: Sequence[str],
 ) -> LayoutError:
     """One pydantic error as a located :class:`LayoutError`."""
-    own = _clean_loc(err["loc"])
+    own = _error_loc(err)
     loc = prefix + own
     kind = err["type"]
     ctx = err.get("ctx") or {}
