@@ -646,10 +646,24 @@ def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool
     """
     from balance.core.analysis import compute
 
+    if engine.geared:  # each crankshaft's loads: docs/several-crankshafts.md, "Bearing loads"
+
+        def loads_with(proposal: Any) -> Bearings:
+            return axes_bearings(engine, proposal)
+
+        def largest(proposals: list[Any]) -> tuple[FloatArray, FloatArray]:
+            return axes_largest_loads(engine, proposals)
+
+    else:
+
+        def loads_with(proposal: Any) -> Bearings:
+            return analysis_bearings(engine, counterweights_of(proposal))
+
+        def largest(proposals: list[Any]) -> tuple[FloatArray, FloatArray]:
+            return largest_loads(engine, [counterweights_of(p) for p in proposals])
+
     proposal = result.part("proposal")
-    if engine.geared:  # docs/several-crankshafts.md, "Bearing loads"
-        return _geared_part(engine, request, result, proposal, strategies)
-    loads = analysis_bearings(engine, counterweights_of(proposal.proposal if proposal else None))
+    loads = loads_with(proposal.proposal if proposal else None)
     by_strategy: list[tuple[str, Bearings]] = []
     if strategies:
         asked = request.only("proposal")
@@ -657,41 +671,15 @@ def bearings_part(engine: Engine, request: Any, result: Any, *, strategies: bool
             options = {**asked.options("proposal"), "strategy": strategy}
             other = replace(asked.with_sections(proposal=options), roll=True)
             theirs = compute(engine, other).part("proposal")
-            cws = counterweights_of(theirs.proposal if theirs is not None else None)
-            by_strategy.append((strategy, analysis_bearings(engine, cws)))
+            by_strategy.append((strategy, loads_with(theirs.proposal if theirs else None)))
     study = result.part("factor_study")
-    if study is not None:
-        main_max, moment_max = _factor_loads(engine, study.factor, request.options("proposal"))
-        result = result.with_part(
-            "factor_study",
-            replace(study, largest_main_load=main_max, largest_internal_moment=moment_max),
-        )
-    return result.with_part("bearings", BearingsPart(loads, tuple(by_strategy)))
-
-
-def _geared_part(engine: Engine, request: Any, result: Any, proposal: Any, strategies: bool) -> Any:
-    """:func:`bearings_part` of an engine with several crank axes (:func:`axes_bearings`)."""
-    from balance.core.analysis import compute
-
-    loads = axes_bearings(engine, proposal.proposal if proposal else None)
-    by_strategy: list[tuple[str, Bearings]] = []
-    if strategies:
-        asked = request.only("proposal")
-        for strategy in STRATEGIES:
-            options = {**asked.options("proposal"), "strategy": strategy}
-            other = replace(asked.with_sections(proposal=options), roll=True)
-            theirs = compute(engine, other).part("proposal")
-            by_strategy.append(
-                (strategy, axes_bearings(engine, theirs.proposal if theirs else None))
-            )
-    study = result.part("factor_study")
-    if study is not None:  # each factor's proposal, its loads shaft by shaft
+    if study is not None:  # each factor's proposal
         settings = request.options("proposal")
         proposals = [
             _factor_proposal(engine, factor, settings)
             for factor in np.asarray(study.factor, dtype=np.float64)
         ]
-        main_max, moment_max = axes_largest_loads(engine, proposals)
+        main_max, moment_max = largest(proposals)
         study = replace(study, largest_main_load=main_max, largest_internal_moment=moment_max)
         result = result.with_part("factor_study", study)
     return result.with_part("bearings", BearingsPart(loads, tuple(by_strategy)))
@@ -700,7 +688,7 @@ def _geared_part(engine: Engine, request: Any, result: Any, proposal: Any, strat
 def _factor_proposal(engine: Engine, factor: float, settings: Mapping[str, Any]) -> Any:
     """The proposal made at ``factor`` with the request's ``strategy`` and
     ``counterweight_radius`` (the rest as the engine's ``balance:`` section, else the
-    defaults), as :func:`_factor_loads` makes it; None where none is made."""
+    defaults); None where none is made."""
     from balance.core.analysis import compute
     from balance.core.result import Request
 
@@ -711,20 +699,6 @@ def _factor_proposal(engine: Engine, factor: float, settings: Mapping[str, Any])
     }
     part = compute(engine, Request(orders=(1, 2), sections={"proposal": proposal})).part("proposal")
     return part.proposal if part is not None else None
-
-
-def _factor_loads(
-    engine: Engine, factors: ArrayLike, settings: Mapping[str, Any]
-) -> tuple[FloatArray, FloatArray]:
-    """Largest main-bearing load [N] and internal moment [N m] with the counterweights that
-    the proposal makes at each balance factor (its ``strategy`` and
-    ``counterweight_radius`` from ``settings``, the rest as the engine's ``balance:``
-    section, else the defaults)."""
-    sets = [
-        counterweights_of(_factor_proposal(engine, factor, settings))
-        for factor in np.asarray(factors, dtype=np.float64)
-    ]
-    return largest_loads(engine, sets)
 
 
 def _loads(result: Any) -> Bearings:
