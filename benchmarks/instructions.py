@@ -131,8 +131,9 @@ def run(workload: str, full: bool) -> None:
         analyse(variant(layout, {"conrod_length": float(length)}), orders)
 
 
-def instructions(python: str, workload: str, full: bool) -> int:
-    """Instructions callgrind counts for one run of the workload."""
+def instructions(python: str, workload: str, full: bool, script: str = __file__) -> int:
+    """Instructions callgrind counts for one run of the workload: ``script --run WORKLOAD
+    1|0`` under ``python`` (this file's workloads by default)."""
     env = {**os.environ, "PYTHONHASHSEED": "0", "OPENBLAS_NUM_THREADS": "1"}
     with tempfile.TemporaryDirectory() as tmp:
         done = subprocess.run(
@@ -141,7 +142,7 @@ def instructions(python: str, workload: str, full: bool) -> int:
                 "--tool=callgrind",
                 f"--callgrind-out-file={tmp}/out",
                 python,
-                os.path.abspath(__file__),
+                os.path.abspath(script),
                 "--run",
                 workload,
                 "1" if full else "0",

@@ -27,10 +27,7 @@ points of the two-stroke cycle on top).
 from __future__ import annotations
 
 import os
-import re
-import subprocess
 import sys
-import tempfile
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -83,30 +80,11 @@ def run(workload: str, full: bool) -> None:
 
 
 def instructions(workload: str, full: bool) -> int:
-    """Instructions callgrind counts for one run of the workload."""
-    env = {**os.environ, "PYTHONHASHSEED": "0", "OPENBLAS_NUM_THREADS": "1"}
-    with tempfile.TemporaryDirectory() as tmp:
-        done = subprocess.run(
-            [
-                "valgrind",
-                "--tool=callgrind",
-                f"--callgrind-out-file={tmp}/out",
-                sys.executable,
-                os.path.abspath(__file__),
-                "--run",
-                workload,
-                "1" if full else "0",
-            ],
-            capture_output=True,
-            text=True,
-            env=env,
-            check=True,
-            cwd=tmp,
-        )
-    match = re.search(r"Collected : (\d+)", done.stderr)
-    if match is None:
-        raise SystemExit(f"no instruction count from valgrind:\n{done.stderr}")
-    return int(match.group(1))
+    """Instructions callgrind counts for one run of the workload (as
+    ``benchmarks/instructions.py`` counts its own)."""
+    from instructions import instructions as counted
+
+    return counted(sys.executable, workload, full, script=__file__)
 
 
 def timed(repeats: int) -> dict[str, tuple[float, float]]:
