@@ -410,13 +410,12 @@ def outputs_of(result: Result) -> Iterator[Output]:
     iterator of Output
         Each output present in the result (:meth:`Output.present`).
     """
-    # Output.present written out: a Dataset asks this of every output of every analysis
     for output in BASE:
-        if output.when is None or output.when(result):
+        if output.present(result):
             yield output
     for name in result.parts:
         for output in load(section(name).outputs):
-            if output.when is None or output.when(result):
+            if output.present(result):
                 yield output
 
 

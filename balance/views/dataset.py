@@ -122,20 +122,10 @@ def build_dataset(result: Result) -> xr.Dataset:
     attrs: dict[str, Any] = {"balance_version": __version__}
     for output in outputs_of(result):
         value = output.get(result)
-        kind = output.kind
-        if kind == "data":  # :func:`variable`, written out: the Dataset's many variables
-            long_name = output.long_name
-            data[output.name] = xr.Variable(
-                output.dims,
-                np.asarray(value),
-                attrs={
-                    "units": output.units,
-                    "long_name": long_name if isinstance(long_name, str) else long_name(result),
-                },
-                fastpath=True,
-            )
-        elif kind == "attr":
+        if output.kind == "attr":
             attrs[output.name] = value
-        else:
+        elif output.kind == "coord":
             coords[output.name] = _coordinate(output, value, result)
+        else:
+            data[output.name] = variable(output, value, result)
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
