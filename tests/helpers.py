@@ -92,3 +92,37 @@ def image_compare(test: Callable[..., Figure]) -> Callable[..., Figure]:
         return fig
 
     return _compared(laid_out)
+
+
+def draw_only(monkeypatch: pytest.MonkeyPatch, kinds: tuple[str, ...] = ()) -> list[str]:
+    """Let ``balance plot`` (and :func:`balance.views.plots.save_plots`) build every figure
+    it chooses but render only those of ``kinds`` to bytes; the others are written as a
+    stub. For the tests of which kinds a command writes: the rendering of every kind is
+    tested where the kind is (the image tests, the reports). Returns the kinds rendered, in
+    order, filled as the command runs."""
+    from balance.views import plots
+
+    rendered: list[str] = []
+    plot_kind, figure_bytes = plots.plot_kind, plots.figure_bytes
+
+    def tagged(kind: str) -> Callable[..., Figure]:
+        function = plot_kind(kind)
+
+        @functools.wraps(function)
+        def draw(*args: Any, **kwargs: Any) -> Figure:
+            fig = function(*args, **kwargs)
+            fig.balance_test_kind = kind  # type: ignore[attr-defined]
+            return fig
+
+        return draw
+
+    def render(fig: Figure, fmt: str = "png") -> bytes:
+        kind = getattr(fig, "balance_test_kind", None)
+        if kind in kinds:
+            rendered.append(kind)
+            return figure_bytes(fig, fmt)
+        return b"not drawn by this test"
+
+    monkeypatch.setattr(plots, "plot_kind", tagged)
+    monkeypatch.setattr(plots, "figure_bytes", render)
+    return rendered

@@ -16,6 +16,7 @@ from balance.cli import app
 from balance.core.crank_motion import crank_train
 from balance.core.speed_model import Flywheel, constant_speed_bound
 from balance.io.layout_file import expand_layout, load_layout
+from tests.helpers import draw_only
 
 runner = CliRunner()
 
@@ -178,15 +179,21 @@ def test_bad_dynamics_sections(tmp_path, section, words):
     assert f"{path}:" in out.stderr
 
 
-def test_figures_solve_the_motion_of_a_layout_with_gas_and_flywheel(tmp_path):
+def test_figures_solve_the_motion_of_a_layout_with_gas_and_flywheel(tmp_path, monkeypatch):
     """docs/dynamics.md: `balance plot` of a layout with gas: and flywheel: draws the
     variable-speed figures (the motion solved for them, mean load), while `balance analyse`
-    stays at constant speed."""
+    stays at constant speed. The variable-speed figures are rendered to PNG here; the
+    command's other figures are built, and rendered by their own tests."""
+    speed_kinds = ("crank_speed", "reduced_inertia", "speed_model_orders")
+    rendered = draw_only(monkeypatch, speed_kinds)
     out = run("plot", "inline-4-gas", "-o", str(tmp_path / "gas"), "-q")
     assert out.exit_code == 0, out.output
+    assert rendered == list(speed_kinds)
     names = {p.name for p in (tmp_path / "gas").iterdir()}
-    for kind in ("crank_speed", "reduced_inertia", "speed_model_orders"):
+    assert {"inline-4-gas-crank_star.png", "inline-4-gas-torque.png"} <= names
+    for kind in speed_kinds:
         assert f"inline-4-gas-{kind}.png" in names
+        assert (tmp_path / "gas" / f"inline-4-gas-{kind}.png").read_bytes().startswith(b"\x89PNG")
     shown = balance.compute_result("inline-4-gas", dynamics={"figures": True}).part("dynamics")
     exact = balance.compute_result("inline-4-gas", speed_model="dynamic").part("dynamics")
     assert shown.speed_fluctuation == exact.speed_fluctuation
@@ -194,7 +201,8 @@ def test_figures_solve_the_motion_of_a_layout_with_gas_and_flywheel(tmp_path):
     assert doc["accuracy"]["speed_model"] == "constant"
 
 
-def test_a_layout_without_gas_draws_no_variable_speed_figure(tmp_path):
+def test_a_layout_without_gas_draws_no_variable_speed_figure(tmp_path, monkeypatch):
+    draw_only(monkeypatch)  # which kinds are written: the image tests render them
     out = run("plot", "inline-4", "-o", str(tmp_path / "plain"), "-q")
     assert out.exit_code == 0, out.output
     drawn = [p.name for p in (tmp_path / "plain").iterdir()]
