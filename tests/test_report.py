@@ -60,6 +60,11 @@ HOSTILE_NOTE = "<img src=http://example.com/x.png>"
 #: figures are drawn as PNG by the image tests of test_plots.py.
 REPORTED = {"inline-4": False, "inline-3": True}
 
+#: One worker runs this module's tests, so that each report of REPORTED is drawn once in
+#: the run (``report`` caches it per process), and the fresh process of conftest, whose
+#: report is compared with the inline-3's here, is started once (test_plots.py reads it too).
+pytestmark = pytest.mark.xdist_group("fresh_process")
+
 
 def computed(name: str, proposal: bool = True):
     return _computed(name, proposal)
@@ -278,7 +283,6 @@ def test_write_report_is_atomic_and_refuses_to_overwrite(tmp_path):
         write_report(result, tmp_path / "missing" / "review.html")
 
 
-@pytest.mark.xdist_group("fresh_process")  # one worker builds the session fixture once
 def test_report_is_deterministic(fresh_process):
     """The report a fresh process wrote (``balance report inline-3``, in conftest's
     fresh_process, which test_plots.py checks for its imports) is byte for byte the one
