@@ -156,6 +156,7 @@ def test_printing_a_result_imports_no_data_frame_units_or_plot_library():
             "balance.core.torque",
             "balance.io.fields",
             "balance.io.arithmetic",
+            "balance.core.crankshafts",
         }
         assert not unused & set(imported), unused & set(imported)
     assert "balance.core.dynamics" in listings[3]  # inline-4-gas: its speed model's bound
