@@ -101,6 +101,7 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
+
 def _option_error(option: str, problem: ValueError, prefix: str = "") -> InputError:
     """The :class:`InputError` of a quantity an option could not read.
 
