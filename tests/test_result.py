@@ -146,13 +146,17 @@ def test_printing_a_result_imports_no_data_frame_units_or_plot_library():
         heavy = sorted(m for m in imported if m.split(".")[0] in HEAVY)
         assert heavy == [], f"{' '.join(args)} imported {heavy}"
     # a section that has nothing to say about an engine is not imported for it: the
-    # inline-4 has no gas forces (no speed model) and one crankshaft
+    # inline-4 has no gas forces (no speed model) and one crankshaft; nor is the grammar of
+    # --vary, --speed and --load (io.fields), nor arithmetic for quantities like "86 mm"
     for imported in listings[:3]:
         unused = {
             "balance.core.dynamics",
             "balance.core.crank_motion",
             "balance.core.geared",
             "balance.core.torque",
+            "balance.io.fields",
+            "balance.io.arithmetic",
+            "balance.core.crankshafts",
         }
         assert not unused & set(imported), unused & set(imported)
     assert "balance.core.dynamics" in listings[3]  # inline-4-gas: its speed model's bound

@@ -150,28 +150,30 @@ def main() -> None:
 
 
 # typer's words for a value its type or bounds refuse -> ours, given the option and the value
-_USAGE_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
+# (patterns, each ``re`` string compiled on the first usage error: a run without one does
+# not compile them)
+_USAGE_WORDS: tuple[tuple[str, str], ...] = (
     (
-        re.compile(r"Input should be greater than or equal to (\S+)"),
+        r"Input should be greater than or equal to (\S+)",
         "{value} is below {0}; give {0} or more",
     ),
     (
-        re.compile(r"Input should be greater than (\S+)"),
+        r"Input should be greater than (\S+)",
         "{value} is not above {0}; give more than {0}",
     ),
     (
-        re.compile(r"Input should be less than or equal to (\S+)"),
+        r"Input should be less than or equal to (\S+)",
         "{value} is above {0}; give at most {0}",
     ),
     (
-        re.compile(r"Input should be less than (\S+)"),
+        r"Input should be less than (\S+)",
         "{value} is not below {0}; give less than {0}",
     ),
-    (re.compile(r"Input should be a valid integer.*"), "{value} is not a whole number"),
-    (re.compile(r"Input should be a valid number.*"), "{value} is not a number"),
-    (re.compile(r"Value error, (.*)"), "{0}"),
+    (r"Input should be a valid integer.*", "{value} is not a whole number"),
+    (r"Input should be a valid number.*", "{value} is not a number"),
+    (r"Value error, (.*)", "{0}"),
 )
-_INVALID = re.compile(r"^Invalid value for '(-[^']+)'(?: / '(-[^']+)')?: (.*)$")
+_INVALID = r"^Invalid value for '(-[^']+)'(?: / '(-[^']+)')?: (.*)$"
 
 
 def _plain_usage_error(message: str, args: list[str]) -> str:
@@ -193,14 +195,14 @@ def _plain_usage_error(message: str, args: list[str]) -> str:
     -------
     str
     """
-    match = _INVALID.match(message)
+    match = re.match(_INVALID, message)
     if match is None:
         return message
     names = [n for n in match.group(1, 2) if n]
     value = _typed_value(args, names)
     detail = match.group(3)
     for pattern, words in _USAGE_WORDS:
-        found = pattern.fullmatch(detail)
+        found = re.fullmatch(pattern, detail)
         if found:
             detail = words.format(
                 *found.groups(), value=value if value is not None else "the value"

@@ -94,8 +94,8 @@ def _prepare(
     (:func:`balance.io.request.build_request`, as :func:`balance.analyse` does).  A command
     with another kind of output (a directory of figures) checks it before calling this.
     """
-    from balance.io.fields import parse_orders
     from balance.io.layout_reader import load_layout
+    from balance.io.orders import parse_orders
     from balance.io.request import build_request
 
     order_list = parse_orders(orders, "--orders")
@@ -215,7 +215,6 @@ def analyse_command(
 ) -> None:
     """Analyse a layout: free forces, moments and roll per order, and a balancing proposal."""
     from balance.core.analysis import compute
-    from balance.io.fields import load_of
 
     engine, request = _prepare(
         layout,
@@ -236,12 +235,20 @@ def analyse_command(
         with_proposal=with_proposal,
         bearings=True if bearings else None,
         speed_model=None if speed_model is None else speed_model.value,
-        load=None if load is None else load_of(load, "--load"),
+        load=None if load is None else _load_of(load),
         torsion=True if torsion else None,
     )
     result = compute(engine, request)
     warn(result.warnings, quiet, layout)
     _write(result, format, output, force)
+
+
+def _load_of(text: str) -> Any:
+    """The load of ``--load`` (:func:`balance.io.fields.load_of`; the grammar of the fields
+    imported only when the option is given)."""
+    from balance.io.fields import load_of
+
+    return load_of(text, "--load")
 
 
 def _write(

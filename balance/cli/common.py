@@ -181,6 +181,8 @@ def parse_speed(text: str | None) -> float | None:
     float or None
         The speed [rad/s]; None when the option is not given.
     """
+    if text is None:
+        return None
     from balance.io import fields
 
     return fields.parse_speed(text, "--speed")

@@ -23,6 +23,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
+from pydantic import create_model
 
 from balance.core.engine import CYLINDER_FIELDS, Engine, Links, PerCylinder, bore_pitch
 from balance.core.errors import LayoutError, LayoutErrors, Location, raise_all
@@ -157,7 +158,10 @@ def _specs(doc: SourceDocument) -> tuple[LayoutSpec | None, dict[str, Any], list
         )
     keys = section_keys()
     rest = {k: v for k, v in doc.data.items() if k not in keys}
-    spec, problems = validate(LayoutSpec, rest, doc, hints=LAYOUT_HINTS, also=keys)
+    spec: LayoutSpec | None = _valid_spec(rest)
+    problems: list[LayoutError] = []
+    if spec is None:  # report the problems as the whole layout's model finds them
+        spec, problems = validate(LayoutSpec, rest, doc, hints=LAYOUT_HINTS, also=keys)
     sections: dict[str, Any] = {}
     for key in keys:
         if key not in doc.data:
@@ -169,6 +173,41 @@ def _specs(doc: SourceDocument) -> tuple[LayoutSpec | None, dict[str, Any], list
         if section is not None:
             sections[key] = section
     return spec, sections, problems
+
+
+def _valid_spec(rest: dict[str, Any]) -> LayoutSpec | None:
+    """The layout's model, validated by the model of the optional sections it has
+    (:func:`_spec_without`), or None when that finds a problem (which the caller reports
+    as :class:`~balance.io.schema.LayoutSpec` finds it)."""
+    absent = frozenset(
+        name
+        for name, info in LayoutSpec.model_fields.items()
+        if name not in rest and info.default is None and not info.is_required()
+    )
+    try:
+        return _spec_without(absent).model_validate(rest)
+    except Exception:
+        return None
+
+
+@functools.cache
+def _spec_without(absent: frozenset[str]) -> type[LayoutSpec]:
+    """:class:`~balance.io.schema.LayoutSpec` with each optional field of ``absent`` (default
+    None) of type None.
+
+    pydantic builds a model's validator on first use, nested models and all, and a layout
+    has few of the optional sections (``cylinders:`` or ``crank:``, ``balance:``, ``gas:``,
+    ``flywheel:``, ``crankshafts:``, ``output:``).  For a layout without the fields of
+    ``absent``, this subclass validates and gives what :class:`LayoutSpec` would (an absent
+    field keeps its default and is not validated; the fields keep their order), with a
+    smaller validator to build.
+    """
+    if not absent:
+        return LayoutSpec
+    fields: dict[str, Any] = {name: (None, None) for name in absent}
+    return create_model(
+        "LayoutSpec", __base__=LayoutSpec, __module__=LayoutSpec.__module__, **fields
+    )
 
 
 def cylinder_entries(

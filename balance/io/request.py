@@ -22,7 +22,7 @@ from balance.core.engine import STRATEGIES, Engine
 from balance.core.errors import InputError
 from balance.core.result import Request
 from balance.core.sections import SECTIONS, Section
-from balance.io.fields import check_speed, parse_orders
+from balance.io.orders import check_speed, parse_orders
 
 __all__ = ["MODELS", "SECTION_OPTIONS", "SPEED_MODELS", "build_request"]
 

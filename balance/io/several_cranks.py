@@ -36,13 +36,13 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeAlias
 import numpy as np
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from balance.core.crankshafts import BORE_LINE, Crankshafts, bore_lines
 from balance.core.errors import LayoutError
 from balance.io.problems import FieldProblem
 from balance.io.units import parse_quantity
 from balance.io.yamlsource import SourceDocument, dotted_path
 
 if TYPE_CHECKING:  # pragma: no cover
+    from balance.core.crankshafts import Crankshafts
     from balance.core.engine import Engine
 
 # balance.io.schema's models (it imports this module's, so they are not imported here)
@@ -646,6 +646,8 @@ def check_bores(
     list of LayoutError
         One per bore that cannot be.
     """
+    from balance.core.crankshafts import BORE_LINE, bore_lines
+
     errors = []
     shafts = _core(plan)
     for i, j in enumerate(plan.opposed):
@@ -703,6 +705,9 @@ def attach(engine: Engine, plan: Plan | None) -> Engine:
 
 
 def _core(plan: Plan) -> Crankshafts:
+    # imported here: an engine with one crankshaft has none
+    from balance.core.crankshafts import Crankshafts
+
     return Crankshafts(
         names=tuple(plan.names),
         x=np.asarray(plan.x, dtype=np.float64),

@@ -406,6 +406,12 @@ _ARITHMETIC_VALID = (
 _OPERATOR_CHARS = frozenset("*/+-^(\u2212\u00d7")
 # a mixed number as inch sizes are written (5-1/8 in): arithmetic would read 5 - 1/8
 _MIXED = re.compile(r"^\s*(\d+)\s*-\s*(\d+)\s*/\s*(\d+)\s*$")
+# ASCII text of one unsigned number, then nothing or a unit that starts with a letter ("86 mm",
+# "1.5e-3 kg m^2"; the number matched as arithmetic matches it, atomically): no arithmetic
+# (read_arithmetic would give it as plain), read without importing it
+_ONE_NUMBER = re.compile(
+    r"\s*(?>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)(?:\s*[A-Za-z%].*)?", re.DOTALL
+)
 
 
 def _arithmetic(text: str, kind: str, valid: str) -> tuple[float, str] | None:
@@ -416,6 +422,8 @@ def _arithmetic(text: str, kind: str, valid: str) -> tuple[float, str] | None:
     refused with the number to write instead (a length ``5-1/8 in`` is an inch size that
     arithmetic would read as 4.875 in).
     """
+    if text.isascii() and _ONE_NUMBER.fullmatch(text):
+        return None
     from balance.io.arithmetic import ArithmeticProblem, read_arithmetic
 
     allowed = kind in ARITHMETIC_KINDS
