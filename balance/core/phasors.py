@@ -687,7 +687,7 @@ class Phasors:
 
     def __add__(self, other: Phasors) -> Phasors:
         """The sum of two bundles over the same orders (what is None in either is None)."""
-        if not np.array_equal(self.orders, other.orders):
+        if self.orders is not other.orders and not np.array_equal(self.orders, other.orders):
             raise ValueError("phasors of different orders cannot be added")
 
         def plus(a: Any, b: Any) -> Any:
