@@ -519,9 +519,9 @@ def compute(engine: Engine, request: Request) -> Result:
         warnings=check_engine(engine, radius),
     )
     for section in SECTIONS:
-        if not request.wants(section.name):
+        options = request.sections.get(section.name)
+        if options is None:  # not asked for
             continue
-        options = request.options(section.name)
         if section.needed is None or section.needed(engine, request, result, options):
             result = load(section.part)(engine, request, result, **options)
     return result

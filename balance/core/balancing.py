@@ -508,7 +508,7 @@ def balance_shafts(
     w2 = float(speed_squared(layout.speed))
     r_mean = float(np.mean(layout.crank_radius))
     z_ref = layout.reference_z
-    z_min, z_max = float(layout.z.min()), float(layout.z.max())
+    z_range: tuple[float, float] | None = None  # the crank's ends, once a shaft needs them
     notes: list[str] = []
     shafts: list[BalanceShaft] = []
     given = {f.speed_ratio: f for f in fixed_shafts} if fixed_shafts is not None else None
@@ -525,7 +525,9 @@ def balance_shafts(
                 other = (fb[k], mb[k]) if sense > 0 else (ff[k], mf[k])
                 notes.append(_left_note(k, sense, force, moment, other != (0j, 0j) and k > 1))
                 continue
-            planes = _planes_for(force, moment, z_ref, z_min, z_max)
+            if z_range is None:
+                z_range = (float(layout.z.min()), float(layout.z.max()))
+            planes = _planes_for(force, moment, z_ref, *z_range)
             unbalances = tuple((pz, v / (k * k * w2)) for pz, v in planes)
             x, y = _default_position(k, sense, ff, fb, mf, mb, r_mean)
             x_from = y_from = "default"

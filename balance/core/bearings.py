@@ -426,7 +426,8 @@ def big_end_forces(
     _, _, d2s = normalised_slider(beta, lam, e / r)
     _, d2g = conrod_angle_derivatives(beta, lam, e / r)
     w2 = float(speed_squared(engine.speed))
-    sin_psi, cos_psi = crank_train.rod_direction(beta, lam, e / r)
+    sin_b = np.sin(beta)  # the rod's direction and the pin's mass both need it
+    sin_psi, cos_psi = crank_train.rod_direction(beta, lam, e / r, sin_beta=sin_b)
     gas = None if gas_force is None else np.asarray(gas_force, dtype=np.float64)
     q_y = crank_train.piston_force(
         crank_train.reciprocating_force(col(engine.reciprocating_mass), w2, r, d2s), gas
@@ -434,7 +435,7 @@ def big_end_forces(
     delta_i = col(engine.conrod_inertia_correction)
     wall = crank_train.side_thrust_moment_balance(q_y, sin_psi, cos_psi, length, delta_i, w2, d2g)
     m_pin = col(engine.rotating_mass - crank_unbalance_share(engine)) * w2 * r
-    forces = crank_train.pin_force(q_y, wall, m_pin, beta, col(engine.bank))
+    forces = crank_train.pin_force(q_y, wall, m_pin, beta, col(engine.bank), sin_beta=sin_b)
     # master rods carry their link rods (docs/conventions.md, "Crank-pin and main-bearing loads")
     if engine.has_links:
         from balance.core.links import articulated_big_end_forces

@@ -105,7 +105,8 @@ def proposal_phasors(
         a counterweight on a counter-rotating axis in the backward first order, one on a
         displaced axis with its moment about ``z`` in the roll.
     """
-    ks = np.asarray(orders, dtype=np.intp).ravel()
+    ks = np.asarray(orders, dtype=np.intp)
+    ks = ks if ks.ndim == 1 else ks.ravel()  # the orders given, the sum's orders (Phasors.__add__)
     w2 = float(speed_squared(layout.speed))
     z_ref = layout.reference_z
     zeros = np.zeros(ks.size, dtype=np.complex128)

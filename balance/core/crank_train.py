@@ -88,7 +88,11 @@ def _f(values: ArrayLike) -> FloatArray:
 
 
 def rod_direction(
-    beta: ArrayLike, ratio: ArrayLike, offset_ratio: ArrayLike = 0.0
+    beta: ArrayLike,
+    ratio: ArrayLike,
+    offset_ratio: ArrayLike = 0.0,
+    *,
+    sin_beta: ArrayLike | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     r"""Sine and cosine of the rod angle :math:`\psi` from the bore axis [1].
 
@@ -100,6 +104,9 @@ def rod_direction(
         :math:`\lambda = r/l` [1].
     offset_ratio : array_like
         :math:`\varepsilon = e/r` [1].
+    sin_beta : array_like, optional
+        :math:`\sin\beta` [1], where the caller has it already (:func:`pin_force` needs it
+        too).
 
     Returns
     -------
@@ -112,7 +119,8 @@ def rod_direction(
     :math:`r\sin\beta - e = l\sin\psi`: the crank pin and the piston pin, :math:`e` off the
     bore axis, are the rod's length apart (Taylor 1985, ch. 8).
     """
-    sin_psi = _f(ratio) * (np.sin(_f(beta)) - _f(offset_ratio))
+    sin_b = np.sin(_f(beta)) if sin_beta is None else _f(sin_beta)
+    sin_psi = _f(ratio) * (sin_b - _f(offset_ratio))
     return sin_psi, np.sqrt(1.0 - sin_psi**2)
 
 
@@ -390,7 +398,13 @@ def radial_force(piston: ArrayLike, side: ArrayLike, beta: ArrayLike) -> FloatAr
 
 
 def pin_force(
-    piston: ArrayLike, side: ArrayLike, centrifugal: ArrayLike, beta: ArrayLike, bank: ArrayLike
+    piston: ArrayLike,
+    side: ArrayLike,
+    centrifugal: ArrayLike,
+    beta: ArrayLike,
+    bank: ArrayLike,
+    *,
+    sin_beta: ArrayLike | None = None,
 ) -> ComplexArray:
     r"""Force of the big end on its crank pin, in the engine frame [N].
 
@@ -407,6 +421,8 @@ def pin_force(
         Crank angle from the cylinder's TDC direction [rad].
     bank : array_like
         Bank angle :math:`\psi_b` of the cylinder [rad].
+    sin_beta : array_like, optional
+        :math:`\sin\beta` [1], where the caller has it already (:func:`rod_direction`).
 
     Returns
     -------
@@ -419,7 +435,7 @@ def pin_force(
     """
     b = _f(beta)
     c = _f(centrifugal)
-    f_x = _f(side) + c * np.sin(b)
+    f_x = _f(side) + c * (np.sin(b) if sin_beta is None else _f(sin_beta))
     f_y = -_f(piston) + c * np.cos(b)
     return np.asarray((f_y + 1j * f_x) * np.exp(1j * _f(bank)), dtype=np.complex128)
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields
 from typing import Any, Literal
 
 import numpy as np
@@ -460,11 +460,13 @@ def phase_deg(phasor: ArrayLike) -> FloatArray:
         The phases [deg], the shape of ``phasor``.
     """
     z = np.asarray(phasor, dtype=np.complex128)
-    deg = np.round(np.mod(np.degrees(np.angle(z)), 360.0), 9)
-    deg = np.where(deg >= 360.0, 0.0, deg)
-    deg = np.where(np.abs(z) == 0.0, 0.0, deg)
-    deg = np.where(np.isnan(z), np.nan, deg)
-    return np.asarray(deg + 0.0, dtype=np.float64)  # + 0.0 turns -0.0 into 0.0
+    flat = z.reshape(-1)  # a fresh 1-d array below is set in place (a Dataset has 9 phases)
+    deg = np.mod(np.degrees(np.arctan2(flat.imag, flat.real)), 360.0).round(9)
+    deg[deg >= 360.0] = 0.0
+    deg[np.abs(flat) == 0.0] = 0.0
+    deg[np.isnan(flat)] = np.nan
+    deg += 0.0  # turns -0.0 into 0.0
+    return deg.reshape(z.shape)
 
 
 def safe_ratio(values: Any, scale: float) -> Any:
@@ -487,8 +489,19 @@ def safe_ratio(values: Any, scale: float) -> Any:
     """
     if not math.isfinite(scale) or scale == 0.0:
         return np.full(np.shape(values), np.nan)
+    if abs(scale) >= 1.0:  # no finite ratio can overflow: spare the error state's cost
+        return np.asarray(values) / scale
     with np.errstate(over="ignore"):
         return np.asarray(values) / scale
+
+
+def _pair(forward: NDArray[Any], backward: NDArray[Any]) -> NDArray[Any]:
+    """``np.stack([forward, backward], axis=-1)`` of two arrays of one shape, at a third of
+    its cost for the small arrays of an analysis."""
+    out = np.empty((*forward.shape, 2), dtype=np.result_type(forward, backward))
+    out[..., 0] = forward
+    out[..., 1] = backward
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -538,6 +551,35 @@ class Phasors:
     rotating_force_backward: ComplexArray | complex | None = None
     rotating_moment_backward: ComplexArray | complex | None = None
 
+    def replaced(self, **changes: Any) -> Phasors:
+        """The bundle with some of its fields changed: ``dataclasses.replace`` at a fifth of
+        its cost (an analysis forms a few bundles from others; a bundle has no
+        ``__post_init__``), and without the magnitudes formed of the old values.
+
+        Parameters
+        ----------
+        **changes
+            New values of fields, by name (``force_forward=...``).
+
+        Returns
+        -------
+        Phasors
+
+        Raises
+        ------
+        TypeError
+            For a name that is no field.
+        """
+        unknown = changes.keys() - _FIELDS
+        if unknown:
+            raise TypeError(f"Phasors has no field {', '.join(sorted(unknown))}")
+        new = object.__new__(type(self))
+        values = new.__dict__
+        values.update(self.__dict__)
+        values.pop("_abs", None)  # the memo of magnitudes (:meth:`_magnitudes`)
+        values.update(changes)
+        return new
+
     def has(self, quantity: Quantity) -> bool:
         """Whether the bundle holds ``quantity`` ('force' or 'moment')."""
         return self.pair(quantity)[0] is not None
@@ -572,15 +614,17 @@ class Phasors:
             return forward + first * np.asarray(rotating)[..., None]
 
         def zero(value: Any) -> Any:
-            return None if value is None else np.zeros_like(np.asarray(value))
+            if value is None:
+                return None
+            value = np.asarray(value)
+            return np.zeros(value.shape, dtype=value.dtype)
 
-        return replace(
-            self,
+        return self.replaced(
             force_forward=add(self.force_forward, self.rotating_force),
             moment_forward=add(self.moment_forward, self.rotating_moment),
             force_backward=add(self.force_backward, self.rotating_force_backward),
             moment_backward=add(self.moment_backward, self.rotating_moment_backward),
-            rotating_force=np.zeros_like(np.asarray(self.rotating_force)),
+            rotating_force=zero(self.rotating_force),
             rotating_moment=zero(self.rotating_moment),
             rotating_force_backward=zero(self.rotating_force_backward),
             rotating_moment_backward=zero(self.rotating_moment_backward),
@@ -588,7 +632,7 @@ class Phasors:
 
     def magnitude(self, quantity: Quantity) -> FloatArray:
         """:math:`|P^{+}|` and :math:`|P^{-}|` of ``quantity``, shape ``(..., K, 2)``."""
-        return np.stack(self._magnitudes(quantity), axis=-1)
+        return _pair(*self._magnitudes(quantity))
 
     def peak(self, quantity: Quantity) -> FloatArray:
         r"""Peak of ``quantity`` over a revolution, per order: :math:`|P^{+}| + |P^{-}|`
@@ -611,8 +655,7 @@ class Phasors:
     def phase(self, quantity: Quantity) -> FloatArray:
         """Phases of :math:`P^{+}` and :math:`P^{-}` at crank angle 0 [deg], shape
         ``(..., K, 2)`` (:func:`phase_deg`)."""
-        forward, backward = self._computed(quantity)
-        return phase_deg(np.stack([forward, backward], axis=-1))
+        return phase_deg(_pair(*self._computed(quantity)))
 
     def normalised(self, values: ArrayLike, reference: float) -> Any:
         """``values`` (a magnitude or peak of this bundle) per ``reference`` (NaN without
@@ -630,8 +673,7 @@ class Phasors:
         def times(value: Any, by: Any) -> Any:
             return None if value is None else value * by
 
-        return replace(
-            self,
+        return self.replaced(
             force_forward=times(self.force_forward, f),
             force_backward=times(self.force_backward, f),
             moment_forward=times(self.moment_forward, f),
@@ -645,7 +687,7 @@ class Phasors:
 
     def __add__(self, other: Phasors) -> Phasors:
         """The sum of two bundles over the same orders (what is None in either is None)."""
-        if not np.array_equal(self.orders, other.orders):
+        if self.orders is not other.orders and not np.array_equal(self.orders, other.orders):
             raise ValueError("phasors of different orders cannot be added")
 
         def plus(a: Any, b: Any) -> Any:
@@ -678,8 +720,7 @@ class Phasors:
         def take(value: Any) -> Any:
             return None if value is None else value[..., pick]
 
-        return replace(
-            self,
+        return self.replaced(
             orders=self.orders[pick],
             force_forward=take(self.force_forward),
             force_backward=take(self.force_backward),
@@ -693,3 +734,8 @@ class Phasors:
         if forward is None or backward is None:
             raise ValueError(f"the {quantity} was not computed")
         return forward, backward
+
+
+#: The names of the fields of a :class:`Phasors` bundle (what :meth:`Phasors.replaced` may
+#: change).
+_FIELDS = frozenset(f.name for f in fields(Phasors))

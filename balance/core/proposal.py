@@ -134,7 +134,7 @@ def balance_engine(
     p = free.phasors
     needed = np.asarray(wanted, dtype=np.intp)
     source = free
-    if not (np.all(np.isin(needed, p.orders)) and p.has("moment") and p.roll is not None):
+    if not (set(wanted) <= set(p.orders.tolist()) and p.has("moment") and p.roll is not None):
         source = compute_phasors(
             layout,
             needed,
@@ -188,13 +188,15 @@ def balance_engine(
             roll=picked.roll,
         )
     after = residual(layout, proposal, p)
-    # at the orders to cancel, which the notes speak of: the residual's own entries where
-    # they are among its orders (each order's sum is formed and cleaned on its own)
-    kept = after.at(needed) if source is free else residual(layout, proposal, picked)
+    # the notes speak of the orders to cancel: the residual's own entries where they are
+    # among its orders (each order's sum is formed and cleaned on its own), read beside the
+    # free forces of the same orders
+    pistons, kept = (p, after) if source is free else (picked, residual(layout, proposal, picked))
     backward = layout.geared and bool(np.any(layout.axis_table().rotation < 0))
-    head = factor_note(proposal, picked, kept, backward)
-    notes = ([head] if head else []) + list(proposal.notes) + cancel_roll_notes(proposal, kept)
-    proposal = replace(proposal, notes=tuple(notes))
+    head = [note] if (note := factor_note(proposal, pistons, kept, backward)) else []
+    tail = cancel_roll_notes(proposal, kept)
+    if head or tail:
+        proposal = replace(proposal, notes=(*head, *proposal.notes, *tail))
     return ProposalResult(proposal, after, after.roll, orders_left(proposal, kept))
 
 
@@ -249,8 +251,7 @@ def residual(layout: Engine, proposal: Proposal, p: Phasors) -> Phasors:
     def cleaned(values: Any, scale: float) -> Any:
         return None if values is None else clean(values, scale)
 
-    return replace(
-        total,
+    return total.replaced(
         force_forward=clean(total.force_forward, force_scale),
         force_backward=clean(total.force_backward, force_scale),
         moment_forward=cleaned(total.moment_forward, force_scale * span),
@@ -345,7 +346,8 @@ def proposal_part(
         cancel_roll=cancel_roll,
         balance_factor_of=balance_factor_of,
     )
-    part = replace(proposed, residual_roll=_with_shafts_roll(result, proposed.residual))
+    roll = _with_shafts_roll(result, proposed.residual)
+    part = proposed if roll is proposed.residual_roll else replace(proposed, residual_roll=roll)
     if engine.geared and result.shafts is not None:
         part = replace(part, residual_moment_z=_moment_z_with(engine, result, part.proposal))
     return result.with_part("proposal", part)

@@ -143,10 +143,10 @@ def orders_left(proposal: Proposal, residual: Phasors) -> tuple[int, ...]:
     """
     force = residual.peak("force")
     moment = residual.peak("moment")
+    orders = np.asarray(residual.orders).tolist()
     out = []
     for k in proposal.orders:
-        at = np.flatnonzero(np.asarray(residual.orders) == k)
-        if at.size and (force[at[0]] != 0 or moment[at[0]] != 0):
+        if k in orders and (force[i := orders.index(k)] != 0 or moment[i] != 0):
             out.append(int(k))
     return tuple(out)
 

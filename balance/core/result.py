@@ -12,7 +12,7 @@ view prints.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -247,7 +247,18 @@ class Result:
 
     def with_part(self, name: str, part: Any, **changes: Any) -> Result:
         """The result with the part of section ``name`` added (and fields changed: the
-        gas torque's section changes the roll)."""
-        from dataclasses import replace
+        gas torque's section changes the roll).
 
-        return replace(self, parts={**self.parts, name: part}, **changes)
+        A copy of the fields at a tenth of ``dataclasses.replace``'s cost (a result has
+        no ``__post_init__`` and nothing derived to form again; each section adds one part).
+        """
+        unknown = changes.keys() - _RESULT_FIELDS
+        if unknown:
+            raise TypeError(f"Result has no field {', '.join(sorted(unknown))}")
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__, parts={**self.parts, name: part}, **changes)
+        return new
+
+
+#: The names of the fields of a :class:`Result` (what :meth:`Result.with_part` may change).
+_RESULT_FIELDS = frozenset(f.name for f in fields(Result))

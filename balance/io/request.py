@@ -182,6 +182,12 @@ def _sections(
     out: dict[str, dict[str, Any]] = {}
     for section in SECTIONS:
         value = asked.get(section.name)
+        if value is None and section.name not in options:  # not named: default or layout's
+            if _turned_on(section, engine):
+                out[section.name] = (
+                    _checked(section.name, dict(section.figure_options)) if figures else {}
+                )
+            continue
         own = dict(options.get(section.name, {}))
         if isinstance(value, Mapping):
             own = {**dict(value), **own}
