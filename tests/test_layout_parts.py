@@ -16,7 +16,7 @@ from balance.core.engine import BalanceSettings, ShaftPosition
 from balance.core.errors import LayoutError, LayoutErrors
 from balance.core.gas import GasModel
 from balance.core.sections import SECTIONS
-from balance.io import fields, layout_fields, schema
+from balance.io import fields, layout_fields, schema, schema_options
 from balance.io.layout_fields import FIELDS, layout_field
 from balance.io.layout_file import layout_from_text
 from balance.io.layout_sections import LAYOUT_SECTIONS, section_reader
@@ -245,9 +245,9 @@ def test_the_command_line_s_fields_and_the_studies_rules_read_the_table():
 @pytest.mark.parametrize(
     ("spec", "core"),
     [
-        (schema.BalanceSpec, BalanceSettings),
-        (schema.ShaftSpec, ShaftPosition),
-        (schema.GasModelSpec, GasModel),
+        (schema_options.BalanceSpec, BalanceSettings),
+        (schema_options.ShaftSpec, ShaftPosition),
+        (schema_options.GasModelSpec, GasModel),
     ],
 )
 def test_a_core_section_s_model_has_the_dataclass_s_fields_and_defaults(spec, core):
@@ -261,7 +261,7 @@ def test_a_core_section_s_model_has_the_dataclass_s_fields_and_defaults(spec, co
 
 
 def test_a_core_section_s_model_gives_its_dataclass():
-    spec = schema.BalanceSpec.model_validate(
+    spec = schema_options.BalanceSpec.model_validate(
         {"orders": [1, 2], "balance_factor": "50 %", "shafts": [{"speed_ratio": 2, "x": "10 mm"}]}
     )
     assert spec.to_core() == BalanceSettings(
