@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import dataclasses
 import io
+import subprocess
+import sys
 import textwrap
 import tokenize
 from pathlib import Path
@@ -309,3 +311,23 @@ def test_the_front_of_layout_files_keeps_its_names():
     assert layout_file.expand_layout is layout_expand.expand_layout
     assert layout_file.builtin_layout_names is layouts.builtin_layout_names
     assert layout_file.builtin_layout_path is layouts.builtin_layout_path
+
+
+def test_layout_model_used_alone_reads_its_optional_sections():
+    """LayoutSpec names the models of balance:, gas: and flywheel:, which a layout
+    without them does not import (io.schema_options): used alone, in a fresh process,
+    it imports them on first use and reads those sections, SI after validation."""
+    code = (
+        "from balance.io.schema import LayoutSpec\n"
+        "spec = LayoutSpec.model_validate({'name': 'x', 'speed': '6000 rpm', "
+        "'geometry': {'stroke': '86 mm', 'conrod_length': '143 mm', 'bore': '86 mm'}, "
+        "'masses': {'reciprocating': '0.5 kg', 'rotating': '0.6 kg'}, "
+        "'crank': {'throws': [0, 180, 180, 0], 'spacing': '90 mm'}, "
+        "'balance': {'balance_factor': '50 %'}, 'flywheel': {'inertia': '0.1 kg m^2'}, "
+        "'gas': {'model': {'compression_ratio': 10.5, 'peak_pressure': '75 bar'}}})\n"
+        "print(spec.balance.balance_factor.value, spec.flywheel.inertia, "
+        "spec.gas.model.peak_pressure)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split() == ["0.5", "0.1", "7500000.0"]

@@ -700,6 +700,28 @@ class LayoutSpec(Strict):
     crankshafts: list[CrankshaftSpec] | None = Field(default=None, min_length=1, max_length=64)
     output: OutputSpec | None = None
 
+    @classmethod
+    def model_rebuild(
+        cls,
+        *,
+        force: bool = False,
+        raise_errors: bool = True,
+        _parent_namespace_depth: int = 2,
+        _types_namespace: Any = None,
+    ) -> bool | None:
+        """pydantic's ``model_rebuild`` (which it calls to build the validator on first
+        use), with the models of the optional settings sections imported first
+        (:func:`settings_models`) when the model's fields name them: this model can be
+        used as any other."""
+        if not cls.__pydantic_fields_complete__:
+            settings_models()
+        return super().model_rebuild(
+            force=force,
+            raise_errors=raise_errors,
+            _parent_namespace_depth=_parent_namespace_depth + (_parent_namespace_depth > 0),
+            _types_namespace=_types_namespace,
+        )
+
     @model_validator(mode="after")
     def _check(self) -> LayoutSpec:
         _exactly_one(
