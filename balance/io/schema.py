@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import typing
 from collections.abc import Callable, Mapping, Sequence
+from importlib import import_module
 from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Literal
 
 from pydantic import (
@@ -59,8 +60,12 @@ from balance.io.problems import FieldProblem
 from balance.io.several_cranks import CrankshaftSpec, OutputSpec, check_opposed_block
 from balance.io.units import UnitProblem, parse_quantity, registry
 
-if TYPE_CHECKING:  # imported by settings_models() when a layout needs them
-    from balance.io.schema_options import BalanceSpec, FlywheelSpec, GasSpec
+if TYPE_CHECKING:  # models of io.schema_options (which builds on this module): by name
+    from typing import TypeAlias
+
+    BalanceSpec: TypeAlias = Any
+    FlywheelSpec: TypeAlias = Any
+    GasSpec: TypeAlias = Any
 
 __all__ = [
     "LAYOUT_HINTS",
@@ -671,9 +676,10 @@ def settings_models() -> None:
     -------
     None
     """
-    from balance.io import schema_options
-
-    globals().update({name: getattr(schema_options, name) for name in schema_options.__all__})
+    # by name, as the concern sections' modules (balance.io.layout_sections): it imports this
+    # module, whose models it builds on
+    options = import_module("balance.io.schema_options")
+    globals().update({name: getattr(options, name) for name in options.__all__})
 
 
 class LayoutSpec(Strict):
