@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import dataclasses
 import io
+import subprocess
+import sys
 import textwrap
 import tokenize
 from pathlib import Path
@@ -16,7 +18,7 @@ from balance.core.engine import BalanceSettings, ShaftPosition
 from balance.core.errors import LayoutError, LayoutErrors
 from balance.core.gas import GasModel
 from balance.core.sections import SECTIONS
-from balance.io import fields, layout_fields, schema
+from balance.io import fields, layout_fields, schema, schema_options
 from balance.io.layout_fields import FIELDS, layout_field
 from balance.io.layout_file import layout_from_text
 from balance.io.layout_sections import LAYOUT_SECTIONS, section_reader
@@ -245,9 +247,9 @@ def test_the_command_line_s_fields_and_the_studies_rules_read_the_table():
 @pytest.mark.parametrize(
     ("spec", "core"),
     [
-        (schema.BalanceSpec, BalanceSettings),
-        (schema.ShaftSpec, ShaftPosition),
-        (schema.GasModelSpec, GasModel),
+        (schema_options.BalanceSpec, BalanceSettings),
+        (schema_options.ShaftSpec, ShaftPosition),
+        (schema_options.GasModelSpec, GasModel),
     ],
 )
 def test_a_core_section_s_model_has_the_dataclass_s_fields_and_defaults(spec, core):
@@ -261,7 +263,7 @@ def test_a_core_section_s_model_has_the_dataclass_s_fields_and_defaults(spec, co
 
 
 def test_a_core_section_s_model_gives_its_dataclass():
-    spec = schema.BalanceSpec.model_validate(
+    spec = schema_options.BalanceSpec.model_validate(
         {"orders": [1, 2], "balance_factor": "50 %", "shafts": [{"speed_ratio": 2, "x": "10 mm"}]}
     )
     assert spec.to_core() == BalanceSettings(
@@ -309,3 +311,23 @@ def test_the_front_of_layout_files_keeps_its_names():
     assert layout_file.expand_layout is layout_expand.expand_layout
     assert layout_file.builtin_layout_names is layouts.builtin_layout_names
     assert layout_file.builtin_layout_path is layouts.builtin_layout_path
+
+
+def test_layout_model_used_alone_reads_its_optional_sections():
+    """LayoutSpec names the models of balance:, gas: and flywheel:, which a layout
+    without them does not import (io.schema_options): used alone, in a fresh process,
+    it imports them on first use and reads those sections, SI after validation."""
+    code = (
+        "from balance.io.schema import LayoutSpec\n"
+        "spec = LayoutSpec.model_validate({'name': 'x', 'speed': '6000 rpm', "
+        "'geometry': {'stroke': '86 mm', 'conrod_length': '143 mm', 'bore': '86 mm'}, "
+        "'masses': {'reciprocating': '0.5 kg', 'rotating': '0.6 kg'}, "
+        "'crank': {'throws': [0, 180, 180, 0], 'spacing': '90 mm'}, "
+        "'balance': {'balance_factor': '50 %'}, 'flywheel': {'inertia': '0.1 kg m^2'}, "
+        "'gas': {'model': {'compression_ratio': 10.5, 'peak_pressure': '75 bar'}}})\n"
+        "print(spec.balance.balance_factor.value, spec.flywheel.inertia, "
+        "spec.gas.model.peak_pressure)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split() == ["0.5", "0.1", "7500000.0"]

@@ -30,7 +30,7 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # arrays: compared as their arrays, not as a whole
 class DeadCentres:
     """Each cylinder's piston travel and top dead centre.
 

@@ -18,14 +18,17 @@ from __future__ import annotations
 import dataclasses
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from balance.core.engine import Engine
 from balance.io.layout_fields import layout_field, written
 from balance.io.layout_reader import build_layout, cylinder_entries, read_document
 from balance.io.layout_sections import section_keys, section_reader
-from balance.io.schema import CoreSpec, GasSpec
+from balance.io.schema import CoreSpec
 from balance.io.several_cranks import expand_part
+
+if TYPE_CHECKING:
+    from balance.io.schema_options import GasSpec
 
 __all__ = ["expand_layout"]
 

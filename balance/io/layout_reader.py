@@ -19,7 +19,7 @@ import functools
 import math
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,7 +27,6 @@ from pydantic import create_model
 
 from balance.core.engine import CYLINDER_FIELDS, Engine, Links, PerCylinder, bore_pitch
 from balance.core.errors import LayoutError, LayoutErrors, Location, raise_all
-from balance.core.gas import GasInput, cycle_degrees, firing_tdc
 from balance.core.masses import MassParts, two_mass_split
 from balance.core.throws import rods_per_throw
 from balance.io.layout_fields import GEOMETRY_KEYS, LUMPED_KEYS, PART_KEYS, layout_field
@@ -36,10 +35,21 @@ from balance.io.layout_throws import throw_index
 from balance.io.layouts import layout_path
 from balance.io.located import problem_error, validate
 from balance.io.problems import FieldProblem, FieldProblems
-from balance.io.schema import LAYOUT_HINTS, CrankSpec, CylinderSpec, LayoutSpec, LinkSpec
+from balance.io.schema import (
+    LAYOUT_HINTS,
+    SETTINGS_FIELDS,
+    CrankSpec,
+    CylinderSpec,
+    LayoutSpec,
+    LinkSpec,
+    settings_models,
+)
 from balance.io.several_cranks import attach, blocks, check_bores, expand_block, resolve
 from balance.io.traces import read_pressure_trace
 from balance.io.yamlsource import SourceDocument, dotted_path, parse_yaml, read_yaml_file
+
+if TYPE_CHECKING:
+    from balance.core.gas import GasInput
 
 __all__ = [
     "build_layout",
@@ -161,6 +171,7 @@ def _specs(doc: SourceDocument) -> tuple[LayoutSpec | None, dict[str, Any], list
     spec: LayoutSpec | None = _valid_spec(rest)
     problems: list[LayoutError] = []
     if spec is None:  # report the problems as the whole layout's model finds them
+        settings_models()
         spec, problems = validate(LayoutSpec, rest, doc, hints=LAYOUT_HINTS, also=keys)
     sections: dict[str, Any] = {}
     for key in keys:
@@ -184,6 +195,8 @@ def _valid_spec(rest: dict[str, Any]) -> LayoutSpec | None:
         for name, info in LayoutSpec.model_fields.items()
         if name not in rest and info.default is None and not info.is_required()
     )
+    if not absent >= SETTINGS_FIELDS:
+        settings_models()
     try:
         return _spec_without(absent).model_validate(rest)
     except Exception:
@@ -572,6 +585,7 @@ def _gas(
 ) -> GasInput:
     """Resolve the ``gas:`` and ``flywheel:`` sections: read the trace, place firing TDCs."""
     from balance.core.cylinders import dead_centre_lag
+    from balance.core.gas import GasInput, cycle_degrees, firing_tdc
 
     section = spec.gas
     assert section is not None

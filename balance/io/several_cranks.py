@@ -279,7 +279,7 @@ def expand_block(
     return made
 
 
-@dataclass
+@dataclass(repr=False, eq=False)  # the reader's working state, never compared or shown
 class Plan:
     """The crankshafts of a layout file, resolved (SI; radians).
 

@@ -41,7 +41,7 @@ Path = tuple[str | int, ...]
 _Loader: type[yaml.SafeLoader] = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
-@dataclass
+@dataclass(repr=False, eq=False)  # one per file read, never compared or shown
 class SourceDocument:
     """Plain data of a YAML document and the location of each value and key."""
 

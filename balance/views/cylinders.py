@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from balance.views.fitted import Column, NumberTable
 from balance.views.polar import format_number, json_number
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -16,6 +15,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from balance.core.cylinders import DeadCentres
     from balance.core.result import Result
+    from balance.views.fitted import NumberTable
 
 __all__ = ["cylinders_table", "json_block", "report_columns", "tables"]
 
@@ -78,6 +78,8 @@ def cylinders_table(result: Result) -> NumberTable:
     -------
     NumberTable
     """
+    from balance.views.fitted import Column, NumberTable
+
     part = _part(result)
     engine = result.engine
     links = engine.links

@@ -11,25 +11,8 @@ import numpy as np
 from balance.core.balancing import SHAFT_CLEARANCE
 from balance.core.errors import InputError
 from balance.core.phasors import phase_deg, safe_ratio
-from balance.views import signals
-from balance.views.figures import (
-    BEFORE_COLOUR,
-    AxesArg,
-    axis_label,
-    degree_axis,
-    denoise,
-    finish,
-    layout_heading,
-    new_figure,
-    order_bars,
-    scale_of,
-    styled,
-)
-from balance.views.fitted import Column, NumberTable
 from balance.views.json import roll_entries
 from balance.views.polar import format_number, json_number
-from balance.views.signals import roll_of
-from balance.views.table import format_ratio, pitch_note
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -38,6 +21,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from balance.core.balancing import Proposal
     from balance.core.proposal import ProposalResult
     from balance.core.result import Result
+    from balance.views.figures import AxesArg
 
 __all__ = [
     "PLOTS",
@@ -213,6 +197,9 @@ def _render_proposal(result: Result) -> list[RenderableType]:
     residual."""
     from rich.text import Text
 
+    from balance.views.fitted import Column, NumberTable
+    from balance.views.table import format_ratio, pitch_note
+
     part = _part(result)
     proposal = part.proposal
     out: list[RenderableType] = [Text(f"Proposal: {_choices(part)}", style="bold")]
@@ -352,6 +339,8 @@ def _num(value: Any, scale: float = 1.0) -> str:
 
 def _ratio(value: Any, reference: float) -> str:
     """A normalised value, ``n/a`` where the reference is undefined (no pitch)."""
+    from balance.views.table import format_ratio
+
     return format_ratio(float(value), float(reference))
 
 
@@ -372,6 +361,7 @@ def report_section(result: Result, figures: bool) -> str:
         heading).
     """
     from balance.views.report import escape, html_facts, html_figure, html_table
+    from balance.views.signals import roll_of
 
     part = _part(result)
     proposal = part.proposal
@@ -547,6 +537,20 @@ def plot_balance(
     InputError
         If the result holds no proposal.
     """
+    from balance.views import signals
+    from balance.views.figures import (
+        BEFORE_COLOUR,
+        axis_label,
+        degree_axis,
+        denoise,
+        finish,
+        layout_heading,
+        new_figure,
+        order_bars,
+        scale_of,
+        styled,
+    )
+
     if not signals.has_proposal(result):
         raise InputError(
             "plot_balance: this result has no balancing proposal; analyse with the proposal "
