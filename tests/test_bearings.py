@@ -16,7 +16,7 @@ from balance.core import bearings as bb
 from balance.core.torque import compute_torque
 from balance.io.bearings_section import BearingsSpec, main_positions
 from balance.io.layout_file import layout_from_dict, load_layout
-from balance.io.schema import FieldProblem
+from balance.io.problems import FieldProblem
 
 # --------------------------------------------------------------------------- helpers
 

@@ -51,7 +51,7 @@ from balance.core.engine import Engine
 from balance.io.layout_fields import written
 from balance.io.layout_sections import SectionReader
 from balance.io.problems import FieldProblem
-from balance.io.schema import Length, Strict
+from balance.io.spec_blocks import Length, Strict
 
 __all__ = ["PLANE_TOLERANCE", "SECTION", "BearingsSpec", "main_positions", "shaft_mains"]
 

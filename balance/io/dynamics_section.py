@@ -36,7 +36,7 @@ from balance.io.layout_fields import written
 from balance.io.layout_sections import SectionReader
 from balance.io.located import Hints
 from balance.io.problems import FieldProblem
-from balance.io.schema import Speed, Strict, quantity
+from balance.io.spec_blocks import Speed, Strict, quantity
 
 __all__ = ["SECTION", "DynamicsSpec", "LoadSpec"]
 

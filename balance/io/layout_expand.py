@@ -24,8 +24,8 @@ from balance.core.engine import Engine
 from balance.io.layout_fields import layout_field, written
 from balance.io.layout_reader import build_layout, cylinder_entries, read_document
 from balance.io.layout_sections import section_keys, section_reader
-from balance.io.schema import CoreSpec
 from balance.io.several_cranks import expand_part
+from balance.io.spec_blocks import CoreSpec
 
 if TYPE_CHECKING:
     from balance.io.schema_options import GasSpec

@@ -37,7 +37,7 @@ from balance.core.mounts import (
 from balance.io.layout_sections import SectionReader
 from balance.io.located import Hints, validate
 from balance.io.problems import FieldProblem
-from balance.io.schema import Length, Strict, kg_m2, quantity
+from balance.io.spec_blocks import Length, Strict, kg_m2, quantity
 from balance.io.units import UnitProblem, check_thousands, registry
 from balance.io.yamlsource import SourceDocument, parse_yaml, read_yaml_file
 

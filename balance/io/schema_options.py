@@ -21,11 +21,11 @@ from balance.core.engine import STRATEGIES, BalanceSettings, ShaftPosition
 from balance.core.gas import GasModel
 from balance.io.limits import MAX_ORDER
 from balance.io.problems import FieldProblem
-from balance.io.schema import (
+from balance.io.spec_blocks import (
     CoreSpec,
     OptLength,
     Strict,
-    _exactly_one,
+    exactly_one,
     kg_m2,
     positive,
     quantity,
@@ -170,7 +170,7 @@ class GasModelSpec(
 
     @model_validator(mode="after")
     def _check(self) -> GasModelSpec:
-        _exactly_one(
+        exactly_one(
             self,
             "heat_released",
             "peak_pressure",
@@ -235,7 +235,7 @@ class GasSpec(Strict):
 
     @model_validator(mode="after")
     def _check(self) -> GasSpec:
-        _exactly_one(
+        exactly_one(
             self,
             "pressure_trace",
             "model",
@@ -255,7 +255,7 @@ class FlywheelSpec(Strict):
 
     @model_validator(mode="after")
     def _check(self) -> FlywheelSpec:
-        _exactly_one(
+        exactly_one(
             self,
             "inertia",
             "speed_fluctuation",

@@ -43,7 +43,7 @@ from balance.io.layout_fields import exact_number, written
 from balance.io.layout_sections import SectionReader
 from balance.io.located import Hints
 from balance.io.problems import FieldProblem, FieldProblems
-from balance.io.schema import Strict, kg_m2, quantity
+from balance.io.spec_blocks import Strict, kg_m2, quantity
 
 __all__ = ["SECTION", "DamperSpec", "MassSpec", "ShaftSpec", "TorsionSpec"]
 
