@@ -112,7 +112,9 @@ def proposal_phasors(
     zeros = np.zeros(ks.size, dtype=np.complex128)
     ff, fb, mf, mb = zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy()
     first = ks == 1
-    roll_z = zeros.copy()
+    # a counterweight off the crank axis has a moment about z: the roll's first order
+    displaced = any(cw.x != 0.0 or cw.y != 0.0 for cw in proposal.counterweights)
+    roll_z = zeros.copy() if displaced else zeros
     for cw in proposal.counterweights:
         force = cw.unbalance * w2
         if cw.sense > 0:
@@ -121,7 +123,8 @@ def proposal_phasors(
         else:
             fb[first] += force
             mb[first] += (cw.z - z_ref) * force
-        roll_z[first] += counterweight_moment_z(cw, w2)
+        if displaced:
+            roll_z[first] += counterweight_moment_z(cw, w2)
     for shaft in proposal.shafts:
         s = shaft.speed_ratio
         at = ks == abs(s)
@@ -134,7 +137,7 @@ def proposal_phasors(
                 fb[at] += force
                 mb[at] += (plane_z - z_ref) * force
     roll = shaft_roll_phasors(proposal.shafts, layout.speed, ks)
-    if any(cw.x != 0.0 or cw.y != 0.0 for cw in proposal.counterweights):
+    if displaced:
         roll = roll + roll_z
     return Phasors(ks, ff, fb, mf, mb, roll=roll)
 
@@ -363,4 +366,5 @@ def propose_geared(
         fixed_shafts=fixed_shafts,
         cancel_roll=cancel_roll,
         counterweight_senses=(1, -1) if np.any(layout.axis_table().rotation < 0) else (1,),
+        mean_radius=r_mean,
     )
