@@ -36,6 +36,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from balance.core._numerics import mean
 from balance.core.balance_factor import BalanceFactor, FactorEquivalents, cylinder_shares
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
@@ -333,7 +334,7 @@ def propose(
     if any(k < 1 for k in wanted):
         raise AnalysisError("orders to cancel start at 1")
     w2 = float(speed_squared(layout.speed))
-    r_mean = float(np.mean(layout.crank_radius))
+    r_mean = mean(layout.crank_radius)
     radius = float(counterweight_radius) if counterweight_radius is not None else r_mean
     if not (math.isfinite(radius) and radius > 0):
         raise AnalysisError("counterweight radius must be a positive length")
@@ -512,7 +513,7 @@ def balance_shafts(
     """
     ff, fb, mf, mb = phasors
     w2 = float(speed_squared(layout.speed))
-    r_mean = float(np.mean(layout.crank_radius)) if mean_radius is None else mean_radius
+    r_mean = mean(layout.crank_radius) if mean_radius is None else mean_radius
     z_ref = layout.reference_z
     z_range: tuple[float, float] | None = None  # the crank's ends, once a shaft needs them
     notes: list[str] = []

@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from balance.core._numerics import mean
 from balance.core.balance_factor import BalanceFactor, FactorEquivalents, cylinder_shares
 from balance.core.balancing import (
     DEFAULT_ORDERS,
@@ -301,7 +302,7 @@ def propose_geared(
             f"orders {missing} are to be cancelled but were not analysed; include them in orders"
         )
     w2 = float(speed_squared(layout.speed))
-    r_mean = float(np.mean(layout.crank_radius))
+    r_mean = mean(layout.crank_radius)
     radius = float(counterweight_radius) if counterweight_radius is not None else r_mean
     if not (math.isfinite(radius) and radius > 0):
         raise AnalysisError("counterweight radius must be a positive length")
