@@ -573,7 +573,7 @@ def unique_rows(values: FloatArray) -> tuple[FloatArray, NDArray[np.intp]]:
     return unique, inverse
 
 
-def mean(values: ArrayLike) -> float:
+def mean(values: FloatArray) -> float:
     """``float(np.mean(values))``, of a float array at a third of its cost: numpy's mean is
     the same pairwise sum over the count, in one division (the same bits)."""
     if type(values) is np.ndarray and values.dtype.type is np.float64 and values.size:
