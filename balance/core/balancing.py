@@ -261,8 +261,7 @@ def _planes_for(
             "in the cylinders' plane"
         )
     a, b = z_min - z_ref, z_max - z_ref
-    # v_a + v_b = -F ; a v_a + b v_b = -M
-    v_b = (-moment + a * force) / (b - a)
+    v_b = (-moment + a * force) / (b - a)  # v_a + v_b = -F ; a v_a + b v_b = -M
     v_a = -force - v_b
     return ((z_min, v_a), (z_max, v_b))
 
