@@ -20,6 +20,7 @@ and carries no physics.
 * **Largest value and mean of** :math:`|F|` over a period: of a Fourier series
   (:func:`series_stats`), or of any quantity from the nodes of a piecewise rule
   (:func:`node_stats`).
+* **Mean** of an engine's per-cylinder values (:func:`mean`).
 * **Rows**: a linear combination summed row by row, so that a column's bits do not depend
   on the other columns (:func:`ordered_combination`); the distinct rows of an array in
   order of first appearance (:func:`unique_rows`).
@@ -570,3 +571,11 @@ def unique_rows(values: FloatArray) -> tuple[FloatArray, NDArray[np.intp]]:
         inverse[i] = seen.setdefault(tuple(row), len(seen))
     unique = np.array(list(seen), dtype=np.float64).reshape(len(seen), values.shape[1])
     return unique, inverse
+
+
+def mean(values: FloatArray) -> float:
+    """``float(np.mean(values))``, of a float array at a third of its cost: numpy's mean is
+    the same pairwise sum over the count, in one division (the same bits)."""
+    if type(values) is np.ndarray and values.dtype.type is np.float64 and values.size:
+        return float(values.sum()) / values.size
+    return float(np.mean(values))

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from balance.core import accuracy, kinematics, phasors
+from balance.core._numerics import mean
 from balance.core.engine import CYLINDER_FIELDS, Engine, Links
 from balance.core.errors import InputError
 from balance.core.phasors import Phasors
@@ -358,9 +359,7 @@ def reference_force(layout: Engine) -> float:
         normalised forces (docs/conventions.md, "Normalisation and ``pitch``").
     """
     return float(
-        np.mean(layout.reciprocating_mass)
-        * np.mean(layout.crank_radius)
-        * speed_squared(layout.speed)
+        mean(layout.reciprocating_mass) * mean(layout.crank_radius) * speed_squared(layout.speed)
     )
 
 
@@ -514,7 +513,7 @@ def compute(engine: Engine, request: Request) -> Result:
         reference_force=f1,
         pitch=pitch,
         reference_moment=f1 * pitch if math.isfinite(pitch) else math.nan,
-        reference_roll=float(np.mean(engine.reciprocating_mass) * np.mean(engine.crank_radius) ** 2)
+        reference_roll=float(mean(engine.reciprocating_mass) * mean(engine.crank_radius) ** 2)
         * float(speed_squared(engine.speed)),
         warnings=check_engine(engine, radius),
     )

@@ -36,6 +36,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from balance.core._numerics import mean
 from balance.core.balance_factor import BalanceFactor, FactorEquivalents, cylinder_shares
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
@@ -260,8 +261,7 @@ def _planes_for(
             "in the cylinders' plane"
         )
     a, b = z_min - z_ref, z_max - z_ref
-    # v_a + v_b = -F ; a v_a + b v_b = -M
-    v_b = (-moment + a * force) / (b - a)
+    v_b = (-moment + a * force) / (b - a)  # v_a + v_b = -F ; a v_a + b v_b = -M
     v_a = -force - v_b
     return ((z_min, v_a), (z_max, v_b))
 
@@ -333,7 +333,7 @@ def propose(
     if any(k < 1 for k in wanted):
         raise AnalysisError("orders to cancel start at 1")
     w2 = float(speed_squared(layout.speed))
-    r_mean = float(np.mean(layout.crank_radius))
+    r_mean = mean(layout.crank_radius)
     radius = float(counterweight_radius) if counterweight_radius is not None else r_mean
     if not (math.isfinite(radius) and radius > 0):
         raise AnalysisError("counterweight radius must be a positive length")
@@ -405,6 +405,7 @@ def propose(
         equivalents=equivalents,
         fixed_shafts=fixed_shafts,
         cancel_roll=cancel_roll,
+        mean_radius=r_mean,
     )
 
 
@@ -419,6 +420,7 @@ def completed_proposal(
     fixed_shafts: Sequence[ShaftPosition] | None,
     cancel_roll: bool,
     counterweight_senses: tuple[int, ...] = (1,),
+    mean_radius: float | None = None,
 ) -> Proposal:
     """The proposal from its counterweights: the shafts for what they leave and the notes
     (:func:`balance_shafts`), the tail of :func:`propose` and of
@@ -435,7 +437,7 @@ def completed_proposal(
         with the counterweights' part in the first order [N, N m], the roll [N m] or None).
     strategy, radius, equivalents
         The counterweights' strategy, radius [m] and balance factor (or None).
-    fixed_shafts, cancel_roll, counterweight_senses
+    fixed_shafts, cancel_roll, counterweight_senses, mean_radius
         As :func:`balance_shafts`.
 
     Returns
@@ -452,6 +454,7 @@ def completed_proposal(
         cancel_roll=cancel_roll,
         roll=roll,
         counterweight_senses=counterweight_senses,
+        mean_radius=mean_radius,
     )
     return Proposal(
         counterweights=tuple(counterweights),
@@ -476,6 +479,7 @@ def balance_shafts(
     cancel_roll: bool = False,
     roll: ComplexArray | None = None,
     counterweight_senses: tuple[int, ...] = (1,),
+    mean_radius: float | None = None,
 ) -> tuple[list[BalanceShaft], list[str]]:
     """The balance shafts for what the counterweights leave, and the notes on them.
 
@@ -496,6 +500,8 @@ def balance_shafts(
     counterweight_senses : tuple of int
         The senses of the first order that belong to the counterweights (no shaft is
         proposed for them): forward, and backward too where crank axes counter-rotate.
+    mean_radius : float, optional
+        The mean crank radius [m], where the caller has it (default: the engine's).
 
     Returns
     -------
@@ -506,7 +512,7 @@ def balance_shafts(
     """
     ff, fb, mf, mb = phasors
     w2 = float(speed_squared(layout.speed))
-    r_mean = float(np.mean(layout.crank_radius))
+    r_mean = mean(layout.crank_radius) if mean_radius is None else mean_radius
     z_ref = layout.reference_z
     z_range: tuple[float, float] | None = None  # the crank's ends, once a shaft needs them
     notes: list[str] = []

@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from balance.core._numerics import mean
 from balance.core.balance_factor import BalanceFactor, FactorEquivalents, cylinder_shares
 from balance.core.balancing import (
     DEFAULT_ORDERS,
@@ -112,7 +113,9 @@ def proposal_phasors(
     zeros = np.zeros(ks.size, dtype=np.complex128)
     ff, fb, mf, mb = zeros.copy(), zeros.copy(), zeros.copy(), zeros.copy()
     first = ks == 1
-    roll_z = zeros.copy()
+    # a counterweight off the crank axis has a moment about z: the roll's first order
+    displaced = any(cw.x != 0.0 or cw.y != 0.0 for cw in proposal.counterweights)
+    roll_z = zeros.copy() if displaced else zeros
     for cw in proposal.counterweights:
         force = cw.unbalance * w2
         if cw.sense > 0:
@@ -121,7 +124,8 @@ def proposal_phasors(
         else:
             fb[first] += force
             mb[first] += (cw.z - z_ref) * force
-        roll_z[first] += counterweight_moment_z(cw, w2)
+        if displaced:
+            roll_z[first] += counterweight_moment_z(cw, w2)
     for shaft in proposal.shafts:
         s = shaft.speed_ratio
         at = ks == abs(s)
@@ -134,7 +138,7 @@ def proposal_phasors(
                 fb[at] += force
                 mb[at] += (plane_z - z_ref) * force
     roll = shaft_roll_phasors(proposal.shafts, layout.speed, ks)
-    if any(cw.x != 0.0 or cw.y != 0.0 for cw in proposal.counterweights):
+    if displaced:
         roll = roll + roll_z
     return Phasors(ks, ff, fb, mf, mb, roll=roll)
 
@@ -298,7 +302,7 @@ def propose_geared(
             f"orders {missing} are to be cancelled but were not analysed; include them in orders"
         )
     w2 = float(speed_squared(layout.speed))
-    r_mean = float(np.mean(layout.crank_radius))
+    r_mean = mean(layout.crank_radius)
     radius = float(counterweight_radius) if counterweight_radius is not None else r_mean
     if not (math.isfinite(radius) and radius > 0):
         raise AnalysisError("counterweight radius must be a positive length")
@@ -363,4 +367,5 @@ def propose_geared(
         fixed_shafts=fixed_shafts,
         cancel_roll=cancel_roll,
         counterweight_senses=(1, -1) if np.any(layout.axis_table().rotation < 0) else (1,),
+        mean_radius=r_mean,
     )

@@ -570,15 +570,10 @@ class Phasors:
         TypeError
             For a name that is no field.
         """
-        unknown = changes.keys() - _FIELDS
-        if unknown:
+        if not changes.keys() <= _FIELDS:
+            unknown = changes.keys() - _FIELDS
             raise TypeError(f"Phasors has no field {', '.join(sorted(unknown))}")
-        new = object.__new__(type(self))
-        values = new.__dict__
-        values.update(self.__dict__)
-        values.pop("_abs", None)  # the memo of magnitudes (:meth:`_magnitudes`)
-        values.update(changes)
-        return new
+        return _changed(self, changes)
 
     def has(self, quantity: Quantity) -> bool:
         """Whether the bundle holds ``quantity`` ('force' or 'moment')."""
@@ -606,29 +601,27 @@ class Phasors:
         This is the one place where "free = reciprocating + rotating at order 1" is
         written.
         """
+        memo = self._memo()
+        free: Phasors | None = memo.get("free")
+        if free is not None:  # an analysis' mounts and proposal both read it
+            return free
         first = (self.orders == 1).astype(np.float64)
-
-        def add(forward: Any, rotating: Any) -> Any:
-            if forward is None or rotating is None:
-                return forward
-            return forward + first * np.asarray(rotating)[..., None]
-
-        def zero(value: Any) -> Any:
-            if value is None:
-                return None
-            value = np.asarray(value)
-            return np.zeros(value.shape, dtype=value.dtype)
-
-        return self.replaced(
-            force_forward=add(self.force_forward, self.rotating_force),
-            moment_forward=add(self.moment_forward, self.rotating_moment),
-            force_backward=add(self.force_backward, self.rotating_force_backward),
-            moment_backward=add(self.moment_backward, self.rotating_moment_backward),
-            rotating_force=zero(self.rotating_force),
-            rotating_moment=zero(self.rotating_moment),
-            rotating_force_backward=zero(self.rotating_force_backward),
-            rotating_moment_backward=zero(self.rotating_moment_backward),
-        )
+        values = self.__dict__
+        changes: dict[str, Any] = {}
+        for name, rotating_name in _FREE_PAIRS:
+            rotating = values[rotating_name]
+            if rotating is None:
+                continue  # nothing to add, nothing to zero
+            if type(rotating) is np.ndarray:  # one per engine of a grid: zeros of its shape
+                changes[rotating_name] = np.zeros(rotating.shape, dtype=rotating.dtype)
+                rotating = rotating[..., None]  # along the orders
+            else:  # a scalar: a zero of its type
+                changes[rotating_name] = type(rotating)(0)
+            forward = values[name]
+            if forward is not None:
+                changes[name] = forward + first * rotating
+        free = memo["free"] = _changed(self, changes)
+        return free
 
     def magnitude(self, quantity: Quantity) -> FloatArray:
         """:math:`|P^{+}|` and :math:`|P^{-}|` of ``quantity``, shape ``(..., K, 2)``."""
@@ -643,14 +636,21 @@ class Phasors:
     def _magnitudes(self, quantity: Quantity) -> tuple[FloatArray, FloatArray]:
         """:math:`|P^{+}|` and :math:`|P^{-}|`, formed once per bundle (a Dataset or a
         sweep's chunk reads the magnitudes and the peaks, each also normalised)."""
-        cache: dict[str, tuple[FloatArray, FloatArray]] | None = self.__dict__.get("_abs")
-        if cache is None:
-            cache = {}
-            object.__setattr__(self, "_abs", cache)  # a frozen bundle's private memo
+        cache = self._memo()
         if quantity not in cache:
             forward, backward = self._computed(quantity)
             cache[quantity] = (np.abs(forward), np.abs(backward))
-        return cache[quantity]
+        magnitudes: tuple[FloatArray, FloatArray] = cache[quantity]
+        return magnitudes
+
+    def _memo(self) -> dict[str, Any]:
+        """The bundle's private memo (a frozen bundle's): its magnitudes per quantity
+        (:meth:`_magnitudes`) and its :meth:`free` bundle, formed once each."""
+        memo: dict[str, Any] | None = self.__dict__.get("_formed")
+        if memo is None:
+            memo = {}
+            object.__setattr__(self, "_formed", memo)
+        return memo
 
     def phase(self, quantity: Quantity) -> FloatArray:
         """Phases of :math:`P^{+}` and :math:`P^{-}` at crank angle 0 [deg], shape
@@ -696,29 +696,31 @@ class Phasors:
         def either(a: Any, b: Any) -> Any:  # None is zero: masses that no bundle has
             return b if a is None else a if b is None else a + b
 
-        return Phasors(
-            orders=self.orders,
-            force_forward=plus(self.force_forward, other.force_forward),
-            force_backward=plus(self.force_backward, other.force_backward),
-            moment_forward=plus(self.moment_forward, other.moment_forward),
-            moment_backward=plus(self.moment_backward, other.moment_backward),
-            rotating_force=plus(self.rotating_force, other.rotating_force),
-            rotating_moment=plus(self.rotating_moment, other.rotating_moment),
-            roll=plus(self.roll, other.roll),
-            rotating_force_backward=either(
-                self.rotating_force_backward, other.rotating_force_backward
-            ),
-            rotating_moment_backward=either(
-                self.rotating_moment_backward, other.rotating_moment_backward
-            ),
+        return _bundle(
+            {
+                "orders": self.orders,
+                "force_forward": plus(self.force_forward, other.force_forward),
+                "force_backward": plus(self.force_backward, other.force_backward),
+                "moment_forward": plus(self.moment_forward, other.moment_forward),
+                "moment_backward": plus(self.moment_backward, other.moment_backward),
+                "rotating_force": plus(self.rotating_force, other.rotating_force),
+                "rotating_moment": plus(self.rotating_moment, other.rotating_moment),
+                "roll": plus(self.roll, other.roll),
+                "rotating_force_backward": either(
+                    self.rotating_force_backward, other.rotating_force_backward
+                ),
+                "rotating_moment_backward": either(
+                    self.rotating_moment_backward, other.rotating_moment_backward
+                ),
+            }
         )
 
     def at(self, orders: ArrayLike) -> Phasors:
         """The bundle at some of its orders (each must be one of :attr:`orders`)."""
-        pick = np.searchsorted(self.orders, np.asarray(orders, dtype=np.intp))
+        pick = self.orders.searchsorted(np.asarray(orders, dtype=np.intp))
 
-        def take(value: Any) -> Any:
-            return None if value is None else value[..., pick]
+        def take(value: Any) -> Any:  # one engine's orders are indexed at a third of the cost
+            return None if value is None else value[pick] if value.ndim == 1 else value[..., pick]
 
         return self.replaced(
             orders=self.orders[pick],
@@ -739,3 +741,31 @@ class Phasors:
 #: The names of the fields of a :class:`Phasors` bundle (what :meth:`Phasors.replaced` may
 #: change).
 _FIELDS = frozenset(f.name for f in fields(Phasors))
+
+
+#: Each forward phasor and the rotating masses' phasor :meth:`Phasors.free` adds to it.
+_FREE_PAIRS = (
+    ("force_forward", "rotating_force"),
+    ("moment_forward", "rotating_moment"),
+    ("force_backward", "rotating_force_backward"),
+    ("moment_backward", "rotating_moment_backward"),
+)
+
+
+def _changed(bundle: Phasors, changes: dict[str, Any]) -> Phasors:
+    """``bundle`` with the fields in ``changes`` (names checked by the caller), without its
+    memo (:meth:`Phasors._memo`, formed of the old values)."""
+    new = object.__new__(type(bundle))
+    values = new.__dict__
+    values.update(bundle.__dict__)
+    values.pop("_formed", None)
+    values.update(changes)
+    return new
+
+
+def _bundle(values: dict[str, Any]) -> Phasors:
+    """A :class:`Phasors` of every field in ``values``, without the dataclass's
+    ``__init__`` (ten frozen assignments, a third of :meth:`Phasors.__add__`'s cost)."""
+    new = object.__new__(Phasors)
+    new.__dict__.update(values)
+    return new
