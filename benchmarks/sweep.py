@@ -32,7 +32,7 @@ import numpy as np
 import balance
 from balance.api import analyse
 from balance.core.analysis import compute_phasors
-from balance.io.fields import parse_orders
+from balance.io.orders import parse_orders
 from balance.studies.search import search
 from balance.studies.sweep import sweep_arrays, variant
 from balance.studies.tolerance import tolerance

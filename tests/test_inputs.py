@@ -18,8 +18,9 @@ from balance.api import analyse
 from balance.cli import app
 from balance.core.errors import InputError
 from balance.io.arithmetic import read_arithmetic
-from balance.io.fields import parse_orders, parse_speed
+from balance.io.fields import parse_speed
 from balance.io.layout_file import builtin_layout_path, load_layout
+from balance.io.orders import parse_orders
 from balance.io.units import UnitProblem, parse_quantity
 
 runner = CliRunner()

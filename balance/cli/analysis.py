@@ -359,7 +359,7 @@ def propose_command(
 ) -> None:
     """Propose counterweights and balance shafts, and show what remains."""
     from balance.core.analysis import compute
-    from balance.io.fields import parse_orders
+    from balance.io.orders import parse_orders
 
     cancel_orders = tuple(parse_orders(cancel, "--cancel").tolist()) if cancel is not None else None
     factor = _parse_fraction(balance_factor, "--balance-factor") if balance_factor else None

@@ -102,8 +102,9 @@ def compare_command(
     """Compare layouts side by side: free forces, moments, roll and balancing needs."""
     import json
 
-    from balance.io.fields import parse_option_quantity, parse_orders
+    from balance.io.fields import parse_option_quantity
     from balance.io.layout_file import load_layout
+    from balance.io.orders import parse_orders
     from balance.studies.compare import compare_results
     from balance.views.compare import (
         compare_csv,
@@ -292,7 +293,8 @@ def search_command(
     top: Annotated[int, typer.Option("--top", min=1, help="How many to print.")] = 5,
 ) -> None:
     """Enumerate crank arrangements, drop symmetric duplicates, print the best."""
-    from balance.io.fields import parse_option_quantity, parse_orders
+    from balance.io.fields import parse_option_quantity
+    from balance.io.orders import parse_orders
     from balance.studies.search import search
 
     step_deg = parse_option_quantity(step, "angle", "--step")

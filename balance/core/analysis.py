@@ -58,7 +58,7 @@ def compute_phasors(
         The engine.
     orders : int or sequence of int, optional
         Orders to compute: 1 to N for an int N, default 1 to 8 (spec strings such as
-        ``"1-8"`` are read by :func:`balance.io.fields.parse_orders` at the edges).
+        ``"1-8"`` are read by :func:`balance.io.orders.parse_orders` at the edges).
     model : {'exact', 'series', 'textbook', 'time'}
         How the piston acceleration is expanded
         (:func:`balance.core.kinematics.acceleration_coefficients`), or ``time``: forces, moments
@@ -153,7 +153,7 @@ def _orders_array(orders: int | Iterable[int] | None) -> NDArray[np.intp]:
     """Orders as a sorted array of distinct orders: ``None`` is 1 to 8, an int N is 1 to N.
 
     The core assumes the orders are valid (whole numbers of at least 1); the edges check
-    what a user wrote (:func:`balance.io.fields.parse_orders`).
+    what a user wrote (:func:`balance.io.orders.parse_orders`).
     """
     if orders is None:
         orders = 8

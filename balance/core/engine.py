@@ -445,9 +445,9 @@ class Engine:
         """The same layout at another crank speed [rad/s].
 
         Precondition: ``speed`` is finite and above zero; the input is checked once, where
-        it is read (:func:`balance.io.fields.check_speed`).
+        it is read (:func:`balance.io.orders.check_speed`).
         """
-        assert math.isfinite(speed) and speed > 0, "speed: checked by io.fields.check_speed"
+        assert math.isfinite(speed) and speed > 0, "speed: checked by io.orders.check_speed"
         return replace(self, speed=float(speed))
 
     def reordered(self, order: NDArray[np.intp] | list[int]) -> Engine:

@@ -1,5 +1,6 @@
-r"""The grammar of field specifications on the command line: ``--orders``, ``--speed``,
-and the fields and values of ``--vary`` and ``--scatter``.
+r"""The grammar of field specifications on the command line: ``--speed``, ``--load``, half
+orders, and the fields and values of ``--vary`` and ``--scatter`` (``--orders`` and the check
+of a speed: :mod:`balance.io.orders`).
 
 Every function here checks what it reads and raises :class:`~balance.core.errors.InputError`
 with what would be valid; the studies (:mod:`balance.studies`) receive checked numbers.
@@ -69,7 +70,7 @@ from balance.io.layout_fields import (
     placed,
 )
 from balance.io.limits import MAX_ORDER
-from balance.io.orders import DEFAULT_ORDERS, check_speed, parse_orders
+from balance.io.orders import check_speed
 
 if TYPE_CHECKING:
     from balance.core.engine import Engine
@@ -79,20 +80,17 @@ if TYPE_CHECKING:
 __all__ = [
     "BALANCE_FIELDS",
     "CRANK_FIELDS",
-    "DEFAULT_ORDERS",
     "MAX_ORDER",
     "MAX_POINTS",
     "MAX_VALUES",
     "Field",
     "Scatter",
     "Vary",
-    "check_speed",
     "check_varies",
     "load_of",
     "parse_field",
     "parse_half_orders",
     "parse_option_quantity",
-    "parse_orders",
     "parse_scatter",
     "parse_speed",
     "parse_values",

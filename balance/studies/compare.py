@@ -20,7 +20,7 @@ from balance.core.catalogue import compared_sections
 from balance.core.engine import Engine
 from balance.core.errors import InputError
 from balance.core.result import Result
-from balance.io.fields import parse_orders
+from balance.io.orders import parse_orders
 from balance.io.request import build_request
 
 __all__ = ["COMPARED", "Compared", "compare_results", "scale_layout"]

@@ -37,10 +37,10 @@ from balance.io.fields import (
     Vary,
     check_varies,
     parse_field,
-    parse_orders,
     parse_values,
     parse_vary,
 )
+from balance.io.orders import parse_orders
 from balance.studies.changes import Change, apply_changes
 from balance.studies.sweep_balance import balance_varied, residual_outputs, residual_point
 

@@ -34,7 +34,8 @@ from balance.core.errors import AnalysisError, InputError
 from balance.core.phasors import Phasors
 from balance.core.proposal import balance_engine
 from balance.core.speed import speed_squared
-from balance.io.fields import Scatter, parse_orders, parse_scatter
+from balance.io.fields import Scatter, parse_scatter
+from balance.io.orders import parse_orders
 from balance.studies.changes import LINK_GEOMETRY, Change, apply_changes
 from balance.studies.sweep import refuse_variable_speed
 
