@@ -11,6 +11,8 @@ from importlib import metadata
 from pathlib import Path
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 import balance
@@ -61,6 +63,44 @@ def test_arithmetic_is_the_float_nearest_the_exact_value():
     is not 0.3: the exact value is)."""
     assert parse_quantity("0.1*3", "angle") == 0.3 != 0.1 * 3
     assert float(read_arithmetic("360/7").value) == 360 / 7
+
+
+_UNIT_TEXT = st.text(st.characters(min_codepoint=32, max_codepoint=126), max_size=12)
+
+
+@st.composite
+def _one_number_texts(draw: st.DrawFn) -> str:
+    """ASCII text of one unsigned number, then nothing or a unit starting with a letter or
+    % ("86 mm", " .5e-3 kg m^2", "7."): what io.units reads without the arithmetic reader."""
+    digits = st.text("0123456789", min_size=1, max_size=6)
+    whole, fraction = draw(digits), draw(st.one_of(st.none(), st.text("0123456789", max_size=4)))
+    number = draw(st.sampled_from([whole, f"{whole}.{fraction or ''}", f".{draw(digits)}"]))
+    if draw(st.booleans()):
+        number += draw(st.sampled_from("eE")) + draw(st.sampled_from(["", "+", "-"])) + draw(digits)
+    unit = ""
+    if draw(st.booleans()):
+        first = draw(st.sampled_from("abcmNkgdrpsxyzAEM%"))
+        unit = draw(st.sampled_from(["", " ", "  "])) + first + draw(_UNIT_TEXT)
+    return draw(st.sampled_from(["", " ", "\t"])) + number + unit
+
+
+@given(_one_number_texts())
+def test_one_number_is_read_without_arithmetic_as_arithmetic_would(text):
+    """io.units reads a text of one unsigned number and a unit (``86 mm``) without
+    importing the arithmetic reader: that reader gives every such text as plain (one
+    number, read by the caller as before), and refuses none."""
+    from balance.io.units import _ONE_NUMBER
+
+    assert _ONE_NUMBER.fullmatch(text), text
+    read = read_arithmetic(text)
+    assert read is None or read.plain, (text, read)
+
+
+@pytest.mark.parametrize("text", ["360/7 deg", "5-1/8 in", "-86 mm", "2*3 mm", "(1) mm", "1e3*2"])
+def test_arithmetic_texts_are_not_one_number(text):
+    from balance.io.units import _ONE_NUMBER
+
+    assert not _ONE_NUMBER.fullmatch(text)
 
 
 @pytest.mark.parametrize(
