@@ -10,6 +10,7 @@ import io
 import re
 import tokenize
 from pathlib import Path
+from typing import NamedTuple
 
 import pytest
 
@@ -46,10 +47,59 @@ def identifiers(source: str) -> frozenset[str]:
     return frozenset(t.string for t in tokens if t.type == tokenize.NAME)
 
 
+class _Facts(NamedTuple):
+    """What the tests below read from one module's syntax tree."""
+
+    #: The names of the functions it defines, at any depth.
+    functions: frozenset[str]
+    #: Its imports of balance's modules under another name: "``module.name`` as ``alias``".
+    renamed_imports: tuple[str, ...]
+    #: ``(line, name)`` of each public function (in ``__all__``) that has parameters and no
+    #: numpydoc Parameters section.
+    undocumented: tuple[tuple[int, str], ...]
+
+
 @functools.cache
-def _tree(source: str) -> ast.Module:
-    """The parsed source (parsed once per text)."""
-    return ast.parse(source)
+def _facts(source: str) -> _Facts:
+    """One module's facts, from one parse of its source (kept small: the syntax trees of the
+    whole package are some 300 000 objects, which every later full garbage collection of
+    the test process would walk)."""
+    tree = ast.parse(source)
+    functions, renamed = set(), []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef):
+            functions.add(node.name)
+        elif isinstance(node, ast.Import):
+            renamed += [
+                f"{a.name} as {a.asname}"
+                for a in node.names
+                if a.name.startswith("balance") and a.asname
+            ]
+        elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("balance"):
+            renamed += [
+                f"{node.module}.{a.name} as {a.asname}"
+                for a in node.names
+                if a.asname and a.asname != a.name
+            ]
+    public: list[str] = []
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(
+            isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets
+        ):
+            assert isinstance(node.value, ast.List | ast.Tuple)
+            public = [e.value for e in node.value.elts if isinstance(e, ast.Constant)]
+    undocumented = []
+    for node in tree.body:
+        if not isinstance(node, ast.FunctionDef) or node.name not in public:
+            continue
+        args = node.args
+        takes = [a for a in args.posonlyargs + args.args + args.kwonlyargs]
+        if not (takes or args.vararg or args.kwarg):
+            continue
+        doc = ast.get_docstring(node) or ""
+        if not re.search(r"^\s*Parameters\n\s*-{10}", doc, re.M):
+            undocumented.append((node.lineno, node.name))
+    return _Facts(frozenset(functions), tuple(renamed), tuple(undocumented))
 
 
 def files_naming(concern: str, root: Path = PACKAGE) -> list[str]:
@@ -91,8 +141,8 @@ def test_oracles_live_in_the_tests():
     defined_in_package = {
         name
         for p in _modules()
-        for node in ast.walk(_tree(p.read_text(encoding="utf-8")))
-        if isinstance(node, ast.FunctionDef) and (name := node.name) in ORACLES
+        for name in _facts(p.read_text(encoding="utf-8")).functions
+        if name in ORACLES
     }
     assert not defined_in_package
     # a definition in the tests, found by its `def` line (the tests are not parsed: they
@@ -119,46 +169,20 @@ def test_the_package_cites_its_own_docs():
 
 
 def test_no_module_of_the_package_is_imported_under_another_name():
-    renamed = []
-    for p in _modules():
-        for node in ast.walk(_tree(p.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.Import):
-                renamed += [
-                    f"{p.name}: {a.name} as {a.asname}"
-                    for a in node.names
-                    if a.name.startswith("balance") and a.asname
-                ]
-            elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("balance"):
-                renamed += [
-                    f"{p.name}: {node.module}.{a.name} as {a.asname}"
-                    for a in node.names
-                    if a.asname and a.asname != a.name
-                ]
+    renamed = [
+        f"{p.name}: {text}"
+        for p in _modules()
+        for text in _facts(p.read_text(encoding="utf-8")).renamed_imports
+    ]
     assert not renamed, renamed
 
 
 def _public_functions_without_parameters() -> list[str]:
-    missing = []
-    for p in _modules():
-        tree = _tree(p.read_text(encoding="utf-8"))
-        public: list[str] = []
-        for node in tree.body:
-            if isinstance(node, ast.Assign) and any(
-                isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets
-            ):
-                assert isinstance(node.value, ast.List | ast.Tuple)
-                public = [e.value for e in node.value.elts if isinstance(e, ast.Constant)]
-        for node in tree.body:
-            if not isinstance(node, ast.FunctionDef) or node.name not in public:
-                continue
-            args = node.args
-            takes = [a for a in args.posonlyargs + args.args + args.kwonlyargs]
-            if not (takes or args.vararg or args.kwarg):
-                continue
-            doc = ast.get_docstring(node) or ""
-            if not re.search(r"^\s*Parameters\n\s*-{10}", doc, re.M):
-                missing.append(f"{p.relative_to(PACKAGE.parent)}:{node.lineno} {node.name}")
-    return missing
+    return [
+        f"{p.relative_to(PACKAGE.parent)}:{line} {name}"
+        for p in _modules()
+        for line, name in _facts(p.read_text(encoding="utf-8")).undocumented
+    ]
 
 
 def test_every_public_function_documents_its_parameters():

@@ -184,6 +184,10 @@ _DOCTYPE = re.compile(r"<!DOCTYPE[^>]*>\s*", re.S)
 _COMMENT = re.compile(r"<!--.*?-->\s*", re.S)
 _METADATA = re.compile(r"<metadata>.*?</metadata>\s*", re.S)
 _ID = re.compile(r'\bid="([^"]+)"')
+# a reference to an id, in the page's two forms; the name ends at the closing quote or
+# parenthesis, and only the page's own ids are prefixed
+_HREF = re.compile(r'(href="#)([^"]+)(")')
+_URL = re.compile(r"(url\(#)([^)]+)(\))")
 
 
 def _svg_fragment(svg: str, prefix: str) -> str:
@@ -211,12 +215,14 @@ def _svg_fragment(svg: str, prefix: str) -> str:
     text = _METADATA.sub("", text)
     ids = set(_ID.findall(text))
     if ids:
-        names = "|".join(re.escape(i) for i in sorted(ids, key=len, reverse=True))
         text = _ID.sub(lambda m: f'id="{prefix}{m.group(1)}"', text)
-        text = re.sub(
-            rf'(href=")#({names})"', lambda m: f'{m.group(1)}#{prefix}{m.group(2)}"', text
-        )
-        text = re.sub(rf"url\(#({names})\)", lambda m: f"url(#{prefix}{m.group(1)})", text)
+
+        def prefixed(m: re.Match[str]) -> str:
+            start, name, end = m.groups()
+            return f"{start}{prefix}{name}{end}" if name in ids else m.group(0)
+
+        text = _HREF.sub(prefixed, text)
+        text = _URL.sub(prefixed, text)
     start = text.find("<svg")
     return text[start:].strip()
 
