@@ -25,10 +25,11 @@ from balance.api import Engine, load_layout
 from balance.cli import app
 from balance.core import sampled as td
 from balance.core.analysis import compute, compute_phasors
-from balance.core.balancing import SHAFT_CLEARANCE, Proposal
+from balance.core.balancing import Proposal
 from balance.core.engine import ShaftPosition
 from balance.core.errors import LayoutError
 from balance.core.proposal import balance_engine
+from balance.core.shafts import SHAFT_CLEARANCE
 from balance.io.layout_file import expand_layout, layout_from_text
 from balance.io.request import build_request
 from balance.views.report import render_report

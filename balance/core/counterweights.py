@@ -43,11 +43,11 @@ from balance.core.balancing import (
     _planes_for,
     _zero_below,
     completed_proposal,
-    shaft_roll_phasors,
 )
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
 from balance.core.phasors import Phasors
+from balance.core.shafts import shaft_roll_phasors
 from balance.core.speed import speed_squared
 from balance.core.throws import crank_throws, pin_keys, rods_per_throw
 

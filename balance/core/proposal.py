@@ -17,13 +17,14 @@ from numpy.typing import NDArray
 
 from balance.core.analysis import compute_phasors
 from balance.core.balance_factor import BalanceFactor, FactorEquivalents
-from balance.core.balancing import Proposal, propose, shaft_roll_phasors
+from balance.core.balancing import Proposal, propose
 from balance.core.catalogue import Output
 from balance.core.counterweights import counterweight_moment_z, proposal_phasors, propose_geared
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.phasors import Phasors, cancel_to_zero, phase_deg, safe_ratio
 from balance.core.proposal_notes import cancel_roll_notes, factor_note, orders_left
 from balance.core.result import FreeForces, Result
+from balance.core.shafts import shaft_roll_phasors
 from balance.core.speed import speed_squared
 
 __all__ = [
@@ -263,7 +264,7 @@ def residual(layout: Engine, proposal: Proposal, p: Phasors) -> Phasors:
 def _link_pin_first_order(layout: Engine, pins: Phasors) -> ComplexArray:
     r"""What each link pin's relative motion adds to its cylinder's :math:`G_1` as the
     counterweights see it: :math:`2P^{+}_1/(m_{rec} r\omega^2 e^{i\varphi})`, so that the
-    counterweight targets (:func:`balance.core.balancing.counterweight_targets`) hold the
+    counterweights' targets (each cylinder's unbalance, :mod:`balance.core.balancing`) hold the
     whole forward first order of every cylinder."""
     at = int(np.searchsorted(pins.orders, 1))
     carrier = (

@@ -8,9 +8,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from balance.core.balancing import SHAFT_CLEARANCE
 from balance.core.errors import InputError
 from balance.core.phasors import phase_deg, safe_ratio
+from balance.core.shafts import SHAFT_CLEARANCE
 from balance.views.json import roll_entries
 from balance.views.polar import format_number, json_number
 
@@ -141,7 +141,7 @@ def json_block(result: Result) -> dict[str, Any]:
 
 def _default_rule(result: Result) -> str | None:
     """Where the default shaft axes are and why, when a shaft has a coordinate there (None
-    otherwise; :func:`balance.core.balancing.default_axes`)."""
+    otherwise; :func:`balance.core.shafts.default_axes`)."""
     if not any("default" in (s.x_from, s.y_from) for s in _part(result).proposal.shafts):
         return None
     r = float(np.mean(result.engine.crank_radius))
