@@ -415,8 +415,9 @@ def big_end_forces(
 
     With link rods (docs/layout-format.md, "Articulated rods") a link cylinder's row is 0 and its
     master's row is the force of the master rod carrying its link rods
-    (:func:`balance.core.links.articulated_big_end_forces`), so the pin loads of :func:`pin_groups`
-    are the sums that docs/conventions.md, "Crank-pin and main-bearing loads" asks for.
+    (:func:`balance.core.link_forces.articulated_big_end_forces`), so the pin loads of
+    :func:`pin_groups` are the sums that docs/conventions.md, "Crank-pin and main-bearing
+    loads" asks for.
     """
     th = np.asarray(theta, dtype=np.float64)[None, :]
     col = _column
@@ -438,7 +439,7 @@ def big_end_forces(
     forces = crank_train.pin_force(q_y, wall, m_pin, beta, col(engine.bank), sin_beta=sin_b)
     # master rods carry their link rods (docs/conventions.md, "Crank-pin and main-bearing loads")
     if engine.has_links:
-        from balance.core.links import articulated_big_end_forces
+        from balance.core.link_forces import articulated_big_end_forces
 
         return articulated_big_end_forces(engine, theta, forces, gas_force)
     return forces

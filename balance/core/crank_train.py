@@ -42,7 +42,7 @@ the piston pin, :math:`d = (-l\sin\psi, l\cos\psi)` from the big end) with a cou
 for the rod's own inertia (:func:`rod_inertia_couple`, :func:`couple_side_force`);
 :math:`M` also carries what link rods hung on a master rod put on it (:func:`hung_load`,
 with :func:`rod_on_piston` and :func:`rod_point_inertia` for the link rod and its link pin;
-:func:`balance.core.links.link_rod_forces`).
+:func:`balance.core.link_forces.link_rod_forces`).
 
 .. rubric:: References
 

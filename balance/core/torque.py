@@ -33,9 +33,9 @@ offset; :math:`\Delta I` adds nothing to its mean.  The force balance is
 rest), the gas force :func:`balance.core.gas.piston_gas_force`.  A link cylinder's
 :math:`M` and :math:`T = M/r` add the rate of its link pin's kinetic energy, and its
 :math:`K` is the radial part of what its link rod passes through the master rod to the crank
-pin (:func:`balance.core.links.link_rod_forces`); a master's :math:`N` is the whole wall force,
-its link rods' push included, and its :math:`T`, :math:`K` its own rod's.  The engine torque
-is the sum over cylinders, each at its own firing phase (its actual TDC,
+pin (:func:`balance.core.link_forces.link_rod_forces`); a master's :math:`N` is the whole
+wall force, its link rods' push included, and its :math:`T`, :math:`K` its own rod's.  The
+engine torque is the sum over cylinders, each at its own firing phase (its actual TDC,
 :func:`balance.core.gas.firing_tdc`); the block receives the roll torque
 
 .. math::
@@ -408,11 +408,11 @@ def _link_rows(
 
     A link cylinder's radial force is the radial part of its share of the force on the crank
     pin, what its link rod passes through the master rod
-    (:attr:`balance.core.links.LinkRodForces.on_pin`); a master piston's side thrust gains
+    (:attr:`balance.core.link_forces.LinkRodForces.on_pin`); a master piston's side thrust gains
     what its link rods' push on the master rod adds to its wall force, so that it is the
     whole force between piston and wall.
     """
-    from balance.core.links import link_rod_forces
+    from balance.core.link_forces import link_rod_forces
 
     theta = np.radians(theta_deg)
     forces = link_rod_forces(layout, theta, gas_force)
