@@ -187,20 +187,47 @@ def _counterweight_targets(
     )
 
 
-def _zero_below(value: complex, scale: float, n_terms: int) -> complex:
+def zero_below(value: complex, scale: float, n_terms: int) -> complex:
     """0 for a sum within the rounding of its terms (:func:`balance.core.phasors.cancel_to_zero`:
-    relative to ``scale``, absolute below the smallest normal number)."""
+    relative to ``scale``, absolute below the smallest normal number).
+
+    Parameters
+    ----------
+    value : complex
+        A sum of ``n_terms`` terms.
+    scale : float
+        The magnitude of its largest term.
+    n_terms : int
+        How many terms were added.
+
+    Returns
+    -------
+    complex
+        ``value``, or exactly 0 where it cannot be told from rounding.
+    """
     return 0j if abs(value) <= rounding_threshold(scale, n_terms) else value
 
 
-def _planes_for(
+def cancelling_planes(
     force: complex, moment: complex, z_ref: float, z_min: float, z_max: float
 ) -> tuple[tuple[float, complex], ...]:
     r"""Unbalance-like plane values that put ``-force`` and ``-moment`` (about z_ref).
 
-    Returns ``(z, value)`` pairs such that :math:`\\sum v = -F` and
-    :math:`\\sum (z - z_{ref}) v = -M`: one plane where the pair is a single force along
-    a line (M/F real and inside the crank), otherwise the two crank ends.
+    Parameters
+    ----------
+    force, moment : complex
+        The phasors to cancel [N, N m] (the moment about ``z_ref``).
+    z_ref : float
+        The axial position the moment is taken about [m].
+    z_min, z_max : float
+        The crank's ends [m].
+
+    Returns
+    -------
+    tuple of (float, complex)
+        ``(z, value)`` pairs such that :math:`\sum v = -F` and
+        :math:`\sum (z - z_{ref}) v = -M`: one plane where the pair is a single force along
+        a line (M/F real and inside the crank), otherwise the two crank ends.
     """
     if force == 0 and moment == 0:
         return ()
@@ -325,9 +352,9 @@ def propose(
         scale_f = float(np.sum(np.abs(targets)))
         scale_m = float(np.sum(np.abs(targets * lever)))
         if strategy == "two-plane":
-            force = _zero_below(complex(targets.sum()), scale_f, n)
-            moment = _zero_below(complex((targets * lever).sum()), scale_m, n)
-            for plane_z, value in _planes_for(force, moment, z_ref, z_min, z_max):
+            force = zero_below(complex(targets.sum()), scale_f, n)
+            moment = zero_below(complex((targets * lever).sum()), scale_m, n)
+            for plane_z, value in cancelling_planes(force, moment, z_ref, z_min, z_max):
                 counterweights.append(Counterweight(plane_z, value, radius))
         else:
             groups = crank_pins(layout)
@@ -337,7 +364,7 @@ def propose(
                 plane_z = throw_planes[g]
                 members = groups == g
                 value = complex(targets[members].sum())
-                value = _zero_below(value, float(np.abs(targets[members]).sum()), 2)
+                value = zero_below(value, float(np.abs(targets[members]).sum()), 2)
                 if value != 0:
                     counterweights.append(Counterweight(float(plane_z), -value, radius))
         # what the counterweights take off the forward first order of the reciprocating part
@@ -349,8 +376,8 @@ def propose(
         f_scale = float(
             np.sum(np.abs(rot)) + np.sum(layout.reciprocating_mass * layout.crank_radius) * w2
         )
-        ff[1] = _zero_below(ff[1], f_scale + abs(cw_force), n + 2)
-        mf[1] = _zero_below(mf[1], f_scale * (float(np.abs(lever).max()) + 1e-300), n + 2)
+        ff[1] = zero_below(ff[1], f_scale + abs(cw_force), n + 2)
+        mf[1] = zero_below(mf[1], f_scale * (float(np.abs(lever).max()) + 1e-300), n + 2)
 
     return completed_proposal(
         layout,
@@ -489,7 +516,7 @@ def balance_shafts(
                 continue
             if z_range is None:
                 z_range = (float(layout.z.min()), float(layout.z.max()))
-            planes = _planes_for(force, moment, z_ref, *z_range)
+            planes = cancelling_planes(force, moment, z_ref, *z_range)
             unbalances = tuple((pz, v / (k * k * w2)) for pz, v in planes)
             x, y = _default_position(k, sense, ff, fb, mf, mb, r_mean)
             x_from = y_from = "default"

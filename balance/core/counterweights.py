@@ -40,9 +40,9 @@ from balance.core.balancing import (
     STRATEGIES,
     Counterweight,
     Proposal,
-    _planes_for,
-    _zero_below,
+    cancelling_planes,
     completed_proposal,
+    zero_below,
 )
 from balance.core.engine import Engine, ShaftPosition
 from balance.core.errors import AnalysisError
@@ -228,11 +228,13 @@ def _placed(
             values = np.array([v for _, _, v, _ in mine], dtype=np.complex128)
             lever = np.array([z - z_ref for _, z, _, _ in mine])
             n = len(mine)
-            force = _zero_below(complex(values.sum()), float(np.abs(values).sum()), n)
-            moment = _zero_below(
+            force = zero_below(complex(values.sum()), float(np.abs(values).sum()), n)
+            moment = zero_below(
                 complex((values * lever).sum()), float(np.abs(values * lever).sum()), n
             )
-            out.extend(weight(pz, v) for pz, v in _planes_for(force, moment, z_ref, z_min, z_max))
+            out.extend(
+                weight(pz, v) for pz, v in cancelling_planes(force, moment, z_ref, z_min, z_max)
+            )
             continue
         groups: dict[Any, list[tuple[float, complex]]] = {}
         for _, z, value, key in mine:
@@ -245,7 +247,7 @@ def _placed(
         listed = sorted(groups.values(), key=lambda g: min(z for z, _ in g))
         for members in listed:
             value = complex(sum(v for _, v in members))
-            value = _zero_below(value, sum(abs(v) for _, v in members), len(members) + 1)
+            value = zero_below(value, sum(abs(v) for _, v in members), len(members) + 1)
             if value != 0:
                 out.append(weight(min(z for z, _ in members), -value))
     return out
@@ -351,10 +353,10 @@ def propose_geared(
         arm = float(np.abs(lever).max()) + max(
             (abs(cw.z - z_ref) for cw in counterweights), default=0.0
         )
-        ff[1] = _zero_below(ff[1] + added["ff"], f_scale, n)
-        fb[1] = _zero_below(fb[1] + added["fb"], f_scale, n)
-        mf[1] = _zero_below(mf[1] + added["mf"], f_scale * (arm + 1e-300), n)
-        mb[1] = _zero_below(mb[1] + added["mb"], f_scale * (arm + 1e-300), n)
+        ff[1] = zero_below(ff[1] + added["ff"], f_scale, n)
+        fb[1] = zero_below(fb[1] + added["fb"], f_scale, n)
+        mf[1] = zero_below(mf[1] + added["mf"], f_scale * (arm + 1e-300), n)
+        mb[1] = zero_below(mb[1] + added["mb"], f_scale * (arm + 1e-300), n)
         if roll is not None and counterweights:
             roll[ks.index(1)] += sum(counterweight_moment_z(cw, w2) for cw in counterweights)
     return completed_proposal(
