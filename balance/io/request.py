@@ -182,26 +182,22 @@ def _sections(
     out: dict[str, dict[str, Any]] = {}
     for section in SECTIONS:
         value = asked.get(section.name)
-        if value is None and section.name not in options:  # not named: default or layout's
-            if _turned_on(section, engine):
-                out[section.name] = (
-                    _checked(section.name, dict(section.figure_options)) if figures else {}
-                )
-            continue
         own = dict(options.get(section.name, {}))
         if isinstance(value, Mapping):
             own = {**dict(value), **own}
             value = True
-        own = {k: v for k, v in own.items() if v is not None}
-        with_options = any(_given(v) for v in own.values())
+        with_options = False
+        if own:  # each option known to the section; one that says more turns it on
+            own = {k: v for k, v in own.items() if v is not None}
+            unknown = set(own) - set(section.options)
+            if unknown:
+                raise InputError(
+                    f"{section.name}: no option {', '.join(sorted(unknown))}; "
+                    f"its options are {', '.join(section.options) or 'none'}"
+                )
+            with_options = any(_given(v) for v in own.values())
         # an option given turns its section on, unless the section is turned off
         on = (_turned_on(section, engine) or with_options) if value is None else bool(value)
-        unknown = set(own) - set(section.options)
-        if unknown:
-            raise InputError(
-                f"{section.name}: no option {', '.join(sorted(unknown))}; "
-                f"its options are {', '.join(section.options) or 'none'}"
-            )
         if not on:
             if with_options:
                 raise InputError(
@@ -222,6 +218,8 @@ def _given(value: Any) -> bool:
 
 def _checked(name: str, options: dict[str, Any]) -> dict[str, Any]:
     """A section's options, each checked once."""
+    if not options:  # nothing to check (most sections of most requests)
+        return {}
     out = dict(options)
     if "balance_factor" in out:
         factor = float(out["balance_factor"])
