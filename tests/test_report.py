@@ -283,6 +283,19 @@ def test_write_report_is_atomic_and_refuses_to_overwrite(tmp_path):
         write_report(result, tmp_path / "missing" / "review.html")
 
 
+def test_the_module_runs_on_one_worker(request):
+    """With workers (the README's command, ``--dist loadgroup``), this module's tests are
+    one group (``pytestmark`` above): pytest-xdist marks each test's node id with the
+    group's name and sends the group to one worker, which draws the reports and starts the
+    fresh process once.  With pytest 9.2 and pytest-xdist 3.8 the mark silently did not
+    take (pytest-xdist issue 1386): the tests were spread over the workers, each drew the
+    reports and started the process again, and the suite took some 10 % longer (two
+    interleaved pairs of runs).  pyproject.toml keeps pytest below 9.2 until then."""
+    if not getattr(request.config.option, "loadgroup", False):
+        pytest.skip("not distributed by group (-n 0 or another --dist): nothing to check")
+    assert request.node.nodeid.endswith("@fresh_process"), request.node.nodeid
+
+
 def test_report_is_deterministic(fresh_process):
     """The report a fresh process wrote (``balance report inline-3``, in conftest's
     fresh_process, which test_plots.py checks for its imports) is byte for byte the one
