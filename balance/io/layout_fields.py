@@ -319,7 +319,7 @@ def exact_number(
     def reads_back(text: str) -> bool:
         from balance.io.units import KINDS, parse_quantity
 
-        if kind not in KINDS or value is None:  # no kind, or one read by hand (energy)
+        if kind not in KINDS or value is None:  # no kind, or no value to read back to
             return float(text) == number
         return parse_quantity(f"{text} {unit}", kind) == value
 

@@ -25,7 +25,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from balance.io.layout_fields import CYLINDER, REQUIRED, LayoutField
 from balance.io.problems import FieldProblem
-from balance.io.units import UnitProblem, parse_quantity, registry
+from balance.io.units import UnitProblem, likely_unit, parse_quantity
 
 __all__ = [
     "Angle",
@@ -58,12 +58,12 @@ def _energy(value: Any) -> float | None:
             bare = None
     if bare is not None and bare == bare and bare != 0:
         written = str(value).strip()
-        suggestion = f"{written} {'J' if abs(bare) >= 100 else 'kJ'}"
+        suggestion = f"{written} {likely_unit(bare, 'energy')}"
         raise UnitProblem(f"{written} has no unit", f"give a unit, e.g. '{suggestion}'", suggestion)
     if isinstance(value, str) and bare is None:
-        try:
-            number = float(registry().Quantity(value).to("J").magnitude)
-        except Exception:
+        try:  # J, kJ and MJ without pint
+            number = parse_quantity(value, "energy")
+        except UnitProblem:
             raise UnitProblem(f"cannot read {value!r} as an energy", valid) from None
     else:
         number = float(value)

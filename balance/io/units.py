@@ -90,6 +90,8 @@ KINDS: dict[str, tuple[str, str, str, float]] = {
     "torque": ("N * m", "", "'150 N m'", 1e9),
     "rotational_stiffness": ("N * m / radian", "", "'1.5e6 N m/rad'", 1e13),
     "rotational_damping": ("N * m * s / radian", "", "'25 N m s/rad'", 1e10),
+    # the layout's own check bounds an energy (balance.io.spec_blocks)
+    "energy": ("J", "", "'1.6 kJ'", math.inf),
 }
 
 #: Kinds whose bare numbers (other than 0) are refused: every kind with a dimension.
@@ -152,7 +154,9 @@ def likely_unit(number: float, kind: str) -> str:
     10 and more for grams (a piston's, a rod's), smaller ones for kilograms; pressures of
     1000 and more for pascals, smaller ones for bar; volumes of 50 and more for cubic
     centimetres, smaller ones for litres; speeds for rpm; moments of inertia of 1 and
-    more for kg cm^2 (a conrod's is about 20 kg cm^2), smaller ones for kg m^2.
+    more for kg cm^2 (a conrod's is about 20 kg cm^2), smaller ones for kg m^2; energies
+    of 100 and more for joules, smaller ones for kilojoules (the heat released per
+    cylinder and cycle is about a kilojoule).
     A field may know better (a powertrain's mass is in kilograms, its inertia in kg m^2):
     see :func:`parse_quantity`'s ``likely``.
 
@@ -179,6 +183,8 @@ def likely_unit(number: float, kind: str) -> str:
         return "cc" if size >= 50 else "L"
     if kind == "inertia":
         return "kg cm^2" if size >= 1 else "kg m^2"
+    if kind == "energy":
+        return "J" if size >= 100 else "kJ"
     return {
         "speed": "rpm",
         "angle": "deg",
@@ -211,7 +217,8 @@ def parse_quantity(value: Any, kind: str, likely: Callable[[float], str] | None 
     kind : str
         One of :data:`KINDS`: ``length`` [m], ``mass`` [kg], ``inertia`` [kg m^2],
         ``angle`` [deg], ``speed`` [rad/s], ``fraction`` [1], ``pressure`` [Pa],
-        ``volume`` [m^3].
+        ``volume`` [m^3], ``torque`` [N m], ``rotational_stiffness`` [N m/rad],
+        ``rotational_damping`` [N m s/rad], ``energy`` [J].
     likely : callable, optional
         The unit to propose for a bare number (given the number); default
         :func:`likely_unit`.
@@ -282,7 +289,7 @@ def _check_bare(
 
 # Common units read without pint (importing pint and building its registry costs about
 # half a second): unit text -> (kind, factor to the kind's SI unit).  Each factor is the
-# exact definition pint uses; tests check every entry against pint.
+# exact definition pint uses; tests/test_units.py checks every entry against pint.
 _FAST_UNITS: dict[str, tuple[str, float]] = {
     "m": ("length", 1.0),
     "mm": ("length", 1e-3),
@@ -326,6 +333,16 @@ _FAST_UNITS: dict[str, tuple[str, float]] = {
     "kN*m": ("torque", 1e3),
     "lbf ft": ("torque", 1.3558179483314004),
     "ft lbf": ("torque", 1.3558179483314004),
+    "N m/rad": ("rotational_stiffness", 1.0),
+    "N*m/rad": ("rotational_stiffness", 1.0),
+    "kN m/rad": ("rotational_stiffness", 1e3),
+    "MN m/rad": ("rotational_stiffness", 1e6),
+    "N m/deg": ("rotational_stiffness", 180.0 / math.pi),
+    "N m s/rad": ("rotational_damping", 1.0),
+    "N*m*s/rad": ("rotational_damping", 1.0),
+    "J": ("energy", 1.0),
+    "kJ": ("energy", 1e3),
+    "MJ": ("energy", 1e6),
 }
 
 #: How a torque's unit may be written run together: ``150Nm`` is 150 newton metres where a
@@ -360,6 +377,7 @@ ANY_CASE: dict[str, str] = {
         "cm^3",
         "lbf ft",
         "ft lbf",
+        "kJ",
     )
 }
 
@@ -553,6 +571,7 @@ _KIND_ARTICLE = {
     "torque": "a torque",
     "rotational_stiffness": "a torsional stiffness",
     "rotational_damping": "a torsional damping",
+    "energy": "an energy",
 }
 
 
