@@ -142,6 +142,10 @@ def test_firing_order_that_does_not_fit_a_cycle(tmp_path):
         ("gas: {model: {compression_ratio: 0.5, peak_pressure: 60 bar}}", "compression_ratio is"),
         ("gas: {model: {compression_ratio: 10, heat_released: 2 kg}}", "cannot read '2 kg'"),
         (
+            "gas: {model: {compression_ratio: 10, heat_released: '1,600 J'}}",
+            "'1,600 J' has a thousands separator",
+        ),
+        (
             "gas: {model: {compression_ratio: 10, peak_pressure: 60 bar, "
             "combustion_start: 150 deg}}",
             "combustion_start is 150 deg",
@@ -167,6 +171,16 @@ def test_bad_gas_and_flywheel_sections(section, expected):
     with pytest.raises(LayoutError) as info:
         layout_from_text(BASE + "firing_order: [1, 3, 4, 2]\n" + section + "\n")
     assert expected in str(info.value)
+
+
+@pytest.mark.parametrize("text", ["1.6 kJ", "1.6 KJ", "1.6kJ", "1600 J", "0.0016 MJ"])
+def test_heat_released_in_any_unit_of_energy(text):
+    """The heat released in J, kJ (in any letter case: docs/layout-format.md) or MJ, read
+    without pint, is 1600 J (0.0016 MJ to rounding)."""
+    section = f"gas: {{model: {{compression_ratio: 10, heat_released: {text}}}}}\n"
+    engine = layout_from_text(BASE + "firing_order: [1, 3, 4, 2]\n" + section)
+    assert engine.gas is not None and engine.gas.model is not None
+    assert engine.gas.model.heat_released == pytest.approx(1600.0, rel=1e-15)
 
 
 def test_bore_is_needed():

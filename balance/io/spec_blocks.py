@@ -25,7 +25,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from balance.io.layout_fields import CYLINDER, REQUIRED, LayoutField
 from balance.io.problems import FieldProblem
-from balance.io.units import UnitProblem, likely_unit, parse_quantity
+from balance.io.units import UnitProblem, check_thousands, likely_unit, parse_quantity
 
 __all__ = [
     "Angle",
@@ -61,6 +61,7 @@ def _energy(value: Any) -> float | None:
         suggestion = f"{written} {likely_unit(bare, 'energy')}"
         raise UnitProblem(f"{written} has no unit", f"give a unit, e.g. '{suggestion}'", suggestion)
     if isinstance(value, str) and bare is None:
+        check_thousands(value)  # '1,600 J': say so, not "cannot read"
         try:  # J, kJ and MJ without pint
             number = parse_quantity(value, "energy")
         except UnitProblem:
